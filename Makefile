@@ -1,0 +1,56 @@
+# ORB accelerator: every target sets itself up; `make test` alone works on a fresh machine.
+PYTHON ?= python3
+VENV   := .venv
+BIN    := $(VENV)/bin
+STAMP  := $(VENV)/.installed
+IMAGE  ?=
+SCALES ?= 2
+SECTORS ?= 32
+THRESHOLD ?= 20
+JOBS   ?= 2
+
+.PHONY: setup test test-all sim bench lint pattern clean help
+
+help:
+	@echo "make setup   create .venv and install the project with test extras (idempotent)"
+	@echo "make test    run the test suite (pytest -n $(JOBS), slow tests excluded)"
+	@echo "make test-all  run every test, slow full-frame ones included"
+	@echo "make sim     run the accelerator on the bundled default image (model backend until the RTL lands)"
+	@echo "make bench   model speed benchmark (scripts/bench_model.py)"
+	@echo "make lint    ruff over the Python sources"
+
+$(STAMP): pyproject.toml
+	@$(PYTHON) -c 'import sys; sys.exit(sys.version_info < (3, 10))' || \
+		{ echo "error: Python 3.10 or newer is needed (found $$($(PYTHON) --version))"; exit 1; }
+	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV) || \
+		{ echo "error: '$(PYTHON) -m venv' failed; on Debian: apt-get install python3-venv"; exit 1; }
+	$(BIN)/python -m pip install --quiet --upgrade pip
+	$(BIN)/python -m pip install --quiet -e '.[test]'
+	@touch $(STAMP)
+
+setup: $(STAMP)
+
+test: $(STAMP)
+	$(BIN)/python -m pytest -n $(JOBS) -m "not slow" tb
+
+test-all: $(STAMP)
+	$(BIN)/python -m pytest -n $(JOBS) tb
+
+sim: $(STAMP)
+	@mkdir -p build/sim
+	$(BIN)/orb-accel extract $(if $(IMAGE),$(IMAGE),--default-image) --backend model \
+		--scales $(SCALES) --sectors $(SECTORS) --threshold $(THRESHOLD) \
+		--out build/sim/features.csv --overlay build/sim/overlay.png
+
+bench: $(STAMP)
+	$(BIN)/python scripts/bench_model.py
+
+lint: $(STAMP)
+	$(BIN)/ruff check golden_model tb scripts
+	$(BIN)/ruff format --check golden_model tb scripts
+
+pattern: $(STAMP)
+	$(BIN)/python scripts/gen_pattern.py
+
+clean:
+	rm -rf build .pytest_cache
