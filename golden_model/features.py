@@ -90,11 +90,13 @@ def first_difference(a: Features, b: Features) -> str | None:
             if va != vb:
                 return f"feature {i} at scale {ka[0]} (x={ka[2]}, y={ka[1]}): {name} {va} != {vb}"
         if a.descriptor.shape[1] != b.descriptor.shape[1] or not np.array_equal(a.descriptor[i], b.descriptor[i]):
-            return f"feature {i} at scale {ka[0]} (x={ka[2]}, y={ka[1]}): descriptor {a.descriptor[i].tobytes().hex()} != {b.descriptor[i].tobytes().hex()}"
+            da, db = a.descriptor[i].tobytes().hex(), b.descriptor[i].tobytes().hex()
+            return f"feature {i} at scale {ka[0]} (x={ka[2]}, y={ka[1]}): descriptor {da} != {db}"
     if len(a) != len(b):
         longer, which = (a, "first") if len(a) > len(b) else (b, "second")
         i = min(len(a), len(b))
-        return f"the {which} list has {abs(len(a) - len(b))} more features, first at scale {int(longer.scale[i])} (x={int(longer.x[i])}, y={int(longer.y[i])})"
+        where = f"scale {int(longer.scale[i])} (x={int(longer.x[i])}, y={int(longer.y[i])})"
+        return f"the {which} list has {abs(len(a) - len(b))} more features, the first at {where}"
     return None
 
 
