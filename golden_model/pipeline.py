@@ -14,6 +14,8 @@ inside. No feature is ever dropped for lack of capacity: the model has none to p
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from .brief import DESCRIPTOR_BYTES, describe
@@ -48,21 +50,45 @@ def in_desc_border(xs: np.ndarray, ys: np.ndarray, width: int, height: int) -> n
     return (xs >= b) & (xs <= width - 1 - b) & (ys >= b) & (ys <= height - 1 - b)
 
 
-def extract_scale(img: np.ndarray, scale: int, cfg: Config) -> Features:
-    xs, ys, score = detect(img, cfg.threshold)
-    n = len(xs)
-    scale_col = np.full(n, scale, dtype=np.int64)
-    if cfg.mode == "fast":
-        return Features(scale_col, xs, ys, score, np.full(n, NO_SECTOR, dtype=np.int64),
-                        np.zeros((n, 0), dtype=np.uint8), cfg.sectors)  # fmt: skip
+@dataclass(frozen=True)
+class OrbLevel:
+    """What orb mode computes on one scale before the sector count N matters."""
+
+    scale: int
+    xs: np.ndarray
+    ys: np.ndarray
+    score: np.ndarray
+    smoothed: np.ndarray
+    m10: np.ndarray
+    m01: np.ndarray
+
+
+def orb_level(img: np.ndarray, scale: int, threshold: int) -> OrbLevel:
+    """Detection, border rule, smoothing and moments of one scale."""
+    xs, ys, score = detect(img, threshold)
     h, w = img.shape
     keep = in_desc_border(xs, ys, w, h)
-    xs, ys, score, scale_col = xs[keep], ys[keep], score[keep], scale_col[keep]
+    xs, ys, score = xs[keep], ys[keep], score[keep]
     smoothed = smooth(img)
     m10, m01 = moments(smoothed, xs, ys)
-    sector = quantise(m10, m01, cfg.sectors_per_quadrant)
-    desc = describe(smoothed, xs, ys, sector, cfg.sectors_per_quadrant)
-    return Features(scale_col, xs, ys, score, sector, desc, cfg.sectors)
+    return OrbLevel(scale, xs, ys, score, smoothed, m10, m01)
+
+
+def describe_level(level: OrbLevel, n: int) -> Features:
+    """Sectors and descriptors of one scale's features for N sectors per quadrant."""
+    sector = quantise(level.m10, level.m01, n)
+    desc = describe(level.smoothed, level.xs, level.ys, sector, n)
+    scale = np.full(len(level.xs), level.scale, dtype=np.int64)
+    return Features(scale, level.xs, level.ys, level.score, sector, desc, 4 * n)
+
+
+def extract_scale(img: np.ndarray, scale: int, cfg: Config) -> Features:
+    if cfg.mode == "orb":
+        return describe_level(orb_level(img, scale, cfg.threshold), cfg.sectors_per_quadrant)
+    xs, ys, score = detect(img, cfg.threshold)
+    n = len(xs)
+    return Features(np.full(n, scale, dtype=np.int64), xs, ys, score, np.full(n, NO_SECTOR, dtype=np.int64),
+                    np.zeros((n, 0), dtype=np.uint8), cfg.sectors)  # fmt: skip
 
 
 def extract(img: np.ndarray, cfg: Config) -> Features:
