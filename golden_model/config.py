@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import numbers
 from dataclasses import dataclass
 
 MIN_WIDTH = 64
@@ -12,6 +13,15 @@ MAX_HEIGHT = 1080
 MAX_SCALES = 4
 SECTORS_PER_QUADRANT = (4, 8, 16)
 MODES = ("orb", "fast")
+
+
+_RANGES = {
+    "width": f"{MIN_WIDTH}..{MAX_WIDTH}",
+    "height": f"{MIN_HEIGHT}..{MAX_HEIGHT}",
+    "scales": f"1..{MAX_SCALES}",
+    "sectors_per_quadrant": "(4, 8, 16)",
+    "threshold": "0..255",
+}
 
 
 class ConfigError(ValueError):
@@ -35,10 +45,11 @@ class Config:
     mode: str = "orb"
 
     def __post_init__(self) -> None:
-        for name in ("width", "height", "scales", "sectors_per_quadrant", "threshold"):
+        for name, legal in _RANGES.items():
             value = getattr(self, name)
-            if isinstance(value, bool) or not isinstance(value, int):
-                raise ConfigError(f"{name} must be an integer, got {value!r}")
+            if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+                raise ConfigError(f"{name} must be an integer in {legal}, got {value!r}")
+            object.__setattr__(self, name, int(value))  # numpy integers become plain ints
         if not MIN_WIDTH <= self.width <= MAX_WIDTH:
             raise ConfigError(f"width {self.width} outside {MIN_WIDTH}..{MAX_WIDTH}")
         if not MIN_HEIGHT <= self.height <= MAX_HEIGHT:
@@ -67,6 +78,6 @@ class Config:
 
 def sectors_to_per_quadrant(sectors: int) -> int:
     """Total sectors (16, 32, 64) to the per-quadrant N (4, 8, 16)."""
-    if sectors not in tuple(4 * n for n in SECTORS_PER_QUADRANT):
+    if isinstance(sectors, bool) or not isinstance(sectors, int) or sectors not in (16, 32, 64):
         raise ConfigError(f"sectors {sectors} not one of 16, 32, 64")
-    return sectors // 4
+    return int(sectors) // 4

@@ -21,7 +21,7 @@ def _empty_int() -> np.ndarray:
 class Features:
     """Columns of one frame's features. ``sector`` is -1 and ``descriptor`` is (K, 0) in fast mode.
 
-    ``sectors_total`` (4N) is kept to convert sectors to angles; 0 when there are no sectors.
+    ``sectors_total`` (4N of the configuration, in either mode) converts sectors to angles.
     """
 
     scale: np.ndarray = field(default_factory=_empty_int)

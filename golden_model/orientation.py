@@ -101,10 +101,9 @@ def tangent_constants(n: int) -> tuple[tuple[bool, int], ...]:
     """Per boundary k = 1..N: (uses_cot, constant). See the module doc."""
     out = []
     for beta in boundaries(n):
-        if beta < 45.0:
-            out.append((False, round(math.tan(math.radians(beta)) * (1 << TAN_BITS))))
-        else:
-            out.append((True, round(math.tan(math.radians(90.0 - beta)) * (1 << TAN_BITS))))
+        uses_cot = beta > 45.0
+        value = math.tan(math.radians(90.0 - beta if uses_cot else beta)) * (1 << TAN_BITS)
+        out.append((uses_cot, math.floor(value + 0.5)))  # round half away from zero (value > 0)
     return tuple(out)
 
 
