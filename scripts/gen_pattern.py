@@ -5,6 +5,12 @@
 Methods:
   gaussian  BRIEF's G II sampling: both points i.i.d. Gaussian, sigma = 31/5, redrawn until
             inside radius 15, rounded to integers; seeded, so reproducible.
+  greedy    ORB's learned pattern (Rublee et al., ICCV 2011, sec. 4.3): steered point tests on FAST
+            keypoints of bundled training photographs (not the evaluation set), sorted by
+            |mean - 0.5| and kept greedily while their |correlation| with every kept test is below a
+            threshold, raised until 256 are kept. See scripts/pattern_learn.py; deterministic.
+
+Use --out to write a candidate elsewhere without replacing the live pattern.
 """
 
 from __future__ import annotations
@@ -13,6 +19,7 @@ import argparse
 from pathlib import Path
 
 import numpy as np
+from pattern_learn import GreedyParams, learn
 
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "golden_model" / "pattern_data.py"
@@ -47,14 +54,43 @@ def write_pattern(pattern: np.ndarray, source: str, path: Path = OUT) -> None:
     path.write_text("\n".join(lines))
 
 
-def main() -> None:
+def parse_args() -> argparse.Namespace:
+    d = GreedyParams()
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--method", choices=["gaussian"], default="gaussian")
-    ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--method", choices=["gaussian", "greedy"], default="gaussian")
+    ap.add_argument("--seed", type=int, default=d.seed)
     ap.add_argument("--out", type=Path, default=OUT)
-    args = ap.parse_args()
-    pattern = gaussian_pattern(args.seed)
-    write_pattern(pattern, f"gaussian seed={args.seed}", args.out)
+    g = ap.add_argument_group("greedy")
+    g.add_argument("--fast-threshold", type=int, default=d.fast_threshold, help="FAST threshold of the training set")
+    g.add_argument("--keypoints", type=int, default=d.keypoints, help="training keypoints (random subsample)")
+    g.add_argument("--per-image", type=int, default=d.per_image, help="at most this many keypoints per image")
+    g.add_argument("--candidates", type=int, default=d.candidates, help="random candidate point pairs")
+    g.add_argument("--min-dist", type=float, default=d.min_dist, help="minimum distance between a pair's points")
+    g.add_argument("--corr-start", type=float, default=d.corr_start, help="first correlation threshold")
+    g.add_argument("--corr-step", type=float, default=d.corr_step, help="threshold increment per restart")
+    return ap.parse_args()
+
+
+def greedy_params(args: argparse.Namespace) -> GreedyParams:
+    return GreedyParams(
+        seed=args.seed,
+        fast_threshold=args.fast_threshold,
+        keypoints=args.keypoints,
+        per_image=args.per_image,
+        candidates=args.candidates,
+        min_dist=args.min_dist,
+        corr_start=args.corr_start,
+        corr_step=args.corr_step,
+    )
+
+
+def main() -> None:
+    args = parse_args()
+    if args.method == "greedy":
+        pattern, source = learn(greedy_params(args))
+    else:
+        pattern, source = gaussian_pattern(args.seed), f"gaussian seed={args.seed}"
+    write_pattern(pattern, source, args.out)
     print(f"wrote {args.out}")
 
 
