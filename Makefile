@@ -9,7 +9,7 @@ SECTORS ?= 32
 THRESHOLD ?= 20
 JOBS   ?= 2
 
-.PHONY: setup test test-all sim bench lint pattern clean help
+.PHONY: setup test test-all sim bench eval lint pattern clean help
 
 help:
 	@echo "make setup   create .venv and install the project with test extras (idempotent)"
@@ -17,6 +17,7 @@ help:
 	@echo "make test-all  run every test, slow full-frame ones included"
 	@echo "make sim     run the accelerator on the bundled default image (model backend until the RTL lands)"
 	@echo "make bench   model speed benchmark (scripts/bench_model.py)"
+	@echo "make eval    compare-fast and rotation-bench against OpenCV on the evaluation photos (STEP=1: ~6 min)"
 	@echo "make lint    ruff over the Python sources"
 
 $(STAMP): pyproject.toml
@@ -44,6 +45,14 @@ sim: $(STAMP)
 
 bench: $(STAMP)
 	$(BIN)/python scripts/bench_model.py
+
+STEP ?= 1
+EVAL_PHOTOS := build/eval/photos
+eval: $(STAMP)
+	$(BIN)/python scripts/sample_photos.py $(EVAL_PHOTOS) > /dev/null
+	$(BIN)/orb-accel compare-fast $(EVAL_PHOTOS)/*.png --threshold 15 20 25 30 35 40 --out-dir build/eval/compare-fast
+	$(BIN)/orb-accel rotation-bench $(EVAL_PHOTOS)/*.png --sectors 16 32 64 --step $(STEP) --threshold 20 \
+		--scales 1 --out-dir build/eval/rotation-bench
 
 lint: $(STAMP)
 	$(BIN)/ruff check golden_model tb scripts

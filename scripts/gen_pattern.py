@@ -57,7 +57,7 @@ def write_pattern(pattern: np.ndarray, source: str, path: Path = OUT) -> None:
 def parse_args() -> argparse.Namespace:
     d = GreedyParams()
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--method", choices=["gaussian", "greedy"], default="gaussian")
+    ap.add_argument("--method", choices=["gaussian", "greedy"], default="greedy")
     ap.add_argument("--seed", type=int, default=d.seed)
     ap.add_argument("--out", type=Path, default=OUT)
     g = ap.add_argument_group("greedy")
