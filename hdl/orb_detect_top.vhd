@@ -1,0 +1,180 @@
+-- SPDX-License-Identifier: MIT
+-- orb_detect_top: the accelerator's detection path (fast mode) for SCALES_g scales. Pixels enter
+-- as AXI4-Stream video (8-bit luma, tuser = start of frame, tlast = end of line) at up to one per
+-- clock; tready is high whenever not in reset, since a video source cannot be stalled. Scale 0
+-- is the input; each further scale comes from an orb_scaler on the previous one. Each scale's
+-- orb_fast_detect reports NMS survivors, merged by orb_feat_merge into m_axis_feat (layout in
+-- orb_feat_pkg) with an end-of-frame beat after each frame. The FAST threshold is sampled at
+-- each frame's first pixel. Pixels outside the configured WIDTH_g x HEIGHT_g frame (a long line
+-- or extra lines) are ignored and counted in bad_pixels.
+
+library ieee;
+use ieee.std_logic_1164.all;
+use ieee.numeric_std.all;
+
+use work.orb_util_pkg.all;
+use work.orb_feat_pkg.all;
+
+entity orb_detect_top is
+  generic (
+    WIDTH_g      : positive range 64 to 1920 := 640;
+    HEIGHT_g     : positive range 48 to 1080 := 480;
+    SCALES_g     : positive range 1 to 4     := 1;
+    FIFO_DEPTH_g : positive range 2 to 512   := 32
+  );
+  port (
+    clk                 : in    std_logic;
+    rst                 : in    std_logic;
+    s_axis_video_tdata  : in    std_logic_vector(7 downto 0);
+    s_axis_video_tvalid : in    std_logic;
+    s_axis_video_tready : out   std_logic;
+    s_axis_video_tuser  : in    std_logic;
+    s_axis_video_tlast  : in    std_logic;
+    threshold           : in    std_logic_vector(7 downto 0);
+    m_axis_feat_tdata   : out   std_logic_vector(FEAT_BITS_c - 1 downto 0);
+    m_axis_feat_tvalid  : out   std_logic;
+    m_axis_feat_tready  : in    std_logic;
+    m_axis_feat_tlast   : out   std_logic;
+    dropped             : out   std_logic_vector(31 downto 0);
+    bad_pixels          : out   std_logic_vector(31 downto 0)
+  );
+end entity orb_detect_top;
+
+architecture rtl of orb_detect_top is
+
+  type coord_arr_t is array (0 to SCALES_g - 1) of std_logic_vector(COORD_BITS_c - 1 downto 0);
+  type pixel_arr_t is array (0 to SCALES_g - 1) of std_logic_vector(PIXEL_BITS_c - 1 downto 0);
+
+  -- position of the next input pixel
+  signal next_x   : unsigned(COORD_BITS_c - 1 downto 0) := (others => '0');
+  signal next_y   : unsigned(COORD_BITS_c - 1 downto 0) := (others => '0');
+  signal bad_cnt  : unsigned(31 downto 0) := (others => '0');
+  signal ready    : std_logic := '0';
+
+  -- per-scale pixel streams (index 0: the input, registered)
+  signal px_valid : std_logic_vector(SCALES_g - 1 downto 0) := (others => '0');
+  signal px_x     : coord_arr_t := (others => (others => '0'));
+  signal px_y     : coord_arr_t := (others => (others => '0'));
+  signal px_data  : pixel_arr_t := (others => (others => '0'));
+
+  signal f_valid  : std_logic_vector(SCALES_g - 1 downto 0);
+  signal f_done   : std_logic_vector(SCALES_g - 1 downto 0);
+  signal f_x      : std_logic_vector(SCALES_g * COORD_BITS_c - 1 downto 0);
+  signal f_y      : std_logic_vector(SCALES_g * COORD_BITS_c - 1 downto 0);
+  signal f_score  : std_logic_vector(SCALES_g * SCORE_BITS_c - 1 downto 0);
+
+begin
+
+  assert (WIDTH_g / 2 ** (SCALES_g - 1)) >= 8
+    report "orb_detect_top: the smallest scale must be at least 8 pixels wide"
+    severity failure;
+
+  s_axis_video_tready <= ready;
+
+  -- Input registers and frame position: tuser marks (0, 0), tlast ends a line.
+  input : process (clk) is
+    variable x, y : unsigned(COORD_BITS_c - 1 downto 0);
+  begin
+    if rising_edge(clk) then
+      ready       <= '1';
+      px_valid(0) <= '0';
+      if s_axis_video_tvalid = '1' and ready = '1' then
+        if s_axis_video_tuser = '1' then
+          x := (others => '0');
+          y := (others => '0');
+        else
+          x := next_x;
+          y := next_y;
+        end if;
+        if x < WIDTH_g and y < HEIGHT_g then
+          px_valid(0) <= '1';
+          px_x(0)     <= std_logic_vector(x);
+          px_y(0)     <= std_logic_vector(y);
+          px_data(0)  <= s_axis_video_tdata;
+        else
+          bad_cnt <= bad_cnt + 1;
+        end if;
+        if s_axis_video_tlast = '1' then
+          next_x <= (others => '0');
+          next_y <= y + 1;
+        elsif x /= 2 ** COORD_BITS_c - 1 then
+          next_x <= x + 1;
+          next_y <= y;
+        end if;
+      end if;
+      if rst = '1' then
+        ready       <= '0';
+        px_valid(0) <= '0';
+        next_x      <= (others => '0');
+        next_y      <= (others => '0');
+        bad_cnt     <= (others => '0');
+      end if;
+    end if;
+  end process input;
+
+  scales : for s in 0 to SCALES_g - 1 generate
+
+    has_scaler : if s > 0 generate
+      scaler : entity work.orb_scaler
+        generic map (
+          LINE_WIDTH_g => WIDTH_g / 2 ** (s - 1)
+        )
+        port map (
+          clk       => clk,
+          rst       => rst,
+          in_valid  => px_valid(s - 1),
+          in_x      => px_x(s - 1),
+          in_y      => px_y(s - 1),
+          in_data   => px_data(s - 1),
+          out_valid => px_valid(s),
+          out_x     => px_x(s),
+          out_y     => px_y(s),
+          out_data  => px_data(s)
+        );
+    end generate has_scaler;
+
+    detect : entity work.orb_fast_detect
+      generic map (
+        LINE_WIDTH_g   => WIDTH_g / 2 ** s,
+        FRAME_HEIGHT_g => HEIGHT_g / 2 ** s
+      )
+      port map (
+        clk        => clk,
+        rst        => rst,
+        threshold  => threshold,
+        in_valid   => px_valid(s),
+        in_x       => px_x(s),
+        in_y       => px_y(s),
+        in_data    => px_data(s),
+        feat_valid => f_valid(s),
+        feat_x     => f_x((s + 1) * COORD_BITS_c - 1 downto s * COORD_BITS_c),
+        feat_y     => f_y((s + 1) * COORD_BITS_c - 1 downto s * COORD_BITS_c),
+        feat_score => f_score((s + 1) * SCORE_BITS_c - 1 downto s * SCORE_BITS_c),
+        frame_done => f_done(s)
+      );
+
+  end generate scales;
+
+  merge : entity work.orb_feat_merge
+    generic map (
+      SCALES_g     => SCALES_g,
+      FIFO_DEPTH_g => FIFO_DEPTH_g
+    )
+    port map (
+      clk                => clk,
+      rst                => rst,
+      in_valid           => f_valid,
+      in_x               => f_x,
+      in_y               => f_y,
+      in_score           => f_score,
+      in_done            => f_done,
+      m_axis_feat_tdata  => m_axis_feat_tdata,
+      m_axis_feat_tvalid => m_axis_feat_tvalid,
+      m_axis_feat_tready => m_axis_feat_tready,
+      m_axis_feat_tlast  => m_axis_feat_tlast,
+      dropped            => dropped
+    );
+
+  bad_pixels <= std_logic_vector(bad_cnt);
+
+end architecture rtl;

@@ -1,0 +1,149 @@
+-- SPDX-License-Identifier: MIT
+-- orb_fast_nms: 3x3 non-maximum suppression of the FAST score stream (docs/spec.md section 5)
+-- with the raster-order tie rule (strict '>' against the four earlier neighbours, '>=' against
+-- the four later ones). The input is orb_fast_score's stream: at stream position (px, py) it
+-- carries the score of the centre (px - 3, py - 3). A 3x3 score window (two score lines in block
+-- RAM) decides the centre (px - 4, py - 4). The last column and row of centres, whose right or
+-- lower neighbours lie in the border (score 0) and never arrive, are decided together with their
+-- neighbours at the end of each line (px = W - 1) and in the last line (py = H - 1); of those up
+-- to four mutually adjacent candidates at most one can survive, so the output carries at most one
+-- feature per clock. frame_done pulses with the decision at stream position (W - 1, H - 1).
+-- Latency: 3 clocks.
+
+library ieee;
+use ieee.std_logic_1164.all;
+use ieee.numeric_std.all;
+
+use work.orb_util_pkg.all;
+
+entity orb_fast_nms is
+  generic (
+    LINE_WIDTH_g   : positive range 8 to 4096 := 640;
+    FRAME_HEIGHT_g : positive range 1 to 4096 := 480
+  );
+  port (
+    clk        : in    std_logic;
+    rst        : in    std_logic;
+    in_valid   : in    std_logic;
+    in_x       : in    std_logic_vector(COORD_BITS_c - 1 downto 0);
+    in_y       : in    std_logic_vector(COORD_BITS_c - 1 downto 0);
+    in_score   : in    std_logic_vector(SCORE_BITS_c - 1 downto 0);
+    feat_valid : out   std_logic;
+    feat_x     : out   std_logic_vector(COORD_BITS_c - 1 downto 0);
+    feat_y     : out   std_logic_vector(COORD_BITS_c - 1 downto 0);
+    feat_score : out   std_logic_vector(SCORE_BITS_c - 1 downto 0);
+    frame_done : out   std_logic
+  );
+end entity orb_fast_nms;
+
+architecture rtl of orb_fast_nms is
+
+  constant S_c : positive := SCORE_BITS_c;
+
+  subtype score_t is unsigned(S_c - 1 downto 0);
+  type row_t is array (0 to 3) of score_t;
+
+  signal w_valid : std_logic;
+  signal w_x     : std_logic_vector(COORD_BITS_c - 1 downto 0);
+  signal w_y     : std_logic_vector(COORD_BITS_c - 1 downto 0);
+  signal w_flat  : std_logic_vector(9 * S_c - 1 downto 0);
+
+  signal f_valid : std_logic := '0';
+  signal f_x     : unsigned(COORD_BITS_c - 1 downto 0) := (others => '0');
+  signal f_y     : unsigned(COORD_BITS_c - 1 downto 0) := (others => '0');
+  signal f_score : score_t := (others => '0');
+  signal f_done  : std_logic := '0';
+
+  -- Survives: > every earlier neighbour, >= every later one, and a corner at all (> 0).
+  function survives (c : score_t; e0, e1, e2, e3, l0, l1, l2, l3 : score_t) return boolean is
+  begin
+    return c > 0 and c > e0 and c > e1 and c > e2 and c > e3 and
+           c >= l0 and c >= l1 and c >= l2 and c >= l3;
+  end function survives;
+
+begin
+
+  scores : entity work.orb_window
+    generic map (
+      LINE_WIDTH_g => LINE_WIDTH_g,
+      WIN_g        => 3,
+      DATA_WIDTH_g => S_c
+    )
+    port map (
+      clk       => clk,
+      rst       => rst,
+      in_valid  => in_valid,
+      in_x      => in_x,
+      in_y      => in_y,
+      in_data   => in_score,
+      out_valid => w_valid,
+      out_x     => w_x,
+      out_y     => w_y,
+      out_win   => w_flat
+    );
+
+  decide : process (clk) is
+    type win_t is array (0 to 3) of row_t;  -- (r, c) with row/column 3 the zero border
+    variable w      : win_t;
+    variable px, py : unsigned(COORD_BITS_c - 1 downto 0);
+    variable at_end_x, at_end_y, x_ok, y_ok : boolean;
+    constant Z      : score_t := (others => '0');
+  begin
+    if rising_edge(clk) then
+      f_valid <= '0';
+      f_done  <= '0';
+      if w_valid = '1' then
+        w := (others => (others => Z));
+        for r in 0 to 2 loop
+          for c in 0 to 2 loop
+            w(r)(c) := unsigned(w_flat((r * 3 + c + 1) * S_c - 1 downto (r * 3 + c) * S_c));
+          end loop;
+        end loop;
+        px       := unsigned(w_x);
+        py       := unsigned(w_y);
+        at_end_x := px = LINE_WIDTH_g - 1;
+        at_end_y := py = FRAME_HEIGHT_g - 1;
+        x_ok     := px >= 7;
+        y_ok     := py >= 7;
+        f_done   <= '1' when at_end_x and at_end_y else '0';
+        -- At most one of the four candidates can survive: they are mutually 8-adjacent.
+        if x_ok and y_ok and survives(w(1)(1), w(0)(0), w(0)(1), w(0)(2), w(1)(0),
+                                      w(1)(2), w(2)(0), w(2)(1), w(2)(2)) then
+          f_valid <= '1';
+          f_x     <= px - 4;
+          f_y     <= py - 4;
+          f_score <= w(1)(1);
+        elsif at_end_x and y_ok and survives(w(1)(2), w(0)(1), w(0)(2), Z, w(1)(1),
+                                             Z, w(2)(1), w(2)(2), Z) then
+          f_valid <= '1';
+          f_x     <= px - 3;
+          f_y     <= py - 4;
+          f_score <= w(1)(2);
+        elsif at_end_y and x_ok and survives(w(2)(1), w(1)(0), w(1)(1), w(1)(2), w(2)(0),
+                                             w(2)(2), Z, Z, Z) then
+          f_valid <= '1';
+          f_x     <= px - 4;
+          f_y     <= py - 3;
+          f_score <= w(2)(1);
+        elsif at_end_x and at_end_y and survives(w(2)(2), w(1)(1), w(1)(2), Z, w(2)(1),
+                                                 Z, Z, Z, Z) then
+          f_valid <= '1';
+          f_x     <= px - 3;
+          f_y     <= py - 3;
+          f_score <= w(2)(2);
+        end if;
+      end if;
+      if rst = '1' then
+        f_valid <= '0';
+        f_done  <= '0';
+      end if;
+    end if;
+  end process decide;
+
+  feat_valid <= f_valid;
+  feat_x     <= std_logic_vector(f_x);
+  feat_y     <= std_logic_vector(f_y);
+  feat_score <= std_logic_vector(f_score);
+  frame_done <= f_done;
+
+end architecture rtl;

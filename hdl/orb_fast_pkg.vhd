@@ -1,0 +1,48 @@
+-- SPDX-License-Identifier: MIT
+-- orb_fast_pkg: the FAST-9 circle (docs/spec.md section 4) and the segment-test helpers.
+
+library ieee;
+use ieee.std_logic_1164.all;
+use ieee.numeric_std.all;
+
+package orb_fast_pkg is
+
+  type offset_t is record
+    dx : integer range -3 to 3;
+    dy : integer range -3 to 3;
+  end record offset_t;
+
+  type circle_t is array (0 to 15) of offset_t;
+
+  -- Clockwise on screen (y grows downwards) from straight up; bit i of a mask is CIRCLE_c(i).
+  constant CIRCLE_c : circle_t := (
+    (0, -3), (1, -3), (2, -2), (3, -1), (3, 0), (3, 1), (2, 2), (1, 3),
+    (0, 3), (-1, 3), (-2, 2), (-3, 1), (-3, 0), (-3, -1), (-2, -2), (-1, -3)
+  );
+
+  constant ARC_c : positive := 9;
+
+  -- True when the mask holds ARC_c cyclically contiguous ones.
+  function has_arc (mask : std_logic_vector(15 downto 0)) return std_logic;
+
+end package orb_fast_pkg;
+
+package body orb_fast_pkg is
+
+  function has_arc (mask : std_logic_vector(15 downto 0)) return std_logic is
+    variable doubled : std_logic_vector(31 downto 0);
+    variable run     : std_logic;
+    variable found   : std_logic := '0';
+  begin
+    doubled := mask & mask;
+    for start in 0 to 15 loop
+      run := '1';
+      for k in 0 to ARC_c - 1 loop
+        run := run and doubled(start + k);
+      end loop;
+      found := found or run;
+    end loop;
+    return found;
+  end function has_arc;
+
+end package body orb_fast_pkg;

@@ -1,0 +1,95 @@
+-- SPDX-License-Identifier: MIT
+-- orb_line_buffer: keeps the previous LINES_g lines of a pixel stream in one block RAM whose word
+-- holds a whole column (LINES_g x DATA_WIDTH_g bits), read one clock before it is rewritten
+-- shifted by one line. For every input pixel it outputs, one clock later, the column of the
+-- LINES_g + 1 newest lines at that x: slice 0 is the input pixel, slice k the pixel k lines above.
+-- The caller supplies the column index, so the buffer needs no counters of its own; input gaps
+-- of any length are fine. Lines from an earlier frame stay in the RAM until overwritten: callers
+-- mask what they read near the top of a frame.
+
+library ieee;
+use ieee.std_logic_1164.all;
+use ieee.numeric_std.all;
+
+use work.orb_util_pkg.all;
+
+entity orb_line_buffer is
+  generic (
+    LINE_WIDTH_g : positive range 2 to 4096 := 640;
+    LINES_g      : positive range 1 to 32   := 6;
+    DATA_WIDTH_g : positive range 1 to 64   := 8
+  );
+  port (
+    clk       : in    std_logic;
+    rst       : in    std_logic;
+    in_valid  : in    std_logic;
+    in_col    : in    std_logic_vector(COORD_BITS_c - 1 downto 0);
+    in_data   : in    std_logic_vector(DATA_WIDTH_g - 1 downto 0);
+    out_valid : out   std_logic;
+    out_col   : out   std_logic_vector(COORD_BITS_c - 1 downto 0);
+    out_data  : out   std_logic_vector((LINES_g + 1) * DATA_WIDTH_g - 1 downto 0)
+  );
+end entity orb_line_buffer;
+
+architecture rtl of orb_line_buffer is
+
+  constant WORD_BITS_c : positive := LINES_g * DATA_WIDTH_g;
+  constant ADDR_BITS_c : positive := clog2(LINE_WIDTH_g);
+
+  type mem_t is array (0 to LINE_WIDTH_g - 1) of std_logic_vector(WORD_BITS_c - 1 downto 0);
+
+  signal mem      : mem_t;
+  signal rd_word  : std_logic_vector(WORD_BITS_c - 1 downto 0) := (others => '0');
+  signal wr_en    : std_logic                                  := '0';
+  signal wr_addr  : unsigned(ADDR_BITS_c - 1 downto 0)         := (others => '0');
+  signal data_dly : std_logic_vector(DATA_WIDTH_g - 1 downto 0) := (others => '0');
+  signal col_dly  : std_logic_vector(COORD_BITS_c - 1 downto 0) := (others => '0');
+  signal new_word : std_logic_vector(WORD_BITS_c - 1 downto 0);
+
+begin
+
+  assert LINE_WIDTH_g <= 2 ** COORD_BITS_c
+    report "orb_line_buffer: LINE_WIDTH_g exceeds the coordinate range"
+    severity failure;
+
+  -- The word written back: the column shifted down one line, the new pixel on top (slice 0).
+  gen_shift : if LINES_g > 1 generate
+    new_word <= rd_word(WORD_BITS_c - DATA_WIDTH_g - 1 downto 0) & data_dly;
+  else generate
+    new_word <= data_dly;
+  end generate gen_shift;
+
+  -- Simple dual-port RAM: registered read at in_col, write of the shifted word one clock later.
+  -- Read and write addresses differ whenever they coincide in time (consecutive columns).
+  ram : process (clk) is
+  begin
+    if rising_edge(clk) then
+      if wr_en = '1' then
+        mem(to_integer(wr_addr)) <= new_word;
+      end if;
+      if in_valid = '1' then
+        rd_word <= mem(to_integer(unsigned(in_col(ADDR_BITS_c - 1 downto 0))));
+      end if;
+    end if;
+  end process ram;
+
+  ctrl : process (clk) is
+  begin
+    if rising_edge(clk) then
+      wr_en <= in_valid;
+      if in_valid = '1' then
+        wr_addr  <= unsigned(in_col(ADDR_BITS_c - 1 downto 0));
+        data_dly <= in_data;
+        col_dly  <= in_col;
+      end if;
+      if rst = '1' then
+        wr_en <= '0';
+      end if;
+    end if;
+  end process ctrl;
+
+  out_valid <= wr_en;
+  out_col   <= col_dly;
+  out_data  <= rd_word & data_dly;
+
+end architecture rtl;

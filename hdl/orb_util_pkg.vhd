@@ -1,0 +1,33 @@
+-- SPDX-License-Identifier: MIT
+-- orb_util_pkg: shared constants and helpers of the ORB accelerator (coordinate width, log2).
+
+library ieee;
+use ieee.std_logic_1164.all;
+use ieee.numeric_std.all;
+
+package orb_util_pkg is
+
+  -- Coordinates are carried as 12-bit unsigned values (up to 4095, room above 1920x1080).
+  constant COORD_BITS_c : positive := 12;
+  -- FAST SAD score: 16 differences of at most 255.
+  constant SCORE_BITS_c : positive := 12;
+  constant PIXEL_BITS_c : positive := 8;
+
+  function clog2 (n : positive) return natural;
+
+end package orb_util_pkg;
+
+package body orb_util_pkg is
+
+  function clog2 (n : positive) return natural is
+    variable bits : natural := 0;
+    variable cap  : natural := 1;
+  begin
+    while cap < n loop
+      bits := bits + 1;
+      cap  := cap * 2;
+    end loop;
+    return bits;
+  end function clog2;
+
+end package body orb_util_pkg;

@@ -1,0 +1,2 @@
+# SPDX-License-Identifier: MIT
+"""Shared cocotb testbench support: runner, video driver, feature monitor, scoreboard, images."""

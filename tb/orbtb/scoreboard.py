@@ -1,0 +1,20 @@
+# SPDX-License-Identifier: MIT
+"""Compare RTL frames with the golden model, reporting the first mismatch with its coordinates."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from golden_model import Config, extract, first_difference
+from golden_model.features import Features
+
+
+def expected_features(img: np.ndarray, scales: int, threshold: int, mode: str = "fast", n: int = 8) -> Features:
+    h, w = img.shape
+    return extract(img, Config(w, h, scales=scales, sectors_per_quadrant=n, threshold=threshold, mode=mode))
+
+
+def check_frame(got: Features, expected: Features, what: str) -> None:
+    diff = first_difference(got, expected)
+    if diff is not None:
+        raise AssertionError(f"{what}: RTL (first) and model (second) differ: {diff}")

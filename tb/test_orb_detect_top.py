@@ -1,0 +1,129 @@
+# SPDX-License-Identifier: MIT
+"""orb_detect_top (fast mode of the accelerator) against the golden model, bit for bit.
+
+The cocotb test streams one or more frames back to back (each with its own image and threshold)
+through s_axis_video, collects m_axis_feat and compares every frame with the model's fast-mode
+features (scale, x, y, score). The pytest runners below pick widths, heights, scales, images,
+thresholds and input gaps.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import time
+from pathlib import Path
+
+import cocotb
+import numpy as np
+import pytest
+from cocotb.clock import Clock
+from cocotb.triggers import ClockCycles, RisingEdge, with_timeout
+
+from orbtb import images
+from orbtb.feature_stream import FeatureMonitor
+from orbtb.runner import run
+from orbtb.scoreboard import check_frame, expected_features
+from orbtb.video import Gaps, VideoSource
+
+EOF_TIMEOUT_CYCLES = 5000
+
+
+def _env_list(name: str, default: str) -> list[str]:
+    return [v for v in os.environ.get(name, default).split(",") if v]
+
+
+@cocotb.test()
+async def detect_frames(dut) -> None:
+    w, h = int(os.environ["ORB_WIDTH"]), int(os.environ["ORB_HEIGHT"])
+    scales = int(os.environ["ORB_SCALES"])
+    thresholds = [int(t) for t in _env_list("ORB_THRESHOLDS", "20")]
+    if "ORB_IMAGE_FILE" in os.environ:
+        frames = [np.load(os.environ["ORB_IMAGE_FILE"])] * len(thresholds)
+    else:
+        kinds = _env_list("ORB_IMAGES", "photo:camera")
+        frames = [images.make(kinds[i % len(kinds)], w, h) for i in range(len(thresholds))]
+    gaps = Gaps.parse(os.environ.get("ORB_GAPS", "none"))
+
+    clk = dut.clk
+    dut.rst.value = 1
+    dut.threshold.value = thresholds[0]
+    dut.m_axis_feat_tready.value = 1
+    source = VideoSource(dut, clk)
+    source.idle()
+    cocotb.start_soon(Clock(clk, 10, unit="ns").start(start_high=False))
+    await ClockCycles(clk, 4)
+    dut.rst.value = 0
+    await RisingEdge(clk)
+    monitor = FeatureMonitor(dut, clk)
+    cocotb.start_soon(monitor.run())
+
+    wall = time.perf_counter()
+    for frame, t in zip(frames, thresholds, strict=True):
+        dut.threshold.value = t
+        await source.send_frame(frame, gaps)
+    pixels_cycles = source.cycles
+    latency = 0
+    while len(monitor.frames) < len(frames):
+        await RisingEdge(clk)
+        latency += 1
+        if latency > EOF_TIMEOUT_CYCLES:
+            raise AssertionError(f"only {len(monitor.frames)} of {len(frames)} end-of-frame beats arrived")
+    wall = time.perf_counter() - wall
+
+    report = {"frames": len(frames), "cycles": pixels_cycles, "pixels": w * h * len(frames),
+              "latency_cycles": latency, "sim_wall_s": round(wall, 2),
+              "bad_pixels": int(dut.bad_pixels.value), "dropped": int(dut.dropped.value)}  # fmt: skip
+    dut._log.info("report: %s", report)
+    if "ORB_OUT" in os.environ:
+        from golden_model import write_csv
+
+        write_csv(monitor.frames[0].features(), Path(os.environ["ORB_OUT"]))
+        Path(os.environ["ORB_OUT"]).with_suffix(".json").write_text(json.dumps(report, indent=2) + "\n")
+        return
+    for i, (frame, t, got) in enumerate(zip(frames, thresholds, monitor.frames, strict=True)):
+        assert got.number == i, f"frame {i}: end-of-frame beat numbered {got.number}"
+        assert got.drops == 0, f"frame {i}: {got.drops} features dropped"
+        check_frame(got.features(), expected_features(frame, scales, t), f"frame {i} (threshold {t})")
+    assert int(dut.bad_pixels.value) == 0, "pixels outside the frame were counted"
+    assert int(dut.dropped.value) == 0
+
+
+# ------------------------------------------------------------------------------------------------
+# pytest runners
+
+
+def run_detect(width: int, height: int, scales: int, images_: str, thresholds: str, gaps: str = "none") -> None:
+    run(
+        "orb_detect_top",
+        "test_orb_detect_top",
+        {"WIDTH_g": width, "HEIGHT_g": height, "SCALES_g": scales},
+        env={"ORB_IMAGES": images_, "ORB_THRESHOLDS": thresholds, "ORB_GAPS": gaps},
+    )
+
+
+@pytest.mark.parametrize(
+    ("width", "height", "scales", "images_", "thresholds", "gaps"),
+    [
+        (64, 48, 1, "photo:camera", "20", "none"),  # smallest legal frame
+        (64, 48, 4, "photo:astronaut", "10", "random:2"),
+        (160, 64, 2, "photo:coffee,photo:chelsea,photo:astronaut", "0,20,255", "none"),  # back to back
+        (160, 64, 2, "photo:camera", "15,40", "blanking"),
+        (128, 64, 3, "photo:coffee", "25", "random:5"),
+        (96, 64, 1, "flat", "0", "none"),
+        (96, 64, 2, "dots,checker,checker4", "20,20,0", "none"),  # maximum corner density
+        (96, 64, 1, "border,noise", "20,30", "none"),  # corners at every border distance
+    ],
+)
+def test_detect_small(width: int, height: int, scales: int, images_: str, thresholds: str, gaps: str) -> None:
+    run_detect(width, height, scales, images_, thresholds, gaps)
+
+
+@pytest.mark.parametrize(("width", "height", "scales"), [(640, 48, 2), (1920, 48, 1)])
+def test_detect_wide_strips(width: int, height: int, scales: int) -> None:
+    run_detect(width, height, scales, "photo:astronaut", "20", "none")
+
+
+@pytest.mark.slow
+def test_detect_full_vga_two_scales() -> None:
+    run_detect(640, 480, 2, "photo:coffee", "20", "none")
