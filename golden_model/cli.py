@@ -18,8 +18,9 @@ import numpy as np
 from .config import MIN_HEIGHT, MIN_WIDTH, Config, ConfigError, sectors_to_per_quadrant
 from .features import Features, write_csv
 from .images import DEFAULT_IMAGE, ImageError, load_luma, load_rgb_or_grey, to_luma
+from .rtl_backend import RtlUnavailable
 
-BACKENDS = ("model", "opencv")
+BACKENDS = ("model", "opencv", "rtl")
 
 
 class UsageError(Exception):
@@ -112,6 +113,15 @@ def run_backend(backend: str, img: np.ndarray, cfg: Config) -> Features:
         from .pipeline import extract
 
         return extract(img, cfg)
+    if backend == "rtl":
+        from .rtl_backend import extract_rtl
+
+        feats, report = extract_rtl(img, cfg)
+        print(
+            f"RTL: {report['cycles']} clocks for {report['pixels']} pixels, last feature "
+            f"{report['latency_cycles']} clocks after the last pixel, {report['sim_wall_s']} s simulated"
+        )
+        return feats
     from .opencv_backend import extract_opencv
 
     return extract_opencv(img, cfg)
@@ -174,7 +184,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         args = build_parser().parse_args(argv)
         return COMMANDS[args.command](args)
-    except (UsageError, ImageError, ConfigError, OSError) as exc:
+    except (UsageError, ImageError, ConfigError, OSError, RtlUnavailable) as exc:
         print(f"orb-accel: error: {exc}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:

@@ -65,6 +65,7 @@ def run(
     env: Mapping[str, str] | None = None,
     testcase: str | None = None,
     waves: bool = False,
+    log_file: Path | None = None,
 ) -> Path:
     """Build `toplevel` (once per generic set) and run the cocotb `module` (in tb/) on it."""
     from cocotb_tools.runner import get_runner
@@ -80,6 +81,7 @@ def run(
         build_dir=build_dir,
         always=True,
         waves=waves,
+        log_file=log_file,
     )
     extra_env = {f"ORB_{k.removesuffix('_g')}": str(v) for k, v in generics.items()}
     extra_env.update(env or {})
@@ -94,4 +96,5 @@ def run(
         extra_env=extra_env,
         testcase=testcase,
         waves=waves,
+        log_file=log_file,
     )

@@ -52,7 +52,7 @@ class VideoSource:
 
     async def send_frame(self, frame: np.ndarray, gaps: Gaps = Gaps()) -> None:
         """Send one frame; returns after its last pixel has been accepted."""
-        h, w = frame.shape
+        w = frame.shape[1]
         pixels = frame.astype(np.int64).ravel().tolist()
         rng = np.random.default_rng(gaps.seed) if gaps.kind == "random" else None
         idle = (rng.random(len(pixels)) < gaps.idle_prob).tolist() if rng is not None else None
