@@ -9,7 +9,7 @@ SECTORS ?= 32
 THRESHOLD ?= 20
 JOBS   ?= 2
 
-.PHONY: setup test test-all sim bench eval lint pattern clean help
+.PHONY: setup test test-all sim bench bench-sim eval lint pattern clean help
 
 help:
 	@echo "make setup   create .venv and install the project with test extras (idempotent)"
@@ -17,6 +17,7 @@ help:
 	@echo "make test-all  run every test, slow full-frame ones included"
 	@echo "make sim     run the accelerator on the bundled default image (model backend until the RTL lands)"
 	@echo "make bench   model speed benchmark (scripts/bench_model.py)"
+	@echo "make bench-sim  RTL simulation speed, one 640x480 frame (scripts/bench_sim.py)"
 	@echo "make eval    compare-fast and rotation-bench against OpenCV on the evaluation photos (STEP=1: ~6 min)"
 	@echo "make lint    ruff over the Python sources"
 
@@ -45,6 +46,9 @@ sim: $(STAMP)
 
 bench: $(STAMP)
 	$(BIN)/python scripts/bench_model.py
+
+bench-sim: $(STAMP)
+	$(BIN)/python scripts/bench_sim.py
 
 STEP ?= 1
 EVAL_PHOTOS := build/eval/photos
