@@ -4,8 +4,8 @@
 -- clock; tready is high whenever not in reset, since a video source cannot be stalled. Scale 0
 -- is the input; each further scale comes from an orb_scaler on the previous one. Each scale's
 -- orb_fast_detect reports NMS survivors, merged by orb_feat_merge into m_axis_feat (layout in
--- orb_feat_pkg) with an end-of-frame beat after each frame. The FAST threshold is sampled at
--- each frame's first pixel. Pixels outside the configured WIDTH_g x HEIGHT_g frame (a long line
+-- orb_feat_pkg) with an end-of-frame beat after each frame. The FAST threshold is sampled with
+-- each frame's first pixel (tuser) and used for every scale of that frame. Pixels outside the configured WIDTH_g x HEIGHT_g frame (a long line
 -- or extra lines) are ignored and counted in bad_pixels.
 
 library ieee;
@@ -46,10 +46,11 @@ architecture rtl of orb_detect_top is
   type pixel_arr_t is array (0 to SCALES_g - 1) of std_logic_vector(PIXEL_BITS_c - 1 downto 0);
 
   -- position of the next input pixel
-  signal next_x   : unsigned(COORD_BITS_c - 1 downto 0) := (others => '0');
-  signal next_y   : unsigned(COORD_BITS_c - 1 downto 0) := (others => '0');
-  signal bad_cnt  : unsigned(31 downto 0) := (others => '0');
-  signal ready    : std_logic := '0';
+  signal next_x  : unsigned(COORD_BITS_c - 1 downto 0) := (others => '0');
+  signal next_y  : unsigned(COORD_BITS_c - 1 downto 0) := (others => '0');
+  signal bad_cnt : unsigned(31 downto 0) := (others => '0');
+  signal ready   : std_logic := '0';
+  signal thr_frm : std_logic_vector(7 downto 0) := (others => '0');
 
   -- per-scale pixel streams (index 0: the input, registered)
   signal px_valid : std_logic_vector(SCALES_g - 1 downto 0) := (others => '0');
@@ -57,11 +58,11 @@ architecture rtl of orb_detect_top is
   signal px_y     : coord_arr_t := (others => (others => '0'));
   signal px_data  : pixel_arr_t := (others => (others => '0'));
 
-  signal f_valid  : std_logic_vector(SCALES_g - 1 downto 0);
-  signal f_done   : std_logic_vector(SCALES_g - 1 downto 0);
-  signal f_x      : std_logic_vector(SCALES_g * COORD_BITS_c - 1 downto 0);
-  signal f_y      : std_logic_vector(SCALES_g * COORD_BITS_c - 1 downto 0);
-  signal f_score  : std_logic_vector(SCALES_g * SCORE_BITS_c - 1 downto 0);
+  signal f_valid : std_logic_vector(SCALES_g - 1 downto 0);
+  signal f_done  : std_logic_vector(SCALES_g - 1 downto 0);
+  signal f_x     : std_logic_vector(SCALES_g * COORD_BITS_c - 1 downto 0);
+  signal f_y     : std_logic_vector(SCALES_g * COORD_BITS_c - 1 downto 0);
+  signal f_score : std_logic_vector(SCALES_g * SCORE_BITS_c - 1 downto 0);
 
 begin
 
@@ -85,6 +86,9 @@ begin
         else
           x := next_x;
           y := next_y;
+        end if;
+        if s_axis_video_tuser = '1' then
+          thr_frm <= threshold;  -- the whole frame, every scale, uses this value
         end if;
         if x < WIDTH_g and y < HEIGHT_g then
           px_valid(0) <= '1';
@@ -141,7 +145,7 @@ begin
       port map (
         clk        => clk,
         rst        => rst,
-        threshold  => threshold,
+        threshold  => thr_frm,
         in_valid   => px_valid(s),
         in_x       => px_x(s),
         in_y       => px_y(s),

@@ -1,10 +1,14 @@
 -- SPDX-License-Identifier: MIT
 -- orb_feat_merge: merges the feature streams of SCALES_g scales into one AXI4-Stream. Each scale
--- has a FIFO of FIFO_DEPTH_g entries; a round-robin arbiter moves one feature per clock to the
--- output register. When every scale has finished a frame (its frame_done marker is at the head of
--- its FIFO), one end-of-frame beat (tlast = 1, layout in orb_feat_pkg) follows that frame's
--- features. A feature that finds its FIFO full is dropped and counted (per frame in the
--- end-of-frame beat, in total on `dropped`); frame markers are never dropped.
+-- has a FIFO of FIFO_DEPTH_g features; a round-robin arbiter moves one feature per clock to the
+-- output register. A scale's frame end (in_done) is not stored in its FIFO but remembered as the
+-- number of FIFO entries that still belong to the ending frame, so a frame end can never be
+-- overtaken or dropped. When every scale has delivered its whole frame, one end-of-frame beat
+-- (tlast = 1, layout in orb_feat_pkg) follows the frame's features. Up to two frame ends per
+-- scale can wait for their beat (the output stalled for a whole frame); a third merges into the
+-- newest waiting one. A feature that finds its FIFO full is dropped and counted: in total on
+-- `dropped`, and per frame (the frame the feature belongs to) in the end-of-frame beat,
+-- saturating at 65535.
 
 library ieee;
 use ieee.std_logic_1164.all;
@@ -36,27 +40,43 @@ end entity orb_feat_merge;
 
 architecture rtl of orb_feat_merge is
 
-  -- FIFO entry: marker flag, y, x, score
-  constant ENTRY_BITS_c : positive := 1 + 2 * COORD_BITS_c + SCORE_BITS_c;
+  constant ENTRY_BITS_c : positive := 2 * COORD_BITS_c + SCORE_BITS_c;  -- y, x, score
   constant PTR_BITS_c   : positive := clog2(FIFO_DEPTH_g);
+  constant SAT_c        : natural  := 2 ** 16 - 1;
+
+  subtype count_t is natural range 0 to FIFO_DEPTH_g;
+  subtype ptr_t is natural range 0 to FIFO_DEPTH_g - 1;
+  subtype drops_t is natural range 0 to SAT_c;
 
   type fifo_mem_t is array (0 to FIFO_DEPTH_g - 1) of std_logic_vector(ENTRY_BITS_c - 1 downto 0);
   type fifo_arr_t is array (0 to SCALES_g - 1) of fifo_mem_t;
-  type ptr_arr_t is array (0 to SCALES_g - 1) of natural range 0 to FIFO_DEPTH_g - 1;
-  type cnt_arr_t is array (0 to SCALES_g - 1) of natural range 0 to FIFO_DEPTH_g;
+  type ptr_arr_t is array (0 to SCALES_g - 1) of ptr_t;
+  type cnt_arr_t is array (0 to SCALES_g - 1) of count_t;
+  type marks_t is array (0 to SCALES_g - 1) of natural range 0 to 2;
+  type frame_drops_t is array (0 to 2) of drops_t;  -- oldest waiting frame first
 
   signal fifo      : fifo_arr_t;
   signal head      : ptr_arr_t := (others => 0);
   signal tail      : ptr_arr_t := (others => 0);
   signal count     : cnt_arr_t := (others => 0);
-  signal pend_done : std_logic_vector(SCALES_g - 1 downto 0) := (others => '0');
+  signal marks     : marks_t := (others => 0);     -- frame ends waiting, per scale
+  signal ahead0    : cnt_arr_t := (others => 0);   -- entries of the oldest waiting frame
+  signal ahead1    : cnt_arr_t := (others => 0);   -- entries up to the second waiting frame end
+  signal frame_drp : frame_drops_t := (others => 0);
   signal rr        : natural range 0 to SCALES_g - 1 := 0;
   signal o_valid   : std_logic := '0';
   signal o_last    : std_logic := '0';
   signal o_data    : std_logic_vector(FEAT_BITS_c - 1 downto 0) := (others => '0');
   signal frame_no  : unsigned(15 downto 0) := (others => '0');
-  signal frame_drp : unsigned(15 downto 0) := (others => '0');
   signal total_drp : unsigned(31 downto 0) := (others => '0');
+
+  function sat_add (a : drops_t; b : natural) return drops_t is
+  begin
+    if a + b > SAT_c then
+      return SAT_c;
+    end if;
+    return a + b;
+  end function sat_add;
 
 begin
 
@@ -65,40 +85,41 @@ begin
     severity failure;
 
   merge : process (clk) is
-    variable entry     : std_logic_vector(ENTRY_BITS_c - 1 downto 0);
-    variable is_marker : boolean;
-    variable pop       : integer range -1 to SCALES_g - 1;
-    variable pop_all   : boolean;
-    variable all_mark  : boolean;
-    variable s         : natural range 0 to SCALES_g - 1;
-    variable cnt       : cnt_arr_t;
-    variable hd, tl    : ptr_arr_t;
-    variable pend      : std_logic_vector(SCALES_g - 1 downto 0);
-    variable drops     : natural range 0 to SCALES_g;
-    variable fdrp      : unsigned(15 downto 0);
+    variable entry  : std_logic_vector(ENTRY_BITS_c - 1 downto 0);
+    variable pop    : integer range -1 to SCALES_g - 1;
+    variable s      : natural range 0 to SCALES_g - 1;
+    variable all_at : boolean;
+    variable cnt    : cnt_arr_t;
+    variable a0, a1 : cnt_arr_t;
+    variable mk     : marks_t;
+    variable hd, tl : ptr_arr_t;
+    variable fd     : frame_drops_t;
+    variable drops  : natural range 0 to SCALES_g;
   begin
     if rising_edge(clk) then
       cnt   := count;
+      a0    := ahead0;
+      a1    := ahead1;
+      mk    := marks;
       hd    := head;
       tl    := tail;
-      pend  := pend_done;
+      fd    := frame_drp;
       drops := 0;
-      fdrp  := frame_drp;
 
-      -- output side: choose what to load into the output register
+      -- Output side. A scale is eligible when it holds a feature of the oldest waiting frame.
       if o_valid = '0' or m_axis_feat_tready = '1' then
-        o_valid  <= '0';
-        o_last   <= '0';
-        pop      := -1;
-        all_mark := true;
+        o_valid <= '0';
+        o_last  <= '0';
+        pop     := -1;
+        all_at  := true;
         for k in 0 to SCALES_g - 1 loop
-          if cnt(k) = 0 or fifo(k)(hd(k))(ENTRY_BITS_c - 1) = '0' then
-            all_mark := false;
+          if mk(k) = 0 or a0(k) /= 0 then
+            all_at := false;
           end if;
         end loop;
         for k in 0 to SCALES_g - 1 loop
           s := (rr + k) mod SCALES_g;
-          if pop < 0 and cnt(s) > 0 and fifo(s)(hd(s))(ENTRY_BITS_c - 1) = '0' then
+          if pop < 0 and cnt(s) > 0 and (mk(s) = 0 or a0(s) > 0) then
             pop := s;
           end if;
         end loop;
@@ -114,66 +135,78 @@ begin
           o_data(FEAT_SCALE_LO_c + 1 downto FEAT_SCALE_LO_c) <= std_logic_vector(to_unsigned(pop, 2));
           hd(pop)  := (hd(pop) + 1) mod FIFO_DEPTH_g;
           cnt(pop) := cnt(pop) - 1;
-          rr       <= (pop + 1) mod SCALES_g;
-        elsif all_mark then
+          if mk(pop) >= 1 then
+            a0(pop) := a0(pop) - 1;
+          end if;
+          if mk(pop) = 2 then
+            a1(pop) := a1(pop) - 1;
+          end if;
+          rr <= (pop + 1) mod SCALES_g;
+        elsif all_at then
           o_valid <= '1';
           o_last  <= '1';
           o_data  <= (others => '0');
           o_data(FEAT_EOF_BIT_c) <= '1';
           o_data(EOF_FRAME_LO_c + 15 downto EOF_FRAME_LO_c) <= std_logic_vector(frame_no);
-          o_data(EOF_DROPS_LO_c + 15 downto EOF_DROPS_LO_c) <= std_logic_vector(frame_drp);
+          o_data(EOF_DROPS_LO_c + 15 downto EOF_DROPS_LO_c) <= std_logic_vector(to_unsigned(fd(0), 16));
           frame_no <= frame_no + 1;
-          fdrp     := (others => '0');
+          fd       := (fd(1), fd(2), 0);
           for k in 0 to SCALES_g - 1 loop
-            hd(k)  := (hd(k) + 1) mod FIFO_DEPTH_g;
-            cnt(k) := cnt(k) - 1;
+            mk(k) := mk(k) - 1;
+            a0(k) := a1(k);
           end loop;
         end if;
       end if;
 
-      -- input side: push features and frame markers (a marker waits in pend_done while full)
+      -- Input side: a feature joins its FIFO or is dropped (and counted for its own frame, the
+      -- frame after this scale's waiting frame ends); a frame end records the entries ahead of it.
       for k in 0 to SCALES_g - 1 loop
-        pend(k) := pend(k) or in_done(k);
         if in_valid(k) = '1' then
           if cnt(k) < FIFO_DEPTH_g then
-            fifo(k)(tl(k)) <= '0' & in_y((k + 1) * COORD_BITS_c - 1 downto k * COORD_BITS_c) &
+            fifo(k)(tl(k)) <= in_y((k + 1) * COORD_BITS_c - 1 downto k * COORD_BITS_c) &
                               in_x((k + 1) * COORD_BITS_c - 1 downto k * COORD_BITS_c) &
                               in_score((k + 1) * SCORE_BITS_c - 1 downto k * SCORE_BITS_c);
             tl(k)  := (tl(k) + 1) mod FIFO_DEPTH_g;
             cnt(k) := cnt(k) + 1;
           else
-            drops := drops + 1;
+            drops     := drops + 1;
+            fd(mk(k)) := sat_add(fd(mk(k)), 1);
           end if;
-        elsif pend(k) = '1' and cnt(k) < FIFO_DEPTH_g then
-          fifo(k)(tl(k)) <= (ENTRY_BITS_c - 1 => '1', others => '0');
-          tl(k)   := (tl(k) + 1) mod FIFO_DEPTH_g;
-          cnt(k)  := cnt(k) + 1;
-          pend(k) := '0';
+        end if;
+        if in_done(k) = '1' then
+          if mk(k) = 0 then
+            a0(k) := cnt(k);
+            mk(k) := 1;
+          else
+            a1(k) := cnt(k);
+            mk(k) := 2;
+          end if;
         end if;
       end loop;
       if drops > 0 then
         total_drp <= total_drp + drops;
-        if fdrp < 2 ** 16 - SCALES_g then
-          fdrp := fdrp + drops;
-        end if;
       end if;
-      frame_drp <= fdrp;
 
       count     <= cnt;
+      ahead0    <= a0;
+      ahead1    <= a1;
+      marks     <= mk;
       head      <= hd;
       tail      <= tl;
-      pend_done <= pend;
+      frame_drp <= fd;
 
       if rst = '1' then
         count     <= (others => 0);
+        ahead0    <= (others => 0);
+        ahead1    <= (others => 0);
+        marks     <= (others => 0);
         head      <= (others => 0);
         tail      <= (others => 0);
-        pend_done <= (others => '0');
+        frame_drp <= (others => 0);
         rr        <= 0;
         o_valid   <= '0';
         o_last    <= '0';
         frame_no  <= (others => '0');
-        frame_drp <= (others => '0');
         total_drp <= (others => '0');
       end if;
     end if;

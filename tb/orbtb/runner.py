@@ -71,7 +71,8 @@ def run(
     from cocotb_tools.runner import get_runner
 
     os.environ.update(ghdl_path_env())
-    tag = hashlib.sha1(repr(sorted(generics.items())).encode()).hexdigest()[:10]
+    # One build directory per (test module, generics): pytest -n workers never share one.
+    tag = hashlib.sha1(repr((module, sorted(generics.items()))).encode()).hexdigest()[:10]
     build_dir = BUILD / f"{toplevel}-{tag}"
     runner = get_runner("ghdl")
     runner.build(
@@ -84,6 +85,8 @@ def run(
         log_file=log_file,
     )
     extra_env = {f"ORB_{k.removesuffix('_g')}": str(v) for k, v in generics.items()}
+    # Rewrite asserts only in test modules (rewriting numpy/scikit-image costs seconds per start).
+    extra_env["COCOTB_REWRITE_ASSERTION_FILES"] = "test_*.py"
     extra_env.update(env or {})
     extra_env["PYTHONPATH"] = os.pathsep.join([str(TB), str(ROOT), os.environ.get("PYTHONPATH", "")])
     return runner.test(
