@@ -9,7 +9,7 @@ SECTORS ?= 32
 THRESHOLD ?= 20
 JOBS   ?= 2
 
-.PHONY: setup test test-all sim bench bench-sim eval lint pattern clean help
+.PHONY: setup test test-all sim bench bench-sim eval lint synth tools pattern clean help
 
 help:
 	@echo "make setup   create .venv and install the project with test extras (idempotent)"
@@ -19,7 +19,9 @@ help:
 	@echo "make bench   model speed benchmark (scripts/bench_model.py)"
 	@echo "make bench-sim  RTL simulation speed, one 640x480 frame (scripts/bench_sim.py)"
 	@echo "make eval    compare-fast and rotation-bench against OpenCV on the evaluation photos (STEP=1: ~6 min)"
-	@echo "make lint    ruff over the Python sources"
+	@echo "make lint    ruff over the Python sources; GHDL synth check and vsg style check of hdl/"
+	@echo "make synth   LUT/FF/BRAM/DSP and logic-delay estimate of orb_detect_top (GHDL + yosys; ~10 min)"
+	@echo "make tools   which of ghdl, yosys, python3 are installed, and how to install the rest"
 
 $(STAMP): pyproject.toml
 	@$(PYTHON) -c 'import sys; sys.exit(sys.version_info < (3, 10))' || \
@@ -61,6 +63,17 @@ eval: $(STAMP)
 lint: $(STAMP)
 	$(BIN)/ruff check golden_model tb scripts
 	$(BIN)/ruff format --check golden_model tb scripts
+	@sh scripts/check_tools.sh ghdl
+	$(BIN)/python scripts/lint_hdl.py
+
+# Resource and logic-delay estimate (GHDL + yosys, no Vivado); CONFIG=1920x1080x2 runs one configuration.
+CONFIG ?=
+synth:
+	@sh scripts/check_tools.sh ghdl yosys python3
+	$(PYTHON) scripts/synth.py --jobs $(JOBS) $(if $(CONFIG),--config $(CONFIG))
+
+tools:
+	@sh scripts/check_tools.sh
 
 pattern: $(STAMP)
 	$(BIN)/python scripts/gen_pattern.py

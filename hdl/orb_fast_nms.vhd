@@ -84,16 +84,17 @@ begin
 
   decide : process (clk) is
     type win_t is array (0 to 3) of row_t;  -- (r, c) with row/column 3 the zero border
-    variable w      : win_t;
-    variable px, py : unsigned(COORD_BITS_c - 1 downto 0);
-    variable at_end_x, at_end_y, x_ok, y_ok : boolean;
-    constant Z      : score_t := (others => '0');
+    variable w                  : win_t;
+    variable px, py             : unsigned(COORD_BITS_c - 1 downto 0);
+    variable at_end_x, at_end_y : boolean;
+    variable x_ok, y_ok         : boolean;
+    constant Z_c                : score_t := (others => '0');
   begin
     if rising_edge(clk) then
       f_valid <= '0';
       f_done  <= '0';
       if w_valid = '1' then
-        w := (others => (others => Z));
+        w := (others => (others => Z_c));
         for r in 0 to 2 loop
           for c in 0 to 2 loop
             w(r)(c) := unsigned(w_flat((r * 3 + c + 1) * S_c - 1 downto (r * 3 + c) * S_c));
@@ -113,20 +114,20 @@ begin
           f_x     <= px - 4;
           f_y     <= py - 4;
           f_score <= w(1)(1);
-        elsif at_end_x and y_ok and survives(w(1)(2), w(0)(1), w(0)(2), Z, w(1)(1),
-                                             Z, w(2)(1), w(2)(2), Z) then
+        elsif at_end_x and y_ok and survives(w(1)(2), w(0)(1), w(0)(2), Z_c, w(1)(1),
+                                             Z_c, w(2)(1), w(2)(2), Z_c) then
           f_valid <= '1';
           f_x     <= px - 3;
           f_y     <= py - 4;
           f_score <= w(1)(2);
         elsif at_end_y and x_ok and survives(w(2)(1), w(1)(0), w(1)(1), w(1)(2), w(2)(0),
-                                             w(2)(2), Z, Z, Z) then
+                                             w(2)(2), Z_c, Z_c, Z_c) then
           f_valid <= '1';
           f_x     <= px - 4;
           f_y     <= py - 3;
           f_score <= w(2)(1);
-        elsif at_end_x and at_end_y and survives(w(2)(2), w(1)(1), w(1)(2), Z, w(2)(1),
-                                                 Z, Z, Z, Z) then
+        elsif at_end_x and at_end_y and survives(w(2)(2), w(1)(1), w(1)(2), Z_c, w(2)(1),
+                                                 Z_c, Z_c, Z_c, Z_c) then
           f_valid <= '1';
           f_x     <= px - 3;
           f_y     <= py - 3;

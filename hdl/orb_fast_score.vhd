@@ -48,14 +48,14 @@ architecture rtl of orb_fast_score is
   signal corner2 : std_logic := '0';
   signal part2   : part_t := (others => (others => '0'));
   -- stage 3
-  signal v3      : std_logic := '0';
-  signal x3, y3  : std_logic_vector(COORD_BITS_c - 1 downto 0) := (others => '0');
-  signal score3  : unsigned(SCORE_BITS_c - 1 downto 0) := (others => '0');
+  signal v3     : std_logic := '0';
+  signal x3, y3 : std_logic_vector(COORD_BITS_c - 1 downto 0) := (others => '0');
+  signal score3 : unsigned(SCORE_BITS_c - 1 downto 0) := (others => '0');
 
   function pixel (win : std_logic_vector; r, c : natural) return signed is
-    constant k : natural := r * 7 + c;
+    constant K_c : natural := r * 7 + c;
   begin
-    return signed('0' & win((k + 1) * PIXEL_BITS_c - 1 downto k * PIXEL_BITS_c));
+    return signed('0' & win((K_c + 1) * PIXEL_BITS_c - 1 downto K_c * PIXEL_BITS_c));
   end function pixel;
 
 begin

@@ -32,7 +32,7 @@ end entity orb_scaler;
 
 architecture rtl of orb_scaler is
 
-  constant HALF_c      : positive := LINE_WIDTH_g / 2;
+  constant HALF_c : positive := LINE_WIDTH_g / 2;
 
   type mem_t is array (0 to HALF_c - 1) of unsigned(PIXEL_BITS_c downto 0);
 
