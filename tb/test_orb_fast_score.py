@@ -21,15 +21,10 @@ import numpy as np
 from golden_model.fast import CIRCLE, fast_score
 from orbtb import images
 from orbtb.runner import run
-from orbtb.unit import SIM_ENV, Stream, random_gaps, reset, to_int
+from orbtb.unit import SIM_ENV, Stream, random_gaps, reset, to_int, window_word
 
 LATENCY = 3
 Item = tuple[int, int, int, int]  # (x, y, threshold, window word)
-
-
-def window_word(win: np.ndarray) -> int:
-    """Element (r, c) at bits (r * 7 + c) * 8 and up."""
-    return int.from_bytes(np.ascontiguousarray(win, dtype=np.uint8).tobytes(), "little")
 
 
 def model_score(win: np.ndarray, t: int, x: int, y: int) -> int:

@@ -29,6 +29,7 @@ SOURCES = (
     "orb_window.vhd",
     "orb_fast_score.vhd",
     "orb_fast_nms.vhd",
+    "orb_smooth.vhd",
     "orb_scaler.vhd",
     "orb_fast_detect.vhd",
     "orb_feat_merge.vhd",

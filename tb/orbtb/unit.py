@@ -63,6 +63,11 @@ def random_gaps(n: int, seed: int, prob: float = 0.25, max_gap: int = 3, long_ev
     return [int(g) for g in gaps]
 
 
+def window_word(win: np.ndarray) -> int:
+    """A flat window port value: element (r, c) of a (n, n) uint8 window at bits (r * n + c) * 8 and up."""
+    return int.from_bytes(np.ascontiguousarray(win, dtype=np.uint8).tobytes(), "little")
+
+
 def to_int(value) -> int | None:
     """A sampled LogicArray as an int, or None when it holds a non-0/1 bit (U, X, ...)."""
     try:

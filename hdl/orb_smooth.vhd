@@ -1,0 +1,123 @@
+-- SPDX-License-Identifier: MIT
+-- orb_smooth: 7x7 binomial smoothing (docs/spec.md section 7) of the centre of a 7x7 window from
+-- orb_window: B = (sum k_i k_j P + 2048) >> 12 with k = (1, 6, 15, 20, 15, 6, 1). Column sums
+-- first (constant shift-add multiplies, no DSP), then the weighted row of column sums, then the
+-- rounding shift: three pipeline stages. The window's newest pixel is at (in_x, in_y), so the
+-- output is the smoothed value of (in_x - 3, in_y - 3) and carries the input's (x, y) tag;
+-- positions whose window wraps around a line or frame edge (in_x < 6 or in_y < 6) give 0.
+
+library ieee;
+use ieee.std_logic_1164.all;
+use ieee.numeric_std.all;
+
+use work.orb_util_pkg.all;
+
+entity orb_smooth is
+  port (
+    clk       : in    std_logic;
+    rst       : in    std_logic;
+    in_valid  : in    std_logic;
+    in_x      : in    std_logic_vector(COORD_BITS_c - 1 downto 0);
+    in_y      : in    std_logic_vector(COORD_BITS_c - 1 downto 0);
+    in_win    : in    std_logic_vector(49 * PIXEL_BITS_c - 1 downto 0);
+    out_valid : out   std_logic;
+    out_x     : out   std_logic_vector(COORD_BITS_c - 1 downto 0);
+    out_y     : out   std_logic_vector(COORD_BITS_c - 1 downto 0);
+    out_data  : out   std_logic_vector(PIXEL_BITS_c - 1 downto 0)
+  );
+end entity orb_smooth;
+
+architecture rtl of orb_smooth is
+
+  subtype col_sum_t is unsigned(13 downto 0);  -- <= 64 * 255
+  subtype total_t is unsigned(19 downto 0);    -- <= 4096 * 255 + 2048
+
+  type col_sums_t is array (0 to 6) of col_sum_t;
+
+  signal v1, v2, v3 : std_logic := '0';
+  signal x1, y1     : std_logic_vector(COORD_BITS_c - 1 downto 0) := (others => '0');
+  signal x2, y2     : std_logic_vector(COORD_BITS_c - 1 downto 0) := (others => '0');
+  signal x3, y3     : std_logic_vector(COORD_BITS_c - 1 downto 0) := (others => '0');
+  signal inner1     : std_logic := '0';
+  signal inner2     : std_logic := '0';
+  signal cols1      : col_sums_t := (others => (others => '0'));
+  signal total2     : total_t := (others => '0');
+  signal out3       : unsigned(PIXEL_BITS_c - 1 downto 0) := (others => '0');
+
+  -- k * v for the binomial weights, as shifts and adds.
+  function weigh (k : natural; v : unsigned) return unsigned is
+    constant W_c : natural := v'length + 5;
+    variable a   : unsigned(W_c - 1 downto 0);
+  begin
+    a := resize(v, W_c);
+    case k is
+      when 0 | 6  => return a;                                         -- 1
+      when 1 | 5  => return shift_left(a, 2) + shift_left(a, 1);        -- 6
+      when 2 | 4  => return shift_left(a, 4) - a;                       -- 15
+      when others => return shift_left(a, 4) + shift_left(a, 2);        -- 20
+    end case;
+  end function weigh;
+
+  function pixel (win : std_logic_vector; r, c : natural) return unsigned is
+    constant k : natural := r * 7 + c;
+  begin
+    return unsigned(win((k + 1) * PIXEL_BITS_c - 1 downto k * PIXEL_BITS_c));
+  end function pixel;
+
+begin
+
+  stages : process (clk) is
+    variable acc : unsigned(19 downto 0);
+  begin
+    if rising_edge(clk) then
+      -- stage 1: weighted column sums
+      v1 <= in_valid;
+      if in_valid = '1' then
+        x1     <= in_x;
+        y1     <= in_y;
+        inner1 <= '1' when unsigned(in_x) >= 6 and unsigned(in_y) >= 6 else '0';
+        for c in 0 to 6 loop
+          acc := (others => '0');
+          for r in 0 to 6 loop
+            acc := acc + weigh(r, pixel(in_win, r, c));
+          end loop;
+          cols1(c) <= resize(acc, col_sum_t'length);
+        end loop;
+      end if;
+      -- stage 2: weighted sum of the column sums, plus the rounding constant
+      v2 <= v1;
+      if v1 = '1' then
+        x2     <= x1;
+        y2     <= y1;
+        inner2 <= inner1;
+        acc    := to_unsigned(2048, acc'length);
+        for c in 0 to 6 loop
+          acc := acc + resize(weigh(c, cols1(c)), acc'length);
+        end loop;
+        total2 <= acc;
+      end if;
+      -- stage 3: divide by 4096
+      v3 <= v2;
+      if v2 = '1' then
+        x3 <= x2;
+        y3 <= y2;
+        if inner2 = '1' then
+          out3 <= total2(19 downto 12);
+        else
+          out3 <= (others => '0');
+        end if;
+      end if;
+      if rst = '1' then
+        v1 <= '0';
+        v2 <= '0';
+        v3 <= '0';
+      end if;
+    end if;
+  end process stages;
+
+  out_valid <= v3;
+  out_x     <= x3;
+  out_y     <= y3;
+  out_data  <= std_logic_vector(out3);
+
+end architecture rtl;
