@@ -5,8 +5,9 @@
 -- is the input; each further scale comes from an orb_scaler on the previous one. Each scale's
 -- orb_fast_detect reports NMS survivors, merged by orb_feat_merge into m_axis_feat (layout in
 -- orb_feat_pkg) with an end-of-frame beat after each frame. The FAST threshold is sampled with
--- each frame's first pixel (tuser) and used for every scale of that frame. Pixels outside the configured WIDTH_g x HEIGHT_g frame (a long line
--- or extra lines) are ignored and counted in bad_pixels.
+-- each frame's first pixel (tuser) and used for every scale of that frame. Pixels outside the
+-- configured WIDTH_g x HEIGHT_g frame (a long line or extra lines) are ignored and counted in
+-- bad_pixels.
 
 library ieee;
 use ieee.std_logic_1164.all;

@@ -87,6 +87,7 @@ begin
   merge : process (clk) is
     variable entry  : std_logic_vector(ENTRY_BITS_c - 1 downto 0);
     variable pop    : integer range -1 to SCALES_g - 1;
+    variable p      : natural range 0 to SCALES_g - 1;  -- pop as an index (GHDL synth needs >= 0)
     variable s      : natural range 0 to SCALES_g - 1;
     variable all_at : boolean;
     variable cnt    : cnt_arr_t;
@@ -124,7 +125,8 @@ begin
           end if;
         end loop;
         if pop >= 0 then
-          entry   := fifo(pop)(hd(pop));
+          p       := pop;
+          entry   := fifo(p)(hd(p));
           o_valid <= '1';
           o_data  <= (others => '0');
           o_data(FEAT_SCORE_LO_c + SCORE_BITS_c - 1 downto FEAT_SCORE_LO_c) <= entry(SCORE_BITS_c - 1 downto 0);
@@ -132,16 +134,16 @@ begin
             entry(SCORE_BITS_c + COORD_BITS_c - 1 downto SCORE_BITS_c);
           o_data(FEAT_Y_LO_c + COORD_BITS_c - 1 downto FEAT_Y_LO_c) <=
             entry(SCORE_BITS_c + 2 * COORD_BITS_c - 1 downto SCORE_BITS_c + COORD_BITS_c);
-          o_data(FEAT_SCALE_LO_c + 1 downto FEAT_SCALE_LO_c) <= std_logic_vector(to_unsigned(pop, 2));
-          hd(pop)  := (hd(pop) + 1) mod FIFO_DEPTH_g;
-          cnt(pop) := cnt(pop) - 1;
-          if mk(pop) >= 1 then
-            a0(pop) := a0(pop) - 1;
+          o_data(FEAT_SCALE_LO_c + 1 downto FEAT_SCALE_LO_c) <= std_logic_vector(to_unsigned(p, 2));
+          hd(p)  := (hd(p) + 1) mod FIFO_DEPTH_g;
+          cnt(p) := cnt(p) - 1;
+          if mk(p) >= 1 then
+            a0(p) := a0(p) - 1;
           end if;
-          if mk(pop) = 2 then
-            a1(pop) := a1(pop) - 1;
+          if mk(p) = 2 then
+            a1(p) := a1(p) - 1;
           end if;
-          rr <= (pop + 1) mod SCALES_g;
+          rr <= (p + 1) mod SCALES_g;
         elsif all_at then
           o_valid <= '1';
           o_last  <= '1';

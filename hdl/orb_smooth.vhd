@@ -59,9 +59,9 @@ architecture rtl of orb_smooth is
   end function weigh;
 
   function pixel (win : std_logic_vector; r, c : natural) return unsigned is
-    constant k : natural := r * 7 + c;
+    constant K_c : natural := r * 7 + c;
   begin
-    return unsigned(win((k + 1) * PIXEL_BITS_c - 1 downto k * PIXEL_BITS_c));
+    return unsigned(win((K_c + 1) * PIXEL_BITS_c - 1 downto K_c * PIXEL_BITS_c));
   end function pixel;
 
 begin
