@@ -4,7 +4,7 @@
 One build directory per (toplevel, generics) so `pytest -n` workers never share one. GHDL's llvm
 back end is used when installed (`apt-get install ghdl-llvm`: native code, faster simulation),
 else the mcode back end. Generics are also passed to Python through the environment (ORB_<NAME>),
-since GHDL's VPI cannot read them reliably.
+since GHDL's VPI cannot read them reliably. ORB_GHDL_BACKEND=mcode forces the mcode back end.
 """
 
 from __future__ import annotations
@@ -73,7 +73,8 @@ def run(
 
     os.environ.update(ghdl_path_env())
     # One build directory per (test module, generics): pytest -n workers never share one.
-    tag = hashlib.sha1(repr((module, sorted(generics.items()))).encode()).hexdigest()[:10]
+    backend = os.environ.get("ORB_GHDL_BACKEND", "llvm" if shutil.which("ghdl-llvm") else "mcode")
+    tag = hashlib.sha1(repr((module, backend, sorted(generics.items()))).encode()).hexdigest()[:10]
     build_dir = BUILD / f"{toplevel}-{tag}"
     runner = get_runner("ghdl")
     runner.build(
