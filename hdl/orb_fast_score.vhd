@@ -53,9 +53,8 @@ architecture rtl of orb_fast_score is
   signal score3 : unsigned(SCORE_BITS_c - 1 downto 0) := (others => '0');
 
   function pixel (win : std_logic_vector; r, c : natural) return signed is
-    constant K_c : natural := r * 7 + c;
   begin
-    return signed('0' & win((K_c + 1) * PIXEL_BITS_c - 1 downto K_c * PIXEL_BITS_c));
+    return signed('0' & window_pixel(win, 7, r, c));
   end function pixel;
 
 begin

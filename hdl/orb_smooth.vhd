@@ -58,12 +58,6 @@ architecture rtl of orb_smooth is
     end case;
   end function weigh;
 
-  function pixel (win : std_logic_vector; r, c : natural) return unsigned is
-    constant K_c : natural := r * 7 + c;
-  begin
-    return unsigned(win((K_c + 1) * PIXEL_BITS_c - 1 downto K_c * PIXEL_BITS_c));
-  end function pixel;
-
 begin
 
   stages : process (clk) is
@@ -79,7 +73,7 @@ begin
         for c in 0 to 6 loop
           acc := (others => '0');
           for r in 0 to 6 loop
-            acc := acc + weigh(r, pixel(in_win, r, c));
+            acc := acc + weigh(r, window_pixel(in_win, 7, r, c));
           end loop;
           cols1(c) <= resize(acc, col_sum_t'length);
         end loop;

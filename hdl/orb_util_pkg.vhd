@@ -15,6 +15,10 @@ package orb_util_pkg is
 
   function clog2 (n : positive) return natural;
 
+  -- Pixel (r, c) of a flat WIN x WIN window of 8-bit pixels (orb_window's layout: element
+  -- r * WIN + c, r = 0 the top line, c = 0 the leftmost column).
+  function window_pixel (win : std_logic_vector; width, r, c : natural) return unsigned;
+
 end package orb_util_pkg;
 
 package body orb_util_pkg is
@@ -29,5 +33,11 @@ package body orb_util_pkg is
     end loop;
     return bits;
   end function clog2;
+
+  function window_pixel (win : std_logic_vector; width, r, c : natural) return unsigned is
+    constant K_c : natural := r * width + c;
+  begin
+    return unsigned(win((K_c + 1) * PIXEL_BITS_c - 1 downto K_c * PIXEL_BITS_c));
+  end function window_pixel;
 
 end package body orb_util_pkg;

@@ -131,6 +131,15 @@ class MergeBench:
             self.current.beats.append(((data >> 36) & 3, (data >> 12) & mask, (data >> 24) & mask, data & 0xFFF))
 
     # ---- scenario helpers ----------------------------------------------------------------------
+    async def plug_output(self) -> None:
+        """Stall the output with one frame-0 feature of scale 0 in the output register, so no FIFO
+        can drain until tready rises again."""
+        plug = self.feature(0, 0)
+        self.expect(0, plug, 0)
+        await self.cycle({0: plug}, ready=0)
+        for _ in range(3):
+            await self.cycle(ready=0)
+
     def expect(self, scale: int, feat: Feat, frame: int) -> None:
         while len(self.expected) <= frame:
             self.expected.append({s: [] for s in range(self.scales)})
@@ -329,11 +338,7 @@ async def marker_not_bypassed(dut) -> None:
     await b.start()
     d = b.depth
     b.expect_frame(0)
-    plug = b.feature(0, 0)
-    b.expect(0, plug, 0)
-    await b.cycle({0: plug}, ready=0)
-    for _ in range(3):
-        await b.cycle(ready=0)
+    await b.plug_output()
     for _ in range(d):
         feat = b.feature(0, 0)
         b.expect(0, feat, 0)
@@ -357,11 +362,7 @@ async def drops_counted_in_their_frame(dut) -> None:
     await b.start()
     d = b.depth
     b.expect_frame(1)
-    plug = b.feature(0, 0)
-    b.expect(0, plug, 0)
-    await b.cycle({0: plug}, ready=0)
-    for _ in range(3):
-        await b.cycle(ready=0)
+    await b.plug_output()
     for c in range(d + 2):  # every FIFO full; scale 0 loses two features of frame 0
         feats = {s: b.feature(s, 0) for s in range(b.scales) if c < d or s == 0}
         for s, feat in feats.items():
@@ -389,11 +390,7 @@ async def drop_count_saturates(dut) -> None:
     await b.start()
     d = b.depth
     b.expect_frame(0)
-    plug = b.feature(0, 0)
-    b.expect(0, plug, 0)
-    await b.cycle({0: plug}, ready=0)
-    for _ in range(3):
-        await b.cycle(ready=0)
+    await b.plug_output()
     clocks = (1 << 16) // b.scales + 50
     feats = {s: b.feature(s, 0) for s in range(b.scales)}  # the same feature over and over
     for s, feat in feats.items():

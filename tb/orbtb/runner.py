@@ -72,9 +72,11 @@ def run(
     from cocotb_tools.runner import get_runner
 
     os.environ.update(ghdl_path_env())
-    # One build directory per (test module, generics): pytest -n workers never share one.
+    # One build directory per (pytest-xdist worker, test module, back end, generics): two tests
+    # with the same generics running at once on different workers never share one.
     backend = os.environ.get("ORB_GHDL_BACKEND", "llvm" if shutil.which("ghdl-llvm") else "mcode")
-    tag = hashlib.sha1(repr((module, backend, sorted(generics.items()))).encode()).hexdigest()[:10]
+    worker = os.environ.get("PYTEST_XDIST_WORKER", "main")
+    tag = hashlib.sha1(repr((worker, module, backend, sorted(generics.items()))).encode()).hexdigest()[:10]
     build_dir = BUILD / f"{toplevel}-{tag}"
     runner = get_runner("ghdl")
     runner.build(
