@@ -77,6 +77,7 @@ tools:
 
 pattern: $(STAMP)
 	$(BIN)/python scripts/gen_pattern.py
+	$(BIN)/python scripts/gen_pattern_vhdl.py
 
 clean:
 	rm -rf build .pytest_cache

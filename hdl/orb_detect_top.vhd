@@ -1,13 +1,16 @@
 -- SPDX-License-Identifier: MIT
--- orb_detect_top: the accelerator's detection path (fast mode) for SCALES_g scales. Pixels enter
--- as AXI4-Stream video (8-bit luma, tuser = start of frame, tlast = end of line) at up to one per
--- clock; tready is high whenever not in reset, since a video source cannot be stalled. Scale 0
--- is the input; each further scale comes from an orb_scaler on the previous one. Each scale's
--- orb_fast_detect reports NMS survivors, merged by orb_feat_merge into m_axis_feat (layout in
--- orb_feat_pkg) with an end-of-frame beat after each frame. The FAST threshold is sampled with
--- each frame's first pixel (tuser) and used for every scale of that frame. Pixels outside the
--- configured WIDTH_g x HEIGHT_g frame (a long line or extra lines) are ignored and counted in
--- bad_pixels.
+-- orb_detect_top: the accelerator's streaming core, detection and description, for SCALES_g
+-- scales. Pixels enter as AXI4-Stream video (8-bit luma, tuser = start of frame, tlast = end of
+-- line) at up to one per clock; tready is high whenever not in reset, since a video source cannot
+-- be stalled. Scale 0 is the input; each further scale comes from an orb_scaler on the previous
+-- one. Each scale's orb_scale_path reports, per frame, either every NMS survivor (fast mode,
+-- mode_orb = 0) or every survivor inside the descriptor border with its sector and 256-bit
+-- rBRIEF descriptor (orb mode, mode_orb = 1; needs DESC_g = true, which builds the descriptor
+-- path), merged by orb_feat_merge into m_axis_feat (layout in orb_feat_pkg) with an end-of-frame
+-- beat after each frame. The FAST threshold and the mode are sampled with each frame's first pixel
+-- (tuser) and hold for every scale of that frame. Pixels outside the configured WIDTH_g x
+-- HEIGHT_g frame (a long line or extra lines) are ignored and counted in bad_pixels; features
+-- the descriptor path had to discard (only on a malformed frame) are counted in desc_lost.
 
 library ieee;
 use ieee.std_logic_1164.all;
@@ -21,7 +24,9 @@ entity orb_detect_top is
     WIDTH_g      : positive range 64 to 1920 := 640;
     HEIGHT_g     : positive range 48 to 1080 := 480;
     SCALES_g     : positive range 1 to 4     := 1;
-    FIFO_DEPTH_g : positive range 2 to 512   := 32
+    FIFO_DEPTH_g : positive range 2 to 512   := 32;
+    SECTORS_g    : positive range 4 to 16    := 8;   -- sectors per quadrant: 4, 8 or 16
+    DESC_g       : boolean                   := true
   );
   port (
     clk                 : in    std_logic;
@@ -32,12 +37,14 @@ entity orb_detect_top is
     s_axis_video_tuser  : in    std_logic;
     s_axis_video_tlast  : in    std_logic;
     threshold           : in    std_logic_vector(7 downto 0);
+    mode_orb            : in    std_logic;
     m_axis_feat_tdata   : out   std_logic_vector(FEAT_BITS_c - 1 downto 0);
     m_axis_feat_tvalid  : out   std_logic;
     m_axis_feat_tready  : in    std_logic;
     m_axis_feat_tlast   : out   std_logic;
     dropped             : out   std_logic_vector(31 downto 0);
-    bad_pixels          : out   std_logic_vector(31 downto 0)
+    bad_pixels          : out   std_logic_vector(31 downto 0);
+    desc_lost           : out   std_logic_vector(31 downto 0)
   );
 end entity orb_detect_top;
 
@@ -64,6 +71,14 @@ architecture rtl of orb_detect_top is
   signal f_x     : std_logic_vector(SCALES_g * COORD_BITS_c - 1 downto 0);
   signal f_y     : std_logic_vector(SCALES_g * COORD_BITS_c - 1 downto 0);
   signal f_score : std_logic_vector(SCALES_g * SCORE_BITS_c - 1 downto 0);
+  signal f_sect  : std_logic_vector(SCALES_g * FEAT_SECTOR_BITS_c - 1 downto 0);
+  signal f_desc  : std_logic_vector(SCALES_g * DESC_BITS_c - 1 downto 0);
+
+  type lost_arr_t is array (0 to SCALES_g - 1) of std_logic_vector(31 downto 0);
+
+  signal lost    : lost_arr_t;
+  signal lost_q  : unsigned(31 downto 0) := (others => '0');
+  signal mode_frm : std_logic := '0';
 
 begin
 
@@ -89,7 +104,8 @@ begin
           y := next_y;
         end if;
         if s_axis_video_tuser = '1' then
-          thr_frm <= threshold;  -- the whole frame, every scale, uses this value
+          thr_frm  <= threshold;  -- the whole frame, every scale, uses these values
+          mode_frm <= mode_orb;
         end if;
         if x < WIDTH_g and y < HEIGHT_g then
           px_valid(0) <= '1';
@@ -138,24 +154,30 @@ begin
         );
     end generate has_scaler;
 
-    detect : entity work.orb_fast_detect
+    path : entity work.orb_scale_path
       generic map (
         LINE_WIDTH_g   => WIDTH_g / 2 ** s,
-        FRAME_HEIGHT_g => HEIGHT_g / 2 ** s
+        FRAME_HEIGHT_g => HEIGHT_g / 2 ** s,
+        SECTORS_g      => SECTORS_g,
+        DESC_g         => DESC_g
       )
       port map (
-        clk        => clk,
-        rst        => rst,
-        threshold  => thr_frm,
-        in_valid   => px_valid(s),
-        in_x       => px_x(s),
-        in_y       => px_y(s),
-        in_data    => px_data(s),
-        feat_valid => f_valid(s),
-        feat_x     => f_x((s + 1) * COORD_BITS_c - 1 downto s * COORD_BITS_c),
-        feat_y     => f_y((s + 1) * COORD_BITS_c - 1 downto s * COORD_BITS_c),
-        feat_score => f_score((s + 1) * SCORE_BITS_c - 1 downto s * SCORE_BITS_c),
-        frame_done => f_done(s)
+        clk         => clk,
+        rst         => rst,
+        threshold   => thr_frm,
+        mode_orb    => mode_frm,
+        in_valid    => px_valid(s),
+        in_x        => px_x(s),
+        in_y        => px_y(s),
+        in_data     => px_data(s),
+        feat_valid  => f_valid(s),
+        feat_x      => f_x((s + 1) * COORD_BITS_c - 1 downto s * COORD_BITS_c),
+        feat_y      => f_y((s + 1) * COORD_BITS_c - 1 downto s * COORD_BITS_c),
+        feat_score  => f_score((s + 1) * SCORE_BITS_c - 1 downto s * SCORE_BITS_c),
+        feat_sector => f_sect((s + 1) * FEAT_SECTOR_BITS_c - 1 downto s * FEAT_SECTOR_BITS_c),
+        feat_desc   => f_desc((s + 1) * DESC_BITS_c - 1 downto s * DESC_BITS_c),
+        frame_done  => f_done(s),
+        lost        => lost(s)
       );
 
   end generate scales;
@@ -163,7 +185,8 @@ begin
   merge : entity work.orb_feat_merge
     generic map (
       SCALES_g     => SCALES_g,
-      FIFO_DEPTH_g => FIFO_DEPTH_g
+      FIFO_DEPTH_g => FIFO_DEPTH_g,
+      DESC_g       => DESC_g
     )
     port map (
       clk                => clk,
@@ -172,6 +195,8 @@ begin
       in_x               => f_x,
       in_y               => f_y,
       in_score           => f_score,
+      in_sector          => f_sect,
+      in_desc            => f_desc,
       in_done            => f_done,
       m_axis_feat_tdata  => m_axis_feat_tdata,
       m_axis_feat_tvalid => m_axis_feat_tvalid,
@@ -181,5 +206,20 @@ begin
     );
 
   bad_pixels <= std_logic_vector(bad_cnt);
+
+  -- features the descriptor paths discarded (malformed frames only), all scales
+  lost_sum : process (clk) is
+    variable acc : unsigned(31 downto 0);
+  begin
+    if rising_edge(clk) then
+      acc := (others => '0');
+      for s in 0 to SCALES_g - 1 loop
+        acc := acc + unsigned(lost(s));
+      end loop;
+      lost_q <= acc;
+    end if;
+  end process lost_sum;
+
+  desc_lost <= std_logic_vector(lost_q);
 
 end architecture rtl;

@@ -4,7 +4,8 @@
 -- each pixel's position; output: the NMS survivors (docs/spec.md sections 4 to 6, fast mode) with
 -- their position and score, at most one per clock, a few clocks after the pixel that completes
 -- them. The threshold is sampled with the frame's first pixel (0, 0) and holds for that frame.
--- frame_done pulses once the frame's last decision has been made.
+-- frame_done pulses once the frame's last decision has been made. The 7x7 window is also an
+-- output, for the smoothing of the descriptor path.
 
 library ieee;
 use ieee.std_logic_1164.all;
@@ -29,7 +30,12 @@ entity orb_fast_detect is
     feat_x     : out   std_logic_vector(COORD_BITS_c - 1 downto 0);
     feat_y     : out   std_logic_vector(COORD_BITS_c - 1 downto 0);
     feat_score : out   std_logic_vector(SCORE_BITS_c - 1 downto 0);
-    frame_done : out   std_logic
+    frame_done : out   std_logic;
+    -- the 7x7 window (orb_window's layout), shared with the smoothing of the descriptor path
+    win_valid  : out   std_logic;
+    win_x      : out   std_logic_vector(COORD_BITS_c - 1 downto 0);
+    win_y      : out   std_logic_vector(COORD_BITS_c - 1 downto 0);
+    win_data   : out   std_logic_vector(49 * PIXEL_BITS_c - 1 downto 0)
   );
 end entity orb_fast_detect;
 
@@ -113,5 +119,10 @@ begin
       feat_score => feat_score,
       frame_done => frame_done
     );
+
+  win_valid <= w_valid;
+  win_x     <= w_x;
+  win_y     <= w_y;
+  win_data  <= w_win;
 
 end architecture rtl;

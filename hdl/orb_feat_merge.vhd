@@ -1,14 +1,23 @@
 -- SPDX-License-Identifier: MIT
 -- orb_feat_merge: merges the feature streams of SCALES_g scales into one AXI4-Stream. Each scale
--- has a FIFO of FIFO_DEPTH_g features; a round-robin arbiter moves one feature per clock to the
--- output register. A scale's frame end (in_done) is not stored in its FIFO but remembered as the
--- number of FIFO entries that still belong to the ending frame, so a frame end can never be
--- overtaken or dropped. When every scale has delivered its whole frame, one end-of-frame beat
--- (tlast = 1, layout in orb_feat_pkg) follows the frame's features. Up to two frame ends per
--- scale can wait for their beat (the output stalled for a whole frame); a third merges into the
--- newest waiting one. A feature that finds its FIFO full is dropped and counted: in total on
--- `dropped`, and per frame (the frame the feature belongs to) in the end-of-frame beat,
--- saturating at 65535.
+-- has an orb_feat_fifo of FIFO_DEPTH_g features (first word fall through, RAM-based); a
+-- round-robin arbiter moves one feature per clock to the output register. With DESC_g each
+-- feature carries its orientation sector (in_sector) and descriptor (in_desc) through the FIFO
+-- into the word; without, the FIFOs hold only x, y and score and those output bits are 0. A
+-- scale's frame end (in_done) is not stored in its FIFO but remembered as the number of FIFO
+-- entries that still belong to the ending frame, so a frame end can never be overtaken or
+-- dropped. When every scale has delivered its whole frame, one end-of-frame beat (tlast = 1,
+-- layout in orb_feat_pkg) follows the frame's features. Up to two frame ends per scale can wait
+-- for their beat (the output stalled for a whole frame); a third merges into the newest waiting
+-- one. A feature that finds its FIFO full (and no feature leaving it in that clock) is dropped
+-- and counted: in total on `dropped`, and per frame (the frame the feature belongs to) in the
+-- end-of-frame beat, saturating at 65535. The counts are added one clock after the loss
+-- (pipelined); an end-of-frame beat never misses a loss of its own frame, since a scale whose
+-- FIFO is full still holds features of that frame. Latency: a feature sampled at one edge leaves
+-- the output register after the second edge after it (FIFO write, FIFO output register, output).
+-- Per-scale input vectors are flat, scale s in bits (s + 1) * W - 1 downto s * W (W = COORD_BITS_c,
+-- SCORE_BITS_c, FEAT_SECTOR_BITS_c or DESC_BITS_c); in_sector and in_desc are ignored without
+-- DESC_g.
 
 library ieee;
 use ieee.std_logic_1164.all;
@@ -20,7 +29,8 @@ use work.orb_feat_pkg.all;
 entity orb_feat_merge is
   generic (
     SCALES_g     : positive range 1 to 4   := 1;
-    FIFO_DEPTH_g : positive range 2 to 512 := 32
+    FIFO_DEPTH_g : positive range 2 to 512 := 32;
+    DESC_g       : boolean                 := true
   );
   port (
     clk                : in    std_logic;
@@ -29,6 +39,8 @@ entity orb_feat_merge is
     in_x               : in    std_logic_vector(SCALES_g * COORD_BITS_c - 1 downto 0);
     in_y               : in    std_logic_vector(SCALES_g * COORD_BITS_c - 1 downto 0);
     in_score           : in    std_logic_vector(SCALES_g * SCORE_BITS_c - 1 downto 0);
+    in_sector          : in    std_logic_vector(SCALES_g * FEAT_SECTOR_BITS_c - 1 downto 0);
+    in_desc            : in    std_logic_vector(SCALES_g * DESC_BITS_c - 1 downto 0);
     in_done            : in    std_logic_vector(SCALES_g - 1 downto 0);
     m_axis_feat_tdata  : out   std_logic_vector(FEAT_BITS_c - 1 downto 0);
     m_axis_feat_tvalid : out   std_logic;
@@ -40,33 +52,59 @@ end entity orb_feat_merge;
 
 architecture rtl of orb_feat_merge is
 
-  constant ENTRY_BITS_c : positive := 2 * COORD_BITS_c + SCORE_BITS_c;  -- y, x, score
+  -- FIFO entry: [11:0] score, [23:12] x, [35:24] y, then with DESC_g [41:36] sector and
+  -- [297:42] descriptor.
+  constant BASE_BITS_c   : positive := 2 * COORD_BITS_c + SCORE_BITS_c;
+  constant SECTOR_LO_c   : natural  := BASE_BITS_c;
+  constant SECTOR_BITS_c : positive := FEAT_SECTOR_BITS_c;
+  constant DESC_LO_c     : natural  := BASE_BITS_c + FEAT_SECTOR_BITS_c;
+
+  function entry_bits (desc : boolean) return positive is
+  begin
+    if desc then
+      return BASE_BITS_c + FEAT_SECTOR_BITS_c + DESC_BITS_c;
+    end if;
+    return BASE_BITS_c;
+  end function entry_bits;
+
+  constant ENTRY_BITS_c : positive := entry_bits(DESC_g);
   constant PTR_BITS_c   : positive := clog2(FIFO_DEPTH_g);
   constant SAT_c        : natural  := 2 ** 16 - 1;
+  constant GAP_ZERO_c   : std_logic_vector(FEAT_DESC_LO_c - 1 downto FEAT_SECTOR_LO_c + FEAT_SECTOR_BITS_c) :=
+    (others => '0');
 
   subtype count_t is natural range 0 to FIFO_DEPTH_g;
-  subtype ptr_t is natural range 0 to FIFO_DEPTH_g - 1;
   subtype drops_t is natural range 0 to SAT_c;
+  subtype entry_t is std_logic_vector(ENTRY_BITS_c - 1 downto 0);
 
-  type fifo_mem_t is array (0 to FIFO_DEPTH_g - 1) of std_logic_vector(ENTRY_BITS_c - 1 downto 0);
-  type fifo_arr_t is array (0 to SCALES_g - 1) of fifo_mem_t;
-  type ptr_arr_t is array (0 to SCALES_g - 1) of ptr_t;
+  type entry_arr_t is array (0 to SCALES_g - 1) of entry_t;
   type cnt_arr_t is array (0 to SCALES_g - 1) of count_t;
   type marks_t is array (0 to SCALES_g - 1) of natural range 0 to 2;
   type frame_drops_t is array (0 to 2) of drops_t;  -- oldest waiting frame first
 
-  signal fifo      : fifo_arr_t;
-  signal head      : ptr_arr_t := (others => 0);
-  signal tail      : ptr_arr_t := (others => 0);
-  signal count     : cnt_arr_t := (others => 0);
+  -- FIFO outputs
+  signal f_data  : entry_arr_t;
+  signal f_valid : std_logic_vector(SCALES_g - 1 downto 0);
+  signal f_level : cnt_arr_t;
+
+  -- arbiter (combinational, from the registers below)
+  signal pop_v   : std_logic_vector(SCALES_g - 1 downto 0);  -- one-hot: the FIFO read this clock
+  signal pop_any : boolean;
+  signal pop_idx : natural range 0 to SCALES_g - 1;
+  signal eof_go  : boolean;                                  -- the end-of-frame beat goes out
+
   signal marks     : marks_t := (others => 0);     -- frame ends waiting, per scale
   signal ahead0    : cnt_arr_t := (others => 0);   -- entries of the oldest waiting frame
   signal ahead1    : cnt_arr_t := (others => 0);   -- entries up to the second waiting frame end
   signal frame_drp : frame_drops_t := (others => 0);
+  signal drop_r    : std_logic_vector(SCALES_g - 1 downto 0) := (others => '0');  -- lost last clock
+  signal drop_fr   : marks_t := (others => 0);     -- ... in that waiting frame (index of frame_drp)
   signal rr        : natural range 0 to SCALES_g - 1 := 0;
   signal o_valid   : std_logic := '0';
   signal o_last    : std_logic := '0';
-  signal o_data    : std_logic_vector(FEAT_BITS_c - 1 downto 0) := (others => '0');
+  signal o_data    : std_logic_vector(FEAT_SECTOR_LO_c - 1 downto 0) := (others => '0');
+  -- sector (low bits) and descriptor of the output word
+  signal o_pay     : std_logic_vector(FEAT_SECTOR_BITS_c + DESC_BITS_c - 1 downto 0) := (others => '0');
   signal frame_no  : unsigned(15 downto 0) := (others => '0');
   signal total_drp : unsigned(31 downto 0) := (others => '0');
 
@@ -84,127 +122,196 @@ begin
     report "orb_feat_merge: FIFO_DEPTH_g must be a power of two"
     severity failure;
 
-  merge : process (clk) is
-    variable entry  : std_logic_vector(ENTRY_BITS_c - 1 downto 0);
-    variable pop    : integer range -1 to SCALES_g - 1;
-    variable p      : natural range 0 to SCALES_g - 1;  -- pop as an index (GHDL synth needs >= 0)
+  fifos : for k in 0 to SCALES_g - 1 generate
+    signal wr_data : entry_t;
+    signal level   : std_logic_vector(PTR_BITS_c downto 0);
+  begin
+
+    wr_data(BASE_BITS_c - 1 downto 0) <= in_y((k + 1) * COORD_BITS_c - 1 downto k * COORD_BITS_c) &
+                                         in_x((k + 1) * COORD_BITS_c - 1 downto k * COORD_BITS_c) &
+                                         in_score((k + 1) * SCORE_BITS_c - 1 downto k * SCORE_BITS_c);
+
+    fifo_desc : if DESC_g generate
+      wr_data(ENTRY_BITS_c - 1 downto DESC_LO_c) <= in_desc((k + 1) * DESC_BITS_c - 1 downto k * DESC_BITS_c);
+      wr_data(DESC_LO_c - 1 downto SECTOR_LO_c)  <= in_sector((k + 1) * SECTOR_BITS_c - 1 downto k * SECTOR_BITS_c);
+    end generate fifo_desc;
+
+    -- A write it cannot take (full, no read in this clock) is ignored by the FIFO, and counted
+    -- as a loss below with the same condition.
+    fifo : entity work.orb_feat_fifo
+      generic map (
+        DATA_BITS_g => ENTRY_BITS_c,
+        DEPTH_g     => FIFO_DEPTH_g
+      )
+      port map (
+        clk      => clk,
+        rst      => rst,
+        wr_en    => in_valid(k),
+        wr_data  => wr_data,
+        rd_en    => pop_v(k),
+        rd_data  => f_data(k),
+        rd_valid => f_valid(k),
+        level    => level
+      );
+
+    f_level(k) <= to_integer(unsigned(level));
+
+  end generate fifos;
+
+  -- Output side. A scale is eligible when its FIFO shows a feature of the oldest waiting frame;
+  -- the end-of-frame beat goes when every scale has delivered that frame and no feature goes.
+  arbiter : process (all) is
     variable s      : natural range 0 to SCALES_g - 1;
+    variable found  : boolean;
     variable all_at : boolean;
-    variable cnt    : cnt_arr_t;
+  begin
+    pop_v   <= (others => '0');
+    pop_idx <= 0;
+    found   := false;
+    all_at  := true;
+    for k in 0 to SCALES_g - 1 loop
+      if marks(k) = 0 or ahead0(k) /= 0 then
+        all_at := false;
+      end if;
+    end loop;
+    if o_valid = '0' or m_axis_feat_tready = '1' then
+      for k in 0 to SCALES_g - 1 loop
+        s := (rr + k) mod SCALES_g;
+        if not found and f_valid(s) = '1' and (marks(s) = 0 or ahead0(s) /= 0) then
+          found    := true;
+          pop_v(s) <= '1';
+          pop_idx  <= s;
+        end if;
+      end loop;
+      eof_go <= all_at and not found;
+    else
+      eof_go <= false;
+    end if;
+    pop_any <= found;
+  end process arbiter;
+
+  merge : process (clk) is
+    variable p      : natural range 0 to SCALES_g - 1;
+    variable entry  : entry_t;
+    variable cnt    : count_t;
+    variable room   : boolean;
     variable a0, a1 : cnt_arr_t;
     variable mk     : marks_t;
-    variable hd, tl : ptr_arr_t;
     variable fd     : frame_drops_t;
+    variable n      : natural range 0 to SCALES_g;
+    variable src    : natural range 0 to 3;
     variable drops  : natural range 0 to SCALES_g;
   begin
     if rising_edge(clk) then
-      cnt   := count;
-      a0    := ahead0;
-      a1    := ahead1;
-      mk    := marks;
-      hd    := head;
-      tl    := tail;
-      fd    := frame_drp;
-      drops := 0;
+      a0 := ahead0;
+      a1 := ahead1;
+      mk := marks;
+      fd := frame_drp;
 
-      -- Output side. A scale is eligible when it holds a feature of the oldest waiting frame.
       if o_valid = '0' or m_axis_feat_tready = '1' then
         o_valid <= '0';
         o_last  <= '0';
-        pop     := -1;
-        all_at  := true;
-        for k in 0 to SCALES_g - 1 loop
-          if mk(k) = 0 or a0(k) /= 0 then
-            all_at := false;
-          end if;
-        end loop;
-        for k in 0 to SCALES_g - 1 loop
-          s := (rr + k) mod SCALES_g;
-          if pop < 0 and cnt(s) > 0 and (mk(s) = 0 or a0(s) > 0) then
-            pop := s;
-          end if;
-        end loop;
-        if pop >= 0 then
-          p       := pop;
-          entry   := fifo(p)(hd(p));
-          o_valid <= '1';
-          o_data  <= (others => '0');
-          o_data(FEAT_SCORE_LO_c + SCORE_BITS_c - 1 downto FEAT_SCORE_LO_c) <= entry(SCORE_BITS_c - 1 downto 0);
-          o_data(FEAT_X_LO_c + COORD_BITS_c - 1 downto FEAT_X_LO_c) <=
-            entry(SCORE_BITS_c + COORD_BITS_c - 1 downto SCORE_BITS_c);
-          o_data(FEAT_Y_LO_c + COORD_BITS_c - 1 downto FEAT_Y_LO_c) <=
-            entry(SCORE_BITS_c + 2 * COORD_BITS_c - 1 downto SCORE_BITS_c + COORD_BITS_c);
-          o_data(FEAT_SCALE_LO_c + 1 downto FEAT_SCALE_LO_c) <= std_logic_vector(to_unsigned(p, 2));
-          hd(p)  := (hd(p) + 1) mod FIFO_DEPTH_g;
-          cnt(p) := cnt(p) - 1;
-          if mk(p) >= 1 then
-            a0(p) := a0(p) - 1;
-          end if;
-          if mk(p) = 2 then
-            a1(p) := a1(p) - 1;
-          end if;
-          rr <= (p + 1) mod SCALES_g;
-        elsif all_at then
-          o_valid <= '1';
-          o_last  <= '1';
-          o_data  <= (others => '0');
-          o_data(FEAT_EOF_BIT_c) <= '1';
-          o_data(EOF_FRAME_LO_c + 15 downto EOF_FRAME_LO_c) <= std_logic_vector(frame_no);
-          o_data(EOF_DROPS_LO_c + 15 downto EOF_DROPS_LO_c) <= std_logic_vector(to_unsigned(fd(0), 16));
-          frame_no <= frame_no + 1;
-          fd       := (fd(1), fd(2), 0);
-          for k in 0 to SCALES_g - 1 loop
-            mk(k) := mk(k) - 1;
-            a0(k) := a1(k);
-          end loop;
+      end if;
+      if pop_any then
+        p       := pop_idx;
+        entry   := f_data(p);
+        o_valid <= '1';
+        o_data  <= (others => '0');
+        o_data(FEAT_SCORE_LO_c + SCORE_BITS_c - 1 downto FEAT_SCORE_LO_c) <= entry(SCORE_BITS_c - 1 downto 0);
+        o_data(FEAT_X_LO_c + COORD_BITS_c - 1 downto FEAT_X_LO_c) <=
+          entry(SCORE_BITS_c + COORD_BITS_c - 1 downto SCORE_BITS_c);
+        o_data(FEAT_Y_LO_c + COORD_BITS_c - 1 downto FEAT_Y_LO_c) <=
+          entry(SCORE_BITS_c + 2 * COORD_BITS_c - 1 downto SCORE_BITS_c + COORD_BITS_c);
+        o_data(FEAT_SCALE_LO_c + 1 downto FEAT_SCALE_LO_c) <= std_logic_vector(to_unsigned(p, 2));
+        if mk(p) >= 1 then
+          a0(p) := a0(p) - 1;
         end if;
+        if mk(p) = 2 then
+          a1(p) := a1(p) - 1;
+        end if;
+        rr <= (p + 1) mod SCALES_g;
+      elsif eof_go then
+        o_valid <= '1';
+        o_last  <= '1';
+        o_data  <= (others => '0');
+        o_data(FEAT_EOF_BIT_c) <= '1';
+        o_data(EOF_FRAME_LO_c + 15 downto EOF_FRAME_LO_c) <= std_logic_vector(frame_no);
+        o_data(EOF_DROPS_LO_c + 15 downto EOF_DROPS_LO_c) <= std_logic_vector(to_unsigned(fd(0), 16));
+        frame_no <= frame_no + 1;
+        fd       := (fd(1), fd(2), 0);
+        for k in 0 to SCALES_g - 1 loop
+          mk(k) := mk(k) - 1;
+          a0(k) := a1(k);
+        end loop;
       end if;
 
-      -- Input side: a feature joins its FIFO or is dropped (and counted for its own frame, the
-      -- frame after this scale's waiting frame ends); a frame end records the entries ahead of it.
+      -- Losses of the previous clock join the count of their frame (drop_fr: the index of that
+      -- frame among the waiting ones, one lower if the end-of-frame beat went out just now; it
+      -- cannot have been the frame whose beat that is).
+      drops := 0;
+      for j in 0 to 2 loop
+        n := 0;
+        for k in 0 to SCALES_g - 1 loop
+          if eof_go then
+            src := j + 1;
+          else
+            src := j;
+          end if;
+          if drop_r(k) = '1' and drop_fr(k) = src then
+            n := n + 1;
+          end if;
+        end loop;
+        fd(j) := sat_add(fd(j), n);
+      end loop;
       for k in 0 to SCALES_g - 1 loop
-        if in_valid(k) = '1' then
-          if cnt(k) < FIFO_DEPTH_g then
-            fifo(k)(tl(k)) <= in_y((k + 1) * COORD_BITS_c - 1 downto k * COORD_BITS_c) &
-                              in_x((k + 1) * COORD_BITS_c - 1 downto k * COORD_BITS_c) &
-                              in_score((k + 1) * SCORE_BITS_c - 1 downto k * SCORE_BITS_c);
-            tl(k)  := (tl(k) + 1) mod FIFO_DEPTH_g;
-            cnt(k) := cnt(k) + 1;
-          else
-            drops     := drops + 1;
-            fd(mk(k)) := sat_add(fd(mk(k)), 1);
-          end if;
-        end if;
-        if in_done(k) = '1' then
-          if mk(k) = 0 then
-            a0(k) := cnt(k);
-            mk(k) := 1;
-          else
-            a1(k) := cnt(k);
-            mk(k) := 2;
-          end if;
+        if drop_r(k) = '1' then
+          drops := drops + 1;
         end if;
       end loop;
       if drops > 0 then
         total_drp <= total_drp + drops;
       end if;
 
-      count     <= cnt;
+      -- Input side: a feature joins its FIFO (even a full one if a feature leaves it in this
+      -- clock) or is lost (counted next clock, for its own frame: the frame after this scale's
+      -- waiting frame ends); a frame end records the entries ahead of it.
+      for k in 0 to SCALES_g - 1 loop
+        room := f_level(k) < FIFO_DEPTH_g or pop_v(k) = '1';
+        cnt  := f_level(k);
+        if pop_v(k) = '1' then
+          cnt := cnt - 1;
+        end if;
+        drop_r(k)  <= '0';
+        drop_fr(k) <= mk(k);
+        if in_valid(k) = '1' then
+          if room then
+            cnt := cnt + 1;
+          else
+            drop_r(k) <= '1';
+          end if;
+        end if;
+        if in_done(k) = '1' then
+          if mk(k) = 0 then
+            a0(k) := cnt;
+            mk(k) := 1;
+          else
+            a1(k) := cnt;
+            mk(k) := 2;
+          end if;
+        end if;
+      end loop;
+
       ahead0    <= a0;
       ahead1    <= a1;
       marks     <= mk;
-      head      <= hd;
-      tail      <= tl;
       frame_drp <= fd;
 
       if rst = '1' then
-        count     <= (others => 0);
         ahead0    <= (others => 0);
         ahead1    <= (others => 0);
         marks     <= (others => 0);
-        head      <= (others => 0);
-        tail      <= (others => 0);
         frame_drp <= (others => 0);
+        drop_r    <= (others => '0');
         rr        <= 0;
         o_valid   <= '0';
         o_last    <= '0';
@@ -214,7 +321,29 @@ begin
     end if;
   end process merge;
 
-  m_axis_feat_tdata  <= o_data;
+  -- Sector and descriptor of the output word: loaded with a feature, cleared by an end-of-frame
+  -- beat (written as a clear over a load, which maps on the flip-flops' reset and enable pins).
+  out_desc : if DESC_g generate
+
+    payload : process (clk) is
+    begin
+      if rising_edge(clk) then
+        if eof_go then
+          o_pay <= (others => '0');
+        elsif pop_any then
+          o_pay <= f_data(pop_idx)(ENTRY_BITS_c - 1 downto SECTOR_LO_c);
+        end if;
+      end if;
+    end process payload;
+
+  else generate
+
+    o_pay <= (others => '0');
+
+  end generate out_desc;
+
+  m_axis_feat_tdata  <= o_pay(o_pay'high downto FEAT_SECTOR_BITS_c) & GAP_ZERO_c &
+                        o_pay(FEAT_SECTOR_BITS_c - 1 downto 0) & o_data;
   m_axis_feat_tvalid <= o_valid;
   m_axis_feat_tlast  <= o_last;
   dropped            <= std_logic_vector(total_drp);

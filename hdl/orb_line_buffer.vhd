@@ -38,7 +38,7 @@ architecture rtl of orb_line_buffer is
 
   type mem_t is array (0 to LINE_WIDTH_g - 1) of std_logic_vector(WORD_BITS_c - 1 downto 0);
 
-  signal mem      : mem_t;
+  signal mem      : mem_t := (others => (others => '0'));  -- BRAM initial contents
   signal rd_word  : std_logic_vector(WORD_BITS_c - 1 downto 0) := (others => '0');
   signal wr_en    : std_logic                                  := '0';
   signal wr_addr  : unsigned(ADDR_BITS_c - 1 downto 0)         := (others => '0');

@@ -1,10 +1,10 @@
 # SPDX-License-Identifier: MIT
-"""orb_detect_top (fast mode of the accelerator) against the golden model, bit for bit.
+"""orb_detect_top (the accelerator's streaming core) against the golden model, bit for bit.
 
-The cocotb test streams one or more frames back to back (each with its own image and threshold)
-through s_axis_video, collects m_axis_feat and compares every frame with the model's fast-mode
-features (scale, x, y, score). The pytest runners below pick widths, heights, scales, images,
-thresholds and input gaps.
+The cocotb test streams one or more frames back to back (each with its own image, threshold and
+mode) through s_axis_video, collects m_axis_feat and compares every frame with the model's
+features: scale, x, y and score in fast mode, plus sector and descriptor in orb mode. The pytest
+runners below pick widths, heights, scales, sectors, modes, images, thresholds and input gaps.
 """
 
 from __future__ import annotations
@@ -44,10 +44,14 @@ async def detect_frames(dut) -> None:
         kinds = _env_list("ORB_IMAGES", "photo:camera")
         frames = [images.make(kinds[i % len(kinds)], w, h) for i in range(len(thresholds))]
     gaps = Gaps.parse(os.environ.get("ORB_GAPS", "none"))
+    modes = _env_list("ORB_MODES", "fast")
+    modes = [modes[i % len(modes)] for i in range(len(frames))]
+    n = int(os.environ.get("ORB_SECTORS", "8"))
 
     clk = dut.clk
     dut.rst.value = 1
     dut.threshold.value = thresholds[0]
+    dut.mode_orb.value = int(modes[0] == "orb")
     dut.m_axis_feat_tready.value = 1
     source = VideoSource(dut, clk)
     source.idle()
@@ -59,8 +63,9 @@ async def detect_frames(dut) -> None:
     cocotb.start_soon(monitor.run())
 
     wall = time.perf_counter()
-    for frame, t in zip(frames, thresholds, strict=True):
+    for frame, t, mode in zip(frames, thresholds, modes, strict=True):
         dut.threshold.value = t
+        dut.mode_orb.value = int(mode == "orb")
         await source.send_frame(frame, gaps)
     pixels_cycles = source.cycles
     latency = 0
@@ -73,32 +78,40 @@ async def detect_frames(dut) -> None:
 
     report = {"frames": len(frames), "cycles": pixels_cycles, "pixels": w * h * len(frames),
               "latency_cycles": latency, "sim_wall_s": round(wall, 2),
-              "bad_pixels": int(dut.bad_pixels.value), "dropped": int(dut.dropped.value)}  # fmt: skip
+              "bad_pixels": int(dut.bad_pixels.value), "dropped": int(dut.dropped.value),
+              "desc_lost": int(dut.desc_lost.value)}  # fmt: skip
     dut._log.info("report: %s", report)
     if "ORB_OUT" in os.environ:
         from golden_model import write_csv
 
-        write_csv(monitor.frames[0].features(), Path(os.environ["ORB_OUT"]))
+        orb = modes[0] == "orb"
+        write_csv(monitor.frames[0].features(4 * n, descriptors=orb), Path(os.environ["ORB_OUT"]))
         Path(os.environ["ORB_OUT"]).with_suffix(".json").write_text(json.dumps(report, indent=2) + "\n")
         return
-    for i, (frame, t, got) in enumerate(zip(frames, thresholds, monitor.frames, strict=True)):
+    for i, (frame, t, mode, got) in enumerate(zip(frames, thresholds, modes, monitor.frames, strict=True)):
         assert got.number == i, f"frame {i}: end-of-frame beat numbered {got.number}"
         assert got.drops == 0, f"frame {i}: {got.drops} features dropped"
-        check_frame(got.features(), expected_features(frame, scales, t), f"frame {i} (threshold {t})")
+        orb = mode == "orb"
+        exp = expected_features(frame, scales, t, mode, n)
+        check_frame(got.features(4 * n, descriptors=orb), exp, f"frame {i} ({mode}, threshold {t})")
+        if orb:
+            assert len(exp) > 0 or "flat" in os.environ.get("ORB_IMAGES", ""), f"frame {i}: no feature to compare"
     assert int(dut.bad_pixels.value) == 0, "pixels outside the frame were counted"
     assert int(dut.dropped.value) == 0
+    assert int(dut.desc_lost.value) == 0, "the descriptor path lost features on legal frames"
 
 
 # ------------------------------------------------------------------------------------------------
 # pytest runners
 
 
-def run_detect(width: int, height: int, scales: int, images_: str, thresholds: str, gaps: str = "none") -> None:
+def run_detect(width: int, height: int, scales: int, images_: str, thresholds: str, gaps: str = "none",
+               modes: str = "fast", sectors: int = 8) -> None:  # fmt: skip
     run(
         "orb_detect_top",
         "test_orb_detect_top",
-        {"WIDTH_g": width, "HEIGHT_g": height, "SCALES_g": scales},
-        env={"ORB_IMAGES": images_, "ORB_THRESHOLDS": thresholds, "ORB_GAPS": gaps},
+        {"WIDTH_g": width, "HEIGHT_g": height, "SCALES_g": scales, "SECTORS_g": sectors},
+        env={"ORB_IMAGES": images_, "ORB_THRESHOLDS": thresholds, "ORB_GAPS": gaps, "ORB_MODES": modes},
     )
 
 
@@ -119,11 +132,37 @@ def test_detect_small(width: int, height: int, scales: int, images_: str, thresh
     run_detect(width, height, scales, images_, thresholds, gaps)
 
 
+@pytest.mark.parametrize(
+    ("width", "height", "scales", "sectors", "images_", "thresholds", "gaps", "modes"),
+    [
+        (96, 64, 1, 8, "photo:astronaut,photo:coffee", "10,15", "none", "orb"),
+        (160, 96, 2, 4, "photo:camera,photo:chelsea", "12,20", "random:3", "orb"),
+        (160, 96, 2, 16, "photo:coffee", "10", "blanking", "orb"),
+        (128, 80, 3, 8, "photo:astronaut,photo:astronaut,photo:camera", "15,15,20", "none", "orb,fast,orb"),
+        (96, 64, 1, 8, "dots,checker,flat", "20,20,20", "none", "orb"),  # densest corners; flat
+        (64, 48, 1, 8, "photo:camera", "20", "none", "orb"),  # smallest legal frame
+    ],
+)
+def test_orb_small(width: int, height: int, scales: int, sectors: int, images_: str, thresholds: str, gaps: str,
+                   modes: str) -> None:  # fmt: skip
+    run_detect(width, height, scales, images_, thresholds, gaps, modes, sectors)
+
+
 @pytest.mark.parametrize(("width", "height", "scales"), [(640, 48, 2), (1920, 48, 1)])
 def test_detect_wide_strips(width: int, height: int, scales: int) -> None:
     run_detect(width, height, scales, "photo:astronaut", "20", "none")
 
 
+@pytest.mark.parametrize(("width", "height", "scales"), [(640, 64, 2), (1920, 40, 1)])
+def test_orb_wide_strips(width: int, height: int, scales: int) -> None:
+    run_detect(width, height, scales, "photo:astronaut", "15", "none", "orb")
+
+
 @pytest.mark.slow
 def test_detect_full_vga_two_scales() -> None:
     run_detect(640, 480, 2, "photo:coffee", "20", "none")
+
+
+@pytest.mark.slow
+def test_orb_full_vga_two_scales() -> None:
+    run_detect(640, 480, 2, "photo:coffee", "20", "none", "orb")

@@ -22,7 +22,7 @@ from cocotb.clock import Clock
 from cocotb.triggers import ClockCycles, Event, with_timeout
 
 from orbtb import images
-from orbtb.feature_stream import Frame
+from orbtb.feature_stream import FEAT_BITS, Frame
 from orbtb.runner import run
 from orbtb.scoreboard import check_frame, expected_features
 from orbtb.unit import PERIOD_NS, SIM_ENV, env_int
@@ -32,7 +32,7 @@ warnings.filterwarnings("ignore", category=DeprecationWarning, module=r"cocotb_b
 
 from cocotbext.axi import AxiStreamBus, AxiStreamFrame, AxiStreamSink, AxiStreamSource  # noqa: E402
 
-FEATURE_BYTE_SIZE = 40  # one 40-bit word per beat (no tkeep on m_axis_feat)
+FEATURE_BYTE_SIZE = FEAT_BITS  # one 320-bit word per beat (no tkeep on m_axis_feat)
 
 
 def pause_pattern(seed: int, prob: float, length: int = 997) -> itertools.cycle:
@@ -51,6 +51,7 @@ class Bench:
         dut = self.dut
         dut.rst.value = 1
         dut.threshold.value = 0
+        dut.mode_orb.value = 0
         dut.s_axis_video_tvalid.value = 0
         dut.s_axis_video_tuser.value = 0
         dut.s_axis_video_tlast.value = 0

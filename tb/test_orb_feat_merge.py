@@ -2,17 +2,20 @@
 """orb_feat_merge: directed and random tests of the multi-scale feature merger.
 
 Every feature pushed carries a unique tag (x = per-scale sequence number, y = frame number,
-random score), so the output shows exactly which features arrived, in which order per scale and
-in which frame (the beats between two end-of-frame beats). Expected drops are never modelled
-from the RTL: they come from stimuli whose count is obvious. While the output is stalled
-(tready = 0) with a feature already in the output register, no FIFO can drain, so a scale that
-receives N features keeps exactly its first FIFO_DEPTH and drops N - FIFO_DEPTH; a frame that
-pushes at most FIFO_DEPTH features per scale into empty FIFOs drops none, whatever tready does.
+random score) and a random sector and descriptor, so the output shows exactly which features
+arrived, in which order per scale and in which frame (the beats between two end-of-frame beats),
+and that each one's payload arrived intact with it (DESC_g = true) or was left out, its output
+bits 0 (DESC_g = false: the payload inputs are driven with random values all the same).
+Expected drops are never modelled from the RTL: they come from stimuli whose count is obvious.
+While the output is stalled (tready = 0) with a feature already in the output register, no FIFO
+can drain, so a scale that receives N features keeps exactly its first FIFO_DEPTH and drops
+N - FIFO_DEPTH; a frame that pushes at most FIFO_DEPTH features per scale into empty FIFOs drops
+none, whatever tready does.
 
-Checked everywhere: per-frame content and per-scale order, the end-of-frame beat's frame number
-and drop count, the `dropped` total, AXI4-Stream rules (tdata/tlast held while stalled), the
-feature/end-of-frame flag bits, and that an end-of-frame beat comes only after every scale's
-frame_done.
+Checked everywhere: per-frame content (payload included) and per-scale order, the end-of-frame
+beat's frame number and drop count, the `dropped` total, AXI4-Stream rules (tdata/tlast held
+while stalled), the feature/end-of-frame flag bits and reserved (0) bits, and that an
+end-of-frame beat comes only after every scale's frame_done.
 """
 
 from __future__ import annotations
@@ -24,16 +27,17 @@ import numpy as np
 import pytest
 from cocotb.triggers import ClockCycles, RisingEdge
 
+from orbtb.feature_stream import DESC_BITS, EOF_ZERO_MASK, FEATURE_ZERO_MASK, SECTOR_BITS, decode_feature
 from orbtb.runner import run
-from orbtb.unit import SIM_ENV, env_int, reset
+from orbtb.unit import SIM_ENV, env_int, env_str, reset
 
 COORD, SCORE = 12, 12
-Feat = tuple[int, int, int]  # (x, y, score) as pushed into one scale
+Feat = tuple[int, int, int, int, int]  # (x, y, score, sector, descriptor) as pushed into one scale
 
 
 @dataclass
 class FrameOut:
-    beats: list[tuple[int, int, int, int]] = field(default_factory=list)  # (scale, x, y, score)
+    beats: list[tuple[int, Feat]] = field(default_factory=list)  # (scale, feature)
     number: int = -1
     drops: int = -1
     eof_edge: int = -1
@@ -46,7 +50,8 @@ class MergeBench:
         self.dut = dut
         self.scales = env_int("ORB_SCALES")
         self.depth = env_int("ORB_FIFO_DEPTH")
-        self.rng = np.random.default_rng(self.scales * 1000 + self.depth)
+        self.desc = env_str("ORB_DESC").lower() == "true"
+        self.rng = np.random.default_rng(self.scales * 1000 + self.depth + 7 * self.desc)
         self.edge = 0
         self.frames: list[FrameOut] = []
         self.current = FrameOut()
@@ -58,37 +63,46 @@ class MergeBench:
         self.expected_drops: list[int] = [0]
         self._ready = 0
         self._stalled: tuple[int, int] | None = None  # (tdata, tlast) offered but not taken
-        self._driven = (0, 0, 0, 0, 0)
+        self._driven = (0, 0, 0, 0, 0, 0, 0)
 
     async def start(self) -> None:
         await reset(
             self.dut,
-            {"in_valid": 0, "in_x": 0, "in_y": 0, "in_score": 0, "in_done": 0, "m_axis_feat_tready": 0},
+            dict.fromkeys(("in_valid", "in_x", "in_y", "in_score", "in_sector", "in_desc", "in_done"), 0)
+            | {"m_axis_feat_tready": 0},
         )
 
     def feature(self, scale: int, frame: int) -> Feat:
+        """A new feature of `scale` in `frame`, with a random score, sector and descriptor."""
         x = self.seq[scale] % (1 << COORD)
         self.seq[scale] += 1
-        return (x, frame % (1 << COORD), int(self.rng.integers(0, 1 << SCORE)))
+        score = int(self.rng.integers(0, 1 << SCORE))
+        sector = int(self.rng.integers(0, 1 << SECTOR_BITS))
+        desc = int.from_bytes(self.rng.bytes(DESC_BITS // 8), "little")
+        return (x, frame % (1 << COORD), score, sector, desc)
 
     async def cycle(self, feats: dict[int, Feat] | None = None, done: tuple[int, ...] = (), ready: int = 1) -> None:
         """One clock: push `feats` (scale -> feature), pulse in_done for `done`, drive tready."""
         dut = self.dut
-        valid = xs = ys = scs = dn = 0
-        for s, (x, y, sc) in (feats or {}).items():
+        valid = xs = ys = scs = sec = dsc = dn = 0
+        for s, (x, y, sc, sector, desc) in (feats or {}).items():
             valid |= 1 << s
             xs |= x << (s * COORD)
             ys |= y << (s * COORD)
             scs |= sc << (s * SCORE)
+            sec |= sector << (s * SECTOR_BITS)
+            dsc |= desc << (s * DESC_BITS)
         for s in done:
             dn |= 1 << s
-        driven = (valid, xs, ys, scs, dn)
+        driven = (valid, xs, ys, scs, sec, dsc, dn)
         if driven != self._driven:
             dut.in_valid.value = valid
             if valid:
                 dut.in_x.value = xs
                 dut.in_y.value = ys
                 dut.in_score.value = scs
+                dut.in_sector.value = sec
+                dut.in_desc.value = dsc
             dut.in_done.value = dn
             self._driven = driven
         if ready != self._ready:
@@ -117,7 +131,7 @@ class MergeBench:
         eof = (data >> 39) & 1
         assert eof == last, f"edge {self.edge}: tlast {last} with end-of-frame flag {eof} ({data:#x})"
         if last:
-            assert (data >> 32) & 0x7F == 0, f"edge {self.edge}: reserved end-of-frame bits set ({data:#x})"
+            assert data & EOF_ZERO_MASK == 0, f"edge {self.edge}: reserved end-of-frame bits set ({data:#x})"
             self.current.number = data & 0xFFFF
             self.current.drops = (data >> 16) & 0xFFFF
             self.current.eof_edge = self.edge
@@ -126,9 +140,9 @@ class MergeBench:
             self._pending_done = []
             self.current = FrameOut()
         else:
-            assert (data >> 38) & 3 == 0, f"edge {self.edge}: flag bits set in a feature beat ({data:#x})"
-            mask = (1 << COORD) - 1
-            self.current.beats.append(((data >> 36) & 3, (data >> 12) & mask, (data >> 24) & mask, data & 0xFFF))
+            assert data & FEATURE_ZERO_MASK == 0, f"edge {self.edge}: reserved bits set in a feature beat ({data:#x})"
+            f = decode_feature(data)
+            self.current.beats.append((f.scale, (f.x, f.y, f.score, f.sector, f.descriptor)))
 
     # ---- scenario helpers ----------------------------------------------------------------------
     async def plug_output(self) -> None:
@@ -141,10 +155,11 @@ class MergeBench:
             await self.cycle(ready=0)
 
     def expect(self, scale: int, feat: Feat, frame: int) -> None:
+        """`feat` of `scale` must arrive in `frame` (without its payload when DESC_g is false)."""
         while len(self.expected) <= frame:
             self.expected.append({s: [] for s in range(self.scales)})
             self.expected_drops.append(0)
-        self.expected[frame][scale].append(feat)
+        self.expected[frame][scale].append(feat if self.desc else (*feat[:3], 0, 0))
 
     def expect_drops(self, frame: int, n: int) -> None:
         self.expect_frame(frame)
@@ -172,11 +187,12 @@ class MergeBench:
         for f, (out, exp) in enumerate(zip(self.frames, self.expected, strict=True)):
             assert out.number == f, f"frame {f}: end-of-frame beat numbered {out.number}"
             for s in range(self.scales):
-                got = [(x, y, sc) for scale, x, y, sc in out.beats if scale == s]
+                got = [feat for scale, feat in out.beats if scale == s]
                 for i, (g, e) in enumerate(zip(got, exp[s], strict=False)):
                     assert g == e, (
-                        f"frame {f}, scale {s}, feature {i}: got (x={g[0]}, y={g[1]}) score {g[2]}, "
-                        f"expected (x={e[0]}, y={e[1]}) score {e[2]}"
+                        f"frame {f}, scale {s}, feature {i}: got (x={g[0]}, y={g[1]}) score {g[2]} sector {g[3]} "
+                        f"descriptor {g[4]:#066x}, expected (x={e[0]}, y={e[1]}) score {e[2]} sector {e[3]} "
+                        f"descriptor {e[4]:#066x}"
                     )
                 if len(got) != len(exp[s]):
                     more = got[len(exp[s])] if len(got) > len(exp[s]) else exp[s][len(got)]
@@ -411,41 +427,49 @@ async def drop_count_saturates(dut) -> None:
 # pytest runners
 
 DIRECTED = "simultaneous,eof_waits_for_every_scale,overflow_drops"
-# orbtb.runner builds once per generic set: every runner below uses its own (SCALES_g,
-# FIFO_DEPTH_g) so that runners executing at the same time (pytest -n) never share a build.
+# orbtb.runner builds once per (pytest-xdist worker, module, generic set), so runners executing
+# at the same time (pytest -n) never share a build. Every runner runs with DESC_g true (sector and
+# descriptor carried through the FIFOs) and false (FIFOs of x, y and score only).
+DESC = pytest.mark.parametrize("desc", [True, False], ids=["desc", "fast"])
 
 
-def run_merge(scales: int, depth: int, tests: str) -> None:
+def run_merge(scales: int, depth: int, desc: bool, tests: str) -> None:
     run(
         "orb_feat_merge",
         "test_orb_feat_merge",
-        {"SCALES_g": scales, "FIFO_DEPTH_g": depth},
+        {"SCALES_g": scales, "FIFO_DEPTH_g": depth, "DESC_g": desc},
         env=SIM_ENV,
         testcase=tests,
     )
 
 
+@DESC
 @pytest.mark.parametrize(("scales", "depth"), [(4, 4), (3, 8), (1, 2), (2, 2)])
-def test_merge_directed(scales: int, depth: int) -> None:
-    run_merge(scales, depth, DIRECTED)
+def test_merge_directed(scales: int, depth: int, desc: bool) -> None:
+    run_merge(scales, depth, desc, DIRECTED)
 
 
+@DESC
 @pytest.mark.parametrize("scales", [1, 4])
-def test_merge_random(scales: int) -> None:
-    run_merge(scales, 512, "random_traffic")
+def test_merge_random(scales: int, desc: bool) -> None:
+    run_merge(scales, 512, desc, "random_traffic")
 
 
-def test_merge_drop_count_saturates_one_scale() -> None:
-    run_merge(1, 4, "drop_count_saturates")
+@DESC
+def test_merge_drop_count_saturates_one_scale(desc: bool) -> None:
+    run_merge(1, 4, desc, "drop_count_saturates")
 
 
-def test_merge_drop_count_saturates_four_scales() -> None:
-    run_merge(4, 8, "drop_count_saturates")
+@DESC
+def test_merge_drop_count_saturates_four_scales(desc: bool) -> None:
+    run_merge(4, 8, desc, "drop_count_saturates")
 
 
-def test_merge_marker_not_bypassed() -> None:
-    run_merge(2, 4, "marker_not_bypassed")
+@DESC
+def test_merge_marker_not_bypassed(desc: bool) -> None:
+    run_merge(2, 4, desc, "marker_not_bypassed")
 
 
-def test_merge_drops_counted_in_their_frame() -> None:
-    run_merge(3, 4, "drops_counted_in_their_frame")
+@DESC
+def test_merge_drops_counted_in_their_frame(desc: bool) -> None:
+    run_merge(3, 4, desc, "drops_counted_in_their_frame")

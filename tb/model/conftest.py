@@ -3,7 +3,7 @@
 
 The references in ``NaiveReference`` are written straight from the golden_model module docstrings,
 pixel by pixel with plain Python integers, and share no code with the model. The only model data
-they use is the base rBRIEF pattern table (``pattern_data.PATTERN``), which is an input of the
+they use is the rBRIEF orbit seeds (``pattern_data.ORBIT_SEEDS``), which are an input of the
 specification, not a computation.
 """
 
@@ -17,7 +17,7 @@ import pytest
 
 from golden_model.features import Features
 from golden_model.images import sample_photographs
-from golden_model.pattern_data import PATTERN
+from golden_model.pattern_data import ORBIT_SEEDS
 
 Grid = list[list[int]]
 Row = tuple[int, int, int, int, int, str]  # (scale, y, x, score, sector, descriptor hex)
@@ -49,11 +49,15 @@ def _round_half_away(v: float) -> int:
 
 @cache
 def _rotated_pattern(n: int, sector: int) -> tuple[tuple[int, int, int, int], ...]:
-    """pattern.py's rotation formula, one point at a time."""
-    alpha = math.radians(sector * 360.0 / (4 * n))
-    c, s = math.cos(alpha), math.sin(alpha)
+    """Spec section 10, one point at a time: test j*4N + k of sector s is the seed of orbit j rotated
+    by ((k + s) mod 4N) * 360 / 4N degrees (y down), rounded half away from zero."""
+    sectors = 4 * n
     out = []
-    for x1, y1, x2, y2 in PATTERN:
+    for i in range(256):
+        j, k = divmod(i, sectors)
+        x1, y1, x2, y2 = ORBIT_SEEDS[sectors][j]
+        alpha = math.radians(((k + sector) % sectors) * 360.0 / sectors)
+        c, s = math.cos(alpha), math.sin(alpha)
         out.append(
             (
                 _round_half_away(x1 * c - y1 * s),

@@ -9,7 +9,6 @@ import numpy as np
 import pytest
 
 from golden_model.brief import describe
-from golden_model.pattern_data import PATTERN
 
 NS = (4, 8, 16)
 SIZE = 64
@@ -70,17 +69,17 @@ HAND_RULES: dict[tuple[str, int], Callable[[int, int, int, int], bool]] = {
 
 @pytest.mark.parametrize("n", NS)
 @pytest.mark.parametrize(("ramp_name", "quarter"), list(HAND_RULES))
-def test_ramps_give_hand_predictable_bits(n: int, ramp_name: str, quarter: int) -> None:
+def test_ramps_give_hand_predictable_bits(ref, n: int, ramp_name: str, quarter: int) -> None:
     rule = HAND_RULES[(ramp_name, quarter)]
-    expected = pack([rule(*t) for t in PATTERN])
+    expected = pack([rule(*t) for t in ref.rotated_pattern(n, 0)])
     got = describe_one(ramp(ramp_name), C, C, quarter * n, n)
     assert got == expected, f"{ramp_name} ramp, sector {quarter * n} of {4 * n}, (x={C}, y={C}): " + bit_diff(
         got, expected
     )
 
 
-def test_bit_order_first_test_is_bit_0_of_byte_0() -> None:
-    _, _, x2, y2 = PATTERN[0]
+def test_bit_order_first_test_is_bit_0_of_byte_0(ref) -> None:
+    _, _, x2, y2 = ref.rotated_pattern(8, 0)[0]
     sm = np.full((SIZE, SIZE), 100, dtype=np.uint8)
     sm[C + y2, C + x2] = 101  # test 0 sees p1 = 100 < p2 = 101
     d = describe_one(sm, C, C, 0, 8)
@@ -88,12 +87,13 @@ def test_bit_order_first_test_is_bit_0_of_byte_0() -> None:
 
 
 @pytest.mark.parametrize("i", [0, 1, 7, 8, 9, 100, 127, 128, 254, 255])
-def test_single_raised_point_sets_exactly_the_tests_that_use_it_as_p2(i: int) -> None:
-    point = (PATTERN[i][2], PATTERN[i][3])
+def test_single_raised_point_sets_exactly_the_tests_that_use_it_as_p2(ref, i: int) -> None:
+    pattern = ref.rotated_pattern(4, 0)
+    point = (pattern[i][2], pattern[i][3])
     sm = np.full((SIZE, SIZE), 100, dtype=np.uint8)
     sm[C + point[1], C + point[0]] = 101
     # Test m is 1 exactly when its p2 is the raised point and its p1 is not.
-    bits = [(x2, y2) == point and (x1, y1) != point for x1, y1, x2, y2 in PATTERN]
+    bits = [(x2, y2) == point and (x1, y1) != point for x1, y1, x2, y2 in pattern]
     assert bits[i], "the chosen test must be one of them"
     got = describe_one(sm, C, C, 0, 4)
     assert got[i // 8] >> (i % 8) & 1, f"test {i} not in bit {i % 8} of byte {i // 8}: {got.hex()}"

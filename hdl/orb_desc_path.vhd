@@ -1,0 +1,391 @@
+-- SPDX-License-Identifier: MIT
+-- orb_desc_path: the description path of one scale (docs/spec.md sections 7 to 10, orb mode):
+-- sector and 256-bit rBRIEF descriptor for every NMS survivor inside the descriptor border, one
+-- evaluation per clock, never stalling and never dropping on a legal stream. The smoothed stream
+-- (orb_smooth's output: the value tagged (x, y) is the smoothed pixel (x - 3, y - 3)) fills a
+-- 30-line block-RAM buffer whose columns slide through a 31x31 register window; the window tagged
+-- (x, y) is centred on (x - 18, y - 18). The same columns feed orb_orient_moments (incremental
+-- moments of the radius-15 circle) and orb_orient_sector. Detected features wait in a block-RAM
+-- FIFO (in raster order, as the window visits them) until the window reaches them: the 256 tests
+-- of the orbit pattern's sector-0 table (orb_pattern_pkg) are evaluated on the window in that
+-- clock, and when the feature's sector s arrives the bits of each orbit of 4N tests are rotated
+-- by s, which gives the sector-s pattern's descriptor. The FIFO holds every feature of 16 image
+-- lines at the densest legal NMS output, so it cannot overflow; a feature whose window position
+-- is never reached (a malformed frame) is discarded at the next frame start or once the window
+-- has passed it, and counted in `lost`, as is one that found the FIFO full.
+
+library ieee;
+use ieee.std_logic_1164.all;
+use ieee.numeric_std.all;
+
+use work.orb_util_pkg.all;
+use work.orb_pattern_pkg.all;
+
+entity orb_desc_path is
+  generic (
+    LINE_WIDTH_g   : positive range 37 to 4095 := 640;
+    FRAME_HEIGHT_g : positive range 37 to 4095 := 480;
+    SECTORS_g      : positive range 4 to 16    := 8
+  );
+  port (
+    clk         : in    std_logic;
+    rst         : in    std_logic;
+    -- smoothed stream, tagged like orb_smooth's output
+    in_valid    : in    std_logic;
+    in_x        : in    std_logic_vector(COORD_BITS_c - 1 downto 0);
+    in_y        : in    std_logic_vector(COORD_BITS_c - 1 downto 0);
+    in_data     : in    std_logic_vector(PIXEL_BITS_c - 1 downto 0);
+    -- NMS survivors of the same frame, in raster order
+    det_valid   : in    std_logic;
+    det_x       : in    std_logic_vector(COORD_BITS_c - 1 downto 0);
+    det_y       : in    std_logic_vector(COORD_BITS_c - 1 downto 0);
+    det_score   : in    std_logic_vector(SCORE_BITS_c - 1 downto 0);
+    -- described features, raster order
+    feat_valid  : out   std_logic;
+    feat_x      : out   std_logic_vector(COORD_BITS_c - 1 downto 0);
+    feat_y      : out   std_logic_vector(COORD_BITS_c - 1 downto 0);
+    feat_score  : out   std_logic_vector(SCORE_BITS_c - 1 downto 0);
+    feat_sector : out   std_logic_vector(5 downto 0);
+    feat_desc   : out   std_logic_vector(255 downto 0);
+    frame_done  : out   std_logic;
+    lost        : out   std_logic_vector(31 downto 0)
+  );
+end entity orb_desc_path;
+
+architecture rtl of orb_desc_path is
+
+  constant BORDER_c    : natural  := 18;   -- descriptor border, and the window's tag offset
+  constant WIN_c       : positive := 31;
+  constant COL_BITS_c  : positive := WIN_c * PIXEL_BITS_c;
+  constant ORBIT_c     : positive := 4 * SECTORS_g;
+  constant PAT_c       : pattern_t := base_pattern(SECTORS_g);
+  -- Densest legal NMS output: one feature per 2x2 block, so ceil((W - 36) / 2) per line and
+  -- per pair of lines. A feature waits from its detection (about 4 lines after its own) to its
+  -- window (18 lines after): at most 16 lines, 8 pairs, plus pipeline slack.
+  constant ROW_FEATS_c : positive := (LINE_WIDTH_g - 2 * BORDER_c + 1) / 2;
+  constant QBITS_c     : positive := clog2(8 * ROW_FEATS_c + 64);
+  constant QDEPTH_c    : positive := 2 ** QBITS_c;
+  constant ENTRY_c     : positive := 2 * COORD_BITS_c + SCORE_BITS_c;
+  constant PEND_c      : positive := 8;    -- tested features waiting for their sector
+
+  subtype coord_t is unsigned(COORD_BITS_c - 1 downto 0);
+  subtype entry_t is std_logic_vector(ENTRY_c - 1 downto 0);
+  subtype bits_t is std_logic_vector(255 downto 0);
+
+  type win_t is array (0 to WIN_c - 1) of std_logic_vector(COL_BITS_c - 1 downto 0);
+  type queue_t is array (0 to QDEPTH_c - 1) of entry_t;
+  type pend_bits_t is array (0 to PEND_c - 1) of bits_t;
+  type pend_info_t is array (0 to PEND_c - 1) of entry_t;
+
+  -- column stage
+  signal col_valid : std_logic;
+  signal col_xs    : std_logic_vector(COORD_BITS_c - 1 downto 0);
+  signal col_data  : std_logic_vector(COL_BITS_c - 1 downto 0);
+  signal y_dly     : std_logic_vector(COORD_BITS_c - 1 downto 0) := (others => '0');
+  signal col_x     : coord_t;
+  signal col_y     : coord_t;
+
+  -- feature queue (block RAM) and its head register
+  signal queue      : queue_t;
+  signal wr_ptr     : unsigned(QBITS_c - 1 downto 0) := (others => '0');
+  signal rd_ptr     : unsigned(QBITS_c - 1 downto 0) := (others => '0');
+  signal head       : entry_t := (others => '0');
+  signal head_valid : std_logic := '0';
+  signal head_tx    : coord_t;
+  signal head_ty    : coord_t;
+  signal match      : std_logic;
+  signal stale      : std_logic;
+  signal lost_cnt   : unsigned(31 downto 0) := (others => '0');
+
+  -- window stage
+  signal win     : win_t := (others => (others => '0'));
+  signal w_valid : std_logic := '0';
+  signal w_match : std_logic := '0';
+  signal w_info  : entry_t := (others => '0');
+
+  -- test stage
+  signal t_valid : std_logic := '0';
+  signal t_info  : entry_t := (others => '0');
+  signal t_bits  : bits_t := (others => '0');
+
+  -- moments and sector, in step with the column stream
+  signal m_valid       : std_logic;
+  signal m_x, m_y      : std_logic_vector(COORD_BITS_c - 1 downto 0);
+  signal m_m10, m_m01  : std_logic_vector(23 downto 0);
+  signal s_valid       : std_logic;
+  signal s_x, s_y      : std_logic_vector(COORD_BITS_c - 1 downto 0);
+  signal s_sector      : std_logic_vector(5 downto 0);
+
+  -- tested features waiting for their sector (small distributed RAM, in order)
+  signal pend_bits  : pend_bits_t;
+  signal pend_info  : pend_info_t;
+  signal pend_wr    : unsigned(2 downto 0) := (others => '0');
+  signal pend_rd    : unsigned(2 downto 0) := (others => '0');
+  signal pend_hit   : std_logic;
+
+  -- output stages
+  signal o1_valid  : std_logic := '0';
+  signal o1_last   : std_logic := '0';
+  signal o1_info   : entry_t := (others => '0');
+  signal o1_bits   : bits_t := (others => '0');
+  signal o1_sector : unsigned(5 downto 0) := (others => '0');
+  signal o2_valid  : std_logic := '0';
+  signal o2_last   : std_logic := '0';
+  signal o2_info   : entry_t := (others => '0');
+  signal o2_desc   : bits_t := (others => '0');
+  signal o2_sector : std_logic_vector(5 downto 0) := (others => '0');
+  signal done_q    : std_logic := '0';
+
+  function pixel (w : win_t; dx, dy : integer) return unsigned is
+    constant K_c : natural := WIN_c - 1 - (15 + dy);  -- line-buffer slice: lines above the newest
+  begin
+    return unsigned(w(15 + dx)((K_c + 1) * PIXEL_BITS_c - 1 downto K_c * PIXEL_BITS_c));
+  end function pixel;
+
+  function b2n (b : std_logic) return natural is
+  begin
+    if b = '1' then
+      return 1;
+    end if;
+    return 0;
+  end function b2n;
+
+  function pack (tx, ty : unsigned; score : std_logic_vector) return entry_t is
+  begin
+    return std_logic_vector(ty) & std_logic_vector(tx) & score;
+  end function pack;
+
+begin
+
+  assert SECTORS_g = 4 or SECTORS_g = 8 or SECTORS_g = 16
+    report "orb_desc_path: SECTORS_g (sectors per quadrant) must be 4, 8 or 16"
+    severity failure;
+
+  assert 256 mod ORBIT_c = 0
+    report "orb_desc_path: 256 tests must split into orbits of 4 * SECTORS_g"
+    severity failure;
+
+  lines : entity work.orb_line_buffer
+    generic map (
+      LINE_WIDTH_g => LINE_WIDTH_g,
+      LINES_g      => WIN_c - 1,
+      DATA_WIDTH_g => PIXEL_BITS_c
+    )
+    port map (
+      clk       => clk,
+      rst       => rst,
+      in_valid  => in_valid,
+      in_col    => in_x,
+      in_data   => in_data,
+      out_valid => col_valid,
+      out_col   => col_xs,
+      out_data  => col_data
+    );
+
+  ytag : process (clk) is
+  begin
+    if rising_edge(clk) then
+      if in_valid = '1' then
+        y_dly <= in_y;
+      end if;
+    end if;
+  end process ytag;
+
+  col_x <= unsigned(col_xs);
+  col_y <= unsigned(y_dly);
+
+  -- Queue entries hold the window tag at which the feature is centred: (x + 18, y + 18).
+  head_tx <= unsigned(head(SCORE_BITS_c + COORD_BITS_c - 1 downto SCORE_BITS_c));
+  head_ty <= unsigned(head(ENTRY_c - 1 downto SCORE_BITS_c + COORD_BITS_c));
+  match   <= col_valid and head_valid when head_tx = col_x and head_ty = col_y else '0';
+  stale   <= col_valid and head_valid when head_ty < col_y or (head_ty = col_y and head_tx < col_x) else '0';
+
+  queue_ctrl : process (clk) is
+    variable push     : boolean;
+    variable pop      : boolean;
+    variable avail    : unsigned(QBITS_c downto 0);
+    variable lost_inc : unsigned(QBITS_c + 1 downto 0);
+    variable dx, dy   : unsigned(COORD_BITS_c - 1 downto 0);
+  begin
+    if rising_edge(clk) then
+      dx       := unsigned(det_x);
+      dy       := unsigned(det_y);
+      push     := det_valid = '1' and dx >= BORDER_c and dx <= LINE_WIDTH_g - 1 - BORDER_c and
+                  dy >= BORDER_c and dy <= FRAME_HEIGHT_g - 1 - BORDER_c;
+      pop      := match = '1' or stale = '1';
+      avail    := resize(wr_ptr - rd_ptr, avail'length);
+      lost_inc := (others => '0');
+      if stale = '1' then
+        lost_inc := lost_inc + 1;
+      end if;
+      if push then
+        if avail >= QDEPTH_c - 1 then  -- the RAM holds QDEPTH_c - 1 entries, the head one more
+          lost_inc := lost_inc + 1;
+        else
+          queue(to_integer(wr_ptr)) <= pack(dx + BORDER_c, dy + BORDER_c, det_score);
+          wr_ptr                    <= wr_ptr + 1;
+        end if;
+      end if;
+      if col_valid = '1' and col_x = 0 and col_y = 0 then
+        -- A new frame reaches the window: whatever still waits belongs to a malformed frame.
+        lost_inc   := lost_inc + avail + b2n(head_valid) - b2n(stale);
+        rd_ptr     <= wr_ptr;
+        head_valid <= '0';
+      elsif head_valid = '0' or pop then
+        if avail /= 0 then
+          head       <= queue(to_integer(rd_ptr));
+          rd_ptr     <= rd_ptr + 1;
+          head_valid <= '1';
+        else
+          head_valid <= '0';
+        end if;
+      end if;
+      lost_cnt <= lost_cnt + lost_inc;
+      if rst = '1' then
+        wr_ptr     <= (others => '0');
+        rd_ptr     <= (others => '0');
+        head_valid <= '0';
+        lost_cnt   <= (others => '0');
+      end if;
+    end if;
+  end process queue_ctrl;
+
+  -- The window slides one column per input column; after the shift it is centred on the column
+  -- tag minus 18 (15 for the patch, 3 for the smoothing).
+  window : process (clk) is
+  begin
+    if rising_edge(clk) then
+      w_valid <= col_valid;
+      if col_valid = '1' then
+        win(0 to WIN_c - 2) <= win(1 to WIN_c - 1);
+        win(WIN_c - 1)      <= col_data;
+        w_match             <= match;
+        w_info              <= head;
+      end if;
+      if rst = '1' then
+        w_valid <= '0';
+      end if;
+    end if;
+  end process window;
+
+  -- The 256 fixed tests of the sector-0 table, registered only for a feature's window.
+  tests : process (clk) is
+  begin
+    if rising_edge(clk) then
+      t_valid <= w_valid and w_match;
+      if w_valid = '1' and w_match = '1' then
+        t_info <= w_info;
+        for i in 0 to 255 loop
+          if pixel(win, PAT_c(i, 0), PAT_c(i, 1)) < pixel(win, PAT_c(i, 2), PAT_c(i, 3)) then
+            t_bits(i) <= '1';
+          else
+            t_bits(i) <= '0';
+          end if;
+        end loop;
+      end if;
+      if rst = '1' then
+        t_valid <= '0';
+      end if;
+    end if;
+  end process tests;
+
+  moments : entity work.orb_orient_moments
+    port map (
+      clk       => clk,
+      rst       => rst,
+      in_valid  => col_valid,
+      in_x      => col_xs,
+      in_y      => y_dly,
+      in_col    => col_data,
+      out_valid => m_valid,
+      out_x     => m_x,
+      out_y     => m_y,
+      out_m10   => m_m10,
+      out_m01   => m_m01
+    );
+
+  sector : entity work.orb_orient_sector
+    generic map (
+      SECTORS_g => SECTORS_g
+    )
+    port map (
+      clk        => clk,
+      rst        => rst,
+      in_valid   => m_valid,
+      in_x       => m_x,
+      in_y       => m_y,
+      in_m10     => m_m10,
+      in_m01     => m_m01,
+      out_valid  => s_valid,
+      out_x      => s_x,
+      out_y      => s_y,
+      out_sector => s_sector
+    );
+
+  -- The sector of a column position leaves orb_orient_sector a fixed number of clocks after the
+  -- tests of that position were registered, so the tested features wait in order and the
+  -- sector stream's tag picks them up.
+  pend_hit <= s_valid when pend_wr /= pend_rd and
+                           pend_info(to_integer(pend_rd))(ENTRY_c - 1 downto SCORE_BITS_c) = s_y & s_x else
+              '0';
+
+  pending : process (clk) is
+  begin
+    if rising_edge(clk) then
+      if t_valid = '1' then
+        pend_bits(to_integer(pend_wr)) <= t_bits;
+        pend_info(to_integer(pend_wr)) <= t_info;
+        pend_wr                        <= pend_wr + 1;
+      end if;
+      o1_valid <= pend_hit;
+      o1_last  <= s_valid when unsigned(s_x) = LINE_WIDTH_g - 1 and unsigned(s_y) = FRAME_HEIGHT_g - 1 else '0';
+      if pend_hit = '1' then
+        o1_info   <= pend_info(to_integer(pend_rd));
+        o1_bits   <= pend_bits(to_integer(pend_rd));
+        o1_sector <= unsigned(s_sector);
+        pend_rd   <= pend_rd + 1;
+      end if;
+      if rst = '1' then
+        pend_wr  <= (others => '0');
+        pend_rd  <= (others => '0');
+        o1_valid <= '0';
+        o1_last  <= '0';
+      end if;
+    end if;
+  end process pending;
+
+  -- Sector s: test j * 4N + k is test j * 4N + (k + s) mod 4N of the sector-0 table.
+  rotate : process (clk) is
+    variable orbit : unsigned(ORBIT_c - 1 downto 0);
+  begin
+    if rising_edge(clk) then
+      o2_valid <= o1_valid;
+      o2_last  <= o1_last;
+      if o1_valid = '1' then
+        o2_info   <= o1_info;
+        o2_sector <= std_logic_vector(o1_sector);
+        for j in 0 to 256 / ORBIT_c - 1 loop
+          orbit := unsigned(o1_bits((j + 1) * ORBIT_c - 1 downto j * ORBIT_c));
+          o2_desc((j + 1) * ORBIT_c - 1 downto j * ORBIT_c) <=
+            std_logic_vector(rotate_right(orbit, to_integer(o1_sector)));
+        end loop;
+      end if;
+      done_q <= o2_last;
+      if rst = '1' then
+        o2_valid <= '0';
+        o2_last  <= '0';
+        done_q   <= '0';
+      end if;
+    end if;
+  end process rotate;
+
+  feat_valid  <= o2_valid;
+  feat_x      <= std_logic_vector(unsigned(o2_info(SCORE_BITS_c + COORD_BITS_c - 1 downto SCORE_BITS_c)) - BORDER_c);
+  feat_y      <= std_logic_vector(unsigned(o2_info(ENTRY_c - 1 downto SCORE_BITS_c + COORD_BITS_c)) - BORDER_c);
+  feat_score  <= o2_info(SCORE_BITS_c - 1 downto 0);
+  feat_sector <= o2_sector;
+  feat_desc   <= o2_desc;
+  frame_done  <= done_q;
+  lost        <= std_logic_vector(lost_cnt);
+
+end architecture rtl;

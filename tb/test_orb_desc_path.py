@@ -1,0 +1,206 @@
+# SPDX-License-Identifier: MIT
+"""orb_desc_path against the golden model: sector and descriptor of every feature inside the border.
+
+The smoothed stream is driven with orb_smooth's tagging (the value tagged (x, y) is the model's
+smoothed pixel (x - 3, y - 3), 0 off the image) and each NMS survivor (x, y) is offered in the
+clock of tag (x + 4, y + 4), about when orb_fast_nms reports it. Expected: the model's features
+of that frame (border rule, moments, quantised sector, orbit-pattern rBRIEF) in raster order, one
+frame_done per frame after its last feature, `lost` unchanged. Cases: photographs at 16, 32 and
+64 sectors with and without input gaps, back-to-back frames; the densest legal feature pattern
+(one feature per 2x2 block over the whole frame, on a random smoothed image); a frame cut short,
+whose waiting features must be counted in `lost` exactly and must not disturb the next frame.
+"""
+
+from __future__ import annotations
+
+import cocotb
+import numpy as np
+import pytest
+from cocotb.triggers import RisingEdge
+
+from golden_model.brief import describe
+from golden_model.orientation import moments, quantise
+from golden_model.pipeline import DESC_BORDER, detect, in_desc_border
+from golden_model.smooth import smooth
+from orbtb import images
+from orbtb.runner import run
+from orbtb.unit import SIM_ENV, env_int, random_gaps, reset, to_int
+
+DETECT_DELAY = 4  # a survivor (x, y) is offered with the stream tag (x + 4, y + 4)
+Feature = tuple[int, int, int, int, int]  # x, y, score, sector, descriptor (bit i = test i)
+
+
+def expected(smoothed: np.ndarray, xs: np.ndarray, ys: np.ndarray, score: np.ndarray, n: int) -> list[Feature]:
+    h, w = smoothed.shape
+    keep = in_desc_border(xs, ys, w, h)
+    xs, ys, score = xs[keep], ys[keep], score[keep]
+    m10, m01 = moments(smoothed, xs, ys)
+    sector = quantise(m10, m01, n)
+    desc = describe(smoothed, xs, ys, sector, n)
+    return [
+        (int(x), int(y), int(s), int(q), int.from_bytes(d.tobytes(), "little"))
+        for x, y, s, q, d in zip(xs, ys, score, sector, desc, strict=True)
+    ]
+
+
+def tagged(smoothed: np.ndarray) -> np.ndarray:
+    """Stream value at tag (x, y): smoothed (x - 3, y - 3), 0 where that is off the image."""
+    h, w = smoothed.shape
+    out = np.zeros((h, w), dtype=np.int64)
+    out[3:, 3:] = smoothed[: h - 3, : w - 3]
+    return out
+
+
+class Bench:
+    def __init__(self, dut) -> None:
+        self.dut = dut
+        self.out: list[Feature] = []
+        self.done_at: list[int] = []  # number of features seen when each frame_done pulsed
+        self.edge = 0
+
+    def sample(self) -> None:
+        d = self.dut
+        if d.feat_valid.value == 1:
+            self.out.append(
+                (to_int(d.feat_x.value), to_int(d.feat_y.value), to_int(d.feat_score.value),
+                 to_int(d.feat_sector.value), to_int(d.feat_desc.value))
+            )  # fmt: skip
+        if d.frame_done.value == 1:
+            self.done_at.append(len(self.out))
+
+    async def tick(self) -> None:
+        await RisingEdge(self.dut.clk)
+        self.edge += 1
+        self.sample()
+
+    async def frame(self, stream: np.ndarray, feats: dict[tuple[int, int], int], gaps: list[int] | None,
+                    stop: int | None = None) -> None:  # fmt: skip
+        """Drive one frame (stream values by tag, survivors by their own position -> score); stop
+        after `stop` pixels when given (a frame cut short)."""
+        d = self.dut
+        h, w = stream.shape
+        n = h * w if stop is None else stop
+        for i in range(n):
+            y, x = divmod(i, w)
+            if gaps and gaps[i]:
+                d.in_valid.value = 0
+                d.det_valid.value = 0
+                for _ in range(gaps[i]):
+                    await self.tick()
+            d.in_valid.value = 1
+            d.in_x.value = x
+            d.in_y.value = y
+            d.in_data.value = int(stream[y, x])
+            f = feats.get((x - DETECT_DELAY, y - DETECT_DELAY))
+            if f is None:
+                d.det_valid.value = 0
+            else:
+                d.det_valid.value = 1
+                d.det_x.value = x - DETECT_DELAY
+                d.det_y.value = y - DETECT_DELAY
+                d.det_score.value = f
+            await self.tick()
+        d.in_valid.value = 0
+        d.det_valid.value = 0
+
+    async def idle(self, n: int) -> None:
+        for _ in range(n):
+            await self.tick()
+
+
+async def start(dut) -> Bench:
+    zero = dict.fromkeys(("in_valid", "in_x", "in_y", "in_data", "det_valid", "det_x", "det_y", "det_score"), 0)
+    await reset(dut, zero)
+    return Bench(dut)
+
+
+def check(got: list[Feature], exp: list[Feature], what: str) -> None:
+    for i, (g, e) in enumerate(zip(got, exp, strict=False)):
+        if g != e:
+            fields = ("x", "y", "score", "sector", "descriptor")
+            diff = [f"{f}: rtl {a:#x} model {b:#x}" for f, a, b in zip(fields, g, e, strict=True) if a != b]
+            raise AssertionError(f"{what}: feature {i} at (x={e[0]}, y={e[1]}) differs: {'; '.join(diff)}")
+    assert len(got) == len(exp), f"{what}: {len(got)} features out, model has {len(exp)}"
+
+
+def photo_case(name: str, w: int, h: int, threshold: int, n: int):
+    img = images.photo(name, w, h)
+    xs, ys, score = detect(img, threshold)
+    sm = smooth(img)
+    feats = {(int(x), int(y)): int(s) for x, y, s in zip(xs, ys, score, strict=True)}
+    return tagged(sm), feats, expected(sm, xs, ys, score, n)
+
+
+@cocotb.test()
+async def photographs(dut) -> None:
+    """Real photographs back to back, with and without input gaps."""
+    n = env_int("ORB_SECTORS")
+    w, h = env_int("ORB_LINE_WIDTH"), env_int("ORB_FRAME_HEIGHT")
+    bench = await start(dut)
+    lost0 = to_int(dut.lost.value)
+    total: list[Feature] = []
+    for k, (name, thr, gap_prob) in enumerate((("astronaut", 10, 0.0), ("coffee", 8, 0.3), ("camera", 12, 0.0))):
+        stream, feats, exp = photo_case(name, w, h, thr, n)
+        assert len(exp) > 12, f"{name}: too few features to be a test ({len(exp)})"
+        gaps = random_gaps(w * h, seed=k, prob=gap_prob, long_every=500) if gap_prob else None
+        await bench.frame(stream, feats, gaps)
+        total += exp
+    await bench.idle(60)
+    check(bench.out, total, "photographs")
+    assert len(bench.done_at) == 3, f"frame_done pulsed {len(bench.done_at)} times for 3 frames"
+    assert to_int(dut.lost.value) == lost0, "features lost on legal frames"
+
+
+@cocotb.test()
+async def densest(dut) -> None:
+    """One survivor per 2x2 block over the whole frame (the densest 3x3 NMS output)."""
+    n = env_int("ORB_SECTORS")
+    w, h = env_int("ORB_LINE_WIDTH"), env_int("ORB_FRAME_HEIGHT")
+    rng = np.random.default_rng(5)
+    img = rng.integers(0, 256, (h, w)).astype(np.uint8)
+    sm = smooth(img)
+    ys, xs = np.mgrid[0:h:2, 0:w:2]
+    xs, ys = xs.ravel(), ys.ravel()
+    score = rng.integers(1, 4081, xs.shape)
+    feats = {(int(x), int(y)): int(s) for x, y, s in zip(xs, ys, score, strict=True)}
+    exp = expected(sm, xs, ys, score, n)
+    bench = await start(dut)
+    await bench.frame(tagged(sm), feats, None)
+    await bench.idle(60)
+    check(bench.out, exp, "densest pattern")
+    assert len(exp) == ((w - 2 * DESC_BORDER + 1) // 2) * ((h - 2 * DESC_BORDER + 1) // 2)
+    assert to_int(dut.lost.value) == 0, f"densest legal pattern lost {to_int(dut.lost.value)} features"
+
+
+@cocotb.test()
+async def cut_frame(dut) -> None:
+    """A frame cut short: its waiting features are counted in `lost`, the next frame is exact."""
+    n = env_int("ORB_SECTORS")
+    w, h = env_int("ORB_LINE_WIDTH"), env_int("ORB_FRAME_HEIGHT")
+    stream, feats, exp = photo_case("astronaut", w, h, 10, n)
+    stop = (h - 20) * w + w // 3  # pixels delivered before the cut
+    last = divmod(stop - 1, w)  # (y, x) of the last delivered tag
+    # offered (tag (x+4, y+4) delivered) but never reached (tag (x+18, y+18) not delivered)
+    pending = [
+        f for f in exp
+        if (f[1] + DETECT_DELAY, f[0] + DETECT_DELAY) <= last < (f[1] + DESC_BORDER, f[0] + DESC_BORDER)
+    ]  # fmt: skip
+    reached = [f for f in exp if (f[1] + DESC_BORDER, f[0] + DESC_BORDER) <= last]
+    assert pending and reached
+    bench = await start(dut)
+    await bench.frame(stream, feats, None, stop=stop)
+    await bench.idle(40)
+    check(bench.out, reached, "cut frame, features before the cut")
+    assert not bench.done_at, "frame_done for a frame cut short"
+    stream2, feats2, exp2 = photo_case("coffee", w, h, 15, n)
+    await bench.frame(stream2, feats2, None)
+    await bench.idle(60)
+    assert to_int(dut.lost.value) == len(pending), f"lost {to_int(dut.lost.value)}, expected {len(pending)}"
+    check(bench.out[len(reached) :], exp2, "frame after the cut")
+    assert len(bench.done_at) == 1
+
+
+@pytest.mark.parametrize("sectors", [4, 8, 16])
+def test_desc_path(sectors: int) -> None:
+    run("orb_desc_path", "test_orb_desc_path",
+        {"LINE_WIDTH_g": 128, "FRAME_HEIGHT_g": 72, "SECTORS_g": sectors}, env=SIM_ENV)  # fmt: skip
