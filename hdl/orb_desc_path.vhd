@@ -66,7 +66,10 @@ architecture rtl of orb_desc_path is
   constant QBITS_c     : positive := clog2(8 * ROW_FEATS_c + 64);
   constant QDEPTH_c    : positive := 2 ** QBITS_c;
   constant ENTRY_c     : positive := 2 * COORD_BITS_c + SCORE_BITS_c;
-  constant PEND_c      : positive := 8;    -- tested features waiting for their sector
+  -- clocks from the column stage to the sector: orb_orient_moments (9) + orb_orient_sector (4);
+  -- the tests are registered 2 clocks after the column stage, so they wait 11 clocks
+  constant ORIENT_LAT_c : positive := 9 + 4;
+  constant WAIT_c       : positive := ORIENT_LAT_c - 2;
 
   subtype coord_t is unsigned(COORD_BITS_c - 1 downto 0);
   subtype entry_t is std_logic_vector(ENTRY_c - 1 downto 0);
@@ -74,8 +77,8 @@ architecture rtl of orb_desc_path is
 
   type win_t is array (0 to WIN_c - 1) of std_logic_vector(COL_BITS_c - 1 downto 0);
   type queue_t is array (0 to QDEPTH_c - 1) of entry_t;
-  type pend_bits_t is array (0 to PEND_c - 1) of bits_t;
-  type pend_info_t is array (0 to PEND_c - 1) of entry_t;
+  type wait_bits_t is array (1 to WAIT_c) of bits_t;
+  type wait_info_t is array (1 to WAIT_c) of entry_t;
 
   -- column stage
   signal col_valid : std_logic;
@@ -116,12 +119,10 @@ architecture rtl of orb_desc_path is
   signal s_x, s_y      : std_logic_vector(COORD_BITS_c - 1 downto 0);
   signal s_sector      : std_logic_vector(5 downto 0);
 
-  -- tested features waiting for their sector (small distributed RAM, in order)
-  signal pend_bits  : pend_bits_t;
-  signal pend_info  : pend_info_t;
-  signal pend_wr    : unsigned(2 downto 0) := (others => '0');
-  signal pend_rd    : unsigned(2 downto 0) := (others => '0');
-  signal pend_hit   : std_logic;
+  -- tested features waiting for their sector: a plain delay line (shift-register LUTs)
+  signal wait_valid : std_logic_vector(1 to WAIT_c) := (others => '0');
+  signal wait_bits  : wait_bits_t := (others => (others => '0'));
+  signal wait_info  : wait_info_t := (others => (others => '0'));
 
   -- output stages
   signal o1_valid  : std_logic := '0';
@@ -322,37 +323,38 @@ begin
       out_sector => s_sector
     );
 
-  -- The sector of a column position leaves orb_orient_sector a fixed number of clocks after the
-  -- tests of that position were registered, so the tested features wait in order and the
-  -- sector stream's tag picks them up.
-  pend_hit <= s_valid when pend_wr /= pend_rd and
-                           pend_info(to_integer(pend_rd))(ENTRY_c - 1 downto SCORE_BITS_c) = s_y & s_x else
-              '0';
-
+  -- The sector of a column position leaves orb_orient_sector ORIENT_LAT_c clocks after the
+  -- column stage, WAIT_c clocks after the tests of that position were registered.
   pending : process (clk) is
   begin
     if rising_edge(clk) then
-      if t_valid = '1' then
-        pend_bits(to_integer(pend_wr)) <= t_bits;
-        pend_info(to_integer(pend_wr)) <= t_info;
-        pend_wr                        <= pend_wr + 1;
-      end if;
-      o1_valid <= pend_hit;
-      o1_last  <= s_valid when unsigned(s_x) = LINE_WIDTH_g - 1 and unsigned(s_y) = FRAME_HEIGHT_g - 1 else '0';
-      if pend_hit = '1' then
-        o1_info   <= pend_info(to_integer(pend_rd));
-        o1_bits   <= pend_bits(to_integer(pend_rd));
-        o1_sector <= unsigned(s_sector);
-        pend_rd   <= pend_rd + 1;
-      end if;
+      wait_valid <= t_valid & wait_valid(1 to WAIT_c - 1);
+      wait_bits  <= t_bits & wait_bits(1 to WAIT_c - 1);
+      wait_info  <= t_info & wait_info(1 to WAIT_c - 1);
+      o1_valid   <= wait_valid(WAIT_c);
+      o1_last    <= s_valid when unsigned(s_x) = LINE_WIDTH_g - 1 and unsigned(s_y) = FRAME_HEIGHT_g - 1 else '0';
+      o1_info    <= wait_info(WAIT_c);
+      o1_bits    <= wait_bits(WAIT_c);
+      o1_sector  <= unsigned(s_sector);
       if rst = '1' then
-        pend_wr  <= (others => '0');
-        pend_rd  <= (others => '0');
-        o1_valid <= '0';
-        o1_last  <= '0';
+        wait_valid <= (others => '0');
+        o1_valid   <= '0';
+        o1_last    <= '0';
       end if;
     end if;
   end process pending;
+
+  -- pragma translate_off
+  aligned : process (clk) is
+  begin
+    if rising_edge(clk) then
+      assert wait_valid(WAIT_c) = '0' or
+             (s_valid = '1' and wait_info(WAIT_c)(ENTRY_c - 1 downto SCORE_BITS_c) = s_y & s_x)
+        report "orb_desc_path: sector and tests out of step (ORIENT_LAT_c is wrong)"
+        severity failure;
+    end if;
+  end process aligned;
+  -- pragma translate_on
 
   -- Sector s: test j * 4N + k is test j * 4N + (k + s) mod 4N of the sector-0 table.
   rotate : process (clk) is

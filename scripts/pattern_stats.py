@@ -28,7 +28,13 @@ def load_pattern(path: Path) -> np.ndarray:
         raise SystemExit(f"{path}: not a Python pattern file")
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
-    return np.array(module.PATTERN, dtype=np.int64)
+    if hasattr(module, "PATTERN"):  # a plain 256-test table (older or candidate patterns)
+        return np.array(module.PATTERN, dtype=np.int64)
+    if path.resolve() == LIVE.resolve():  # the live orbit pattern: its sector-0 table at 32 sectors
+        from golden_model.pattern import rotated_patterns
+
+        return rotated_patterns(8)[0].astype(np.int64)
+    raise SystemExit(f"{path}: holds neither PATTERN nor the live orbit seeds")
 
 
 def main() -> None:
