@@ -26,6 +26,8 @@ SIZES = ((640, 480, 2),)
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--size", action="append", help="WxHxS, e.g. 1920x1080x2 (repeatable)")
+    ap.add_argument("--mode", choices=("orb", "fast"), default="orb")
+    ap.add_argument("--sectors", type=int, choices=(16, 32, 64), default=32)
     ap.add_argument("--out", type=Path, default=Path("build/bench/sim.json"))
     args = ap.parse_args()
     sizes = [tuple(int(v) for v in s.split("x")) for s in args.size] if args.size else SIZES
@@ -34,10 +36,12 @@ def main() -> None:
     rows = []
     for w, h, scales in sizes:
         img = cv2.resize(base, (w, h), interpolation=cv2.INTER_CUBIC)
-        cfg = Config(w, h, scales=scales, threshold=20, mode="fast")
+        cfg = Config(w, h, scales=scales, sectors_per_quadrant=args.sectors // 4, threshold=20, mode=args.mode)
         feats, report = extract_rtl(img, cfg)
         diff = first_difference(feats, extract(img, cfg))
-        row = {"width": w, "height": h, "scales": scales, "ghdl_backend": backend, "features": len(feats),
+        row = {"width": w, "height": h, "scales": scales, "mode": args.mode, "sectors": args.sectors,
+               "ghdl_backend": backend, "features": len(feats), "dropped": report["dropped"],
+               "desc_lost": report["desc_lost"],
                "bit_exact": diff is None, "clocks": report["cycles"], "sim_wall_s": report["sim_wall_s"],
                "clocks_per_s": round(report["cycles"] / report["sim_wall_s"]),
                "latency_cycles": report["latency_cycles"]}  # fmt: skip

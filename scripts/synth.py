@@ -399,7 +399,7 @@ def new_record(cfg: Config) -> dict:
         "width": cfg.width,
         "height": cfg.height,
         "scales": cfg.scales,
-        "sectors": None,  # detection-only top: no descriptor path yet
+        "sectors": 32,  # orb_detect_top defaults: SECTORS_g = 8 per quadrant, DESC_g = true
         "lut": None,
         "ff": None,
         "bram36": None,
