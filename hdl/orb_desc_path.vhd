@@ -77,8 +77,7 @@ architecture rtl of orb_desc_path is
 
   type win_t is array (0 to WIN_c - 1) of std_logic_vector(COL_BITS_c - 1 downto 0);
   type queue_t is array (0 to QDEPTH_c - 1) of entry_t;
-  type wait_bits_t is array (1 to WAIT_c) of bits_t;
-  type wait_info_t is array (1 to WAIT_c) of entry_t;
+  type wait_ram_t is array (0 to 15) of std_logic_vector(256 + ENTRY_c - 1 downto 0);
 
   -- column stage
   signal col_valid : std_logic;
@@ -119,16 +118,18 @@ architecture rtl of orb_desc_path is
   signal s_x, s_y      : std_logic_vector(COORD_BITS_c - 1 downto 0);
   signal s_sector      : std_logic_vector(5 downto 0);
 
-  -- tested features waiting for their sector: a plain delay line (shift-register LUTs)
+  -- tested features waiting for their sector: a 16-entry ring written at the clock count and
+  -- read WAIT_c clocks later (distributed RAM; one write per feature, cheap to simulate too)
   signal wait_valid : std_logic_vector(1 to WAIT_c) := (others => '0');
-  signal wait_bits  : wait_bits_t := (others => (others => '0'));
-  signal wait_info  : wait_info_t := (others => (others => '0'));
+  signal wait_ram   : wait_ram_t;
+  signal wait_cnt   : unsigned(3 downto 0) := (others => '0');
+  signal wait_out   : std_logic_vector(256 + ENTRY_c - 1 downto 0) := (others => '0');
 
   -- output stages
   signal o1_valid  : std_logic := '0';
   signal o1_last   : std_logic := '0';
-  signal o1_info   : entry_t := (others => '0');
-  signal o1_bits   : bits_t := (others => '0');
+  signal o1_info   : entry_t;
+  signal o1_bits   : bits_t;
   signal o1_sector : unsigned(5 downto 0) := (others => '0');
   signal o2_valid  : std_logic := '0';
   signal o2_last   : std_logic := '0';
@@ -328,13 +329,15 @@ begin
   pending : process (clk) is
   begin
     if rising_edge(clk) then
+      wait_cnt   <= wait_cnt + 1;
       wait_valid <= t_valid & wait_valid(1 to WAIT_c - 1);
-      wait_bits  <= t_bits & wait_bits(1 to WAIT_c - 1);
-      wait_info  <= t_info & wait_info(1 to WAIT_c - 1);
+      if t_valid = '1' then
+        wait_ram(to_integer(wait_cnt)) <= t_bits & t_info;
+      end if;
+      -- the entry written WAIT_c clocks ago, read into the o1 stage with its sector
+      wait_out   <= wait_ram(to_integer(wait_cnt - WAIT_c));
       o1_valid   <= wait_valid(WAIT_c);
       o1_last    <= s_valid when unsigned(s_x) = LINE_WIDTH_g - 1 and unsigned(s_y) = FRAME_HEIGHT_g - 1 else '0';
-      o1_info    <= wait_info(WAIT_c);
-      o1_bits    <= wait_bits(WAIT_c);
       o1_sector  <= unsigned(s_sector);
       if rst = '1' then
         wait_valid <= (others => '0');
@@ -344,14 +347,20 @@ begin
     end if;
   end process pending;
 
+  o1_info <= wait_out(ENTRY_c - 1 downto 0);
+  o1_bits <= wait_out(256 + ENTRY_c - 1 downto ENTRY_c);
+
   -- pragma translate_off
   aligned : process (clk) is
+    variable s_tag : std_logic_vector(2 * COORD_BITS_c - 1 downto 0) := (others => '0');
+    variable s_ok  : std_logic := '0';
   begin
     if rising_edge(clk) then
-      assert wait_valid(WAIT_c) = '0' or
-             (s_valid = '1' and wait_info(WAIT_c)(ENTRY_c - 1 downto SCORE_BITS_c) = s_y & s_x)
+      assert o1_valid = '0' or (s_ok = '1' and o1_info(ENTRY_c - 1 downto SCORE_BITS_c) = s_tag)
         report "orb_desc_path: sector and tests out of step (ORIENT_LAT_c is wrong)"
         severity failure;
+      s_tag := s_y & s_x;  -- what the o1 stage takes with this edge
+      s_ok  := s_valid;
     end if;
   end process aligned;
   -- pragma translate_on
