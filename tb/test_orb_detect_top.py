@@ -141,6 +141,10 @@ def test_detect_small(width: int, height: int, scales: int, images_: str, thresh
         (128, 80, 3, 8, "photo:astronaut,photo:astronaut,photo:camera", "15,15,20", "none", "orb,fast,orb"),
         (96, 64, 1, 8, "dots,checker,flat", "20,20,20", "none", "orb"),  # densest corners; flat
         (64, 48, 1, 8, "photo:camera", "5", "none", "orb"),  # smallest legal frame
+        # rotated photographs, 0 to 360 degrees, at 16, 32 and 64 sectors
+        (96, 64, 1, 4, "rotated:astronaut:0,rotated:astronaut:75,rotated:astronaut:150", "10,10,10", "none", "orb"),
+        (96, 64, 1, 8, "rotated:astronaut:45,rotated:chelsea:135,rotated:astronaut:250", "10,10,10", "random:4", "orb"),
+        (96, 64, 1, 16, "rotated:chelsea:200,rotated:chelsea:290,rotated:chelsea:345", "10,10,10", "none", "orb"),
     ],
 )
 def test_orb_small(width: int, height: int, scales: int, sectors: int, images_: str, thresholds: str, gaps: str,

@@ -62,10 +62,25 @@ def noise(width: int, height: int, seed: int = 3) -> np.ndarray:
     return np.random.default_rng(seed).integers(0, 256, (height, width)).astype(np.uint8)
 
 
+def rotated(name: str, degrees: float, width: int, height: int) -> np.ndarray:
+    """A photograph turned by `degrees` (clockwise on screen) about the frame centre, cut to
+    width x height from a larger crop so that no corner of the frame is empty."""
+    side = int(np.ceil(np.hypot(width, height))) + 2
+    big = photo(name, side, side)
+    rot = cv2.getRotationMatrix2D((side / 2, side / 2), -degrees, 1.0)
+    turned = cv2.warpAffine(big, rot, (side, side), flags=cv2.INTER_LINEAR)
+    y0, x0 = (side - height) // 2, (side - width) // 2
+    return np.ascontiguousarray(turned[y0 : y0 + height, x0 : x0 + width])
+
+
 def make(kind: str, width: int, height: int) -> np.ndarray:
-    """`photo:<name>`, `flat`, `dots`, `checker`, `checker4`, `border`, `noise`."""
+    """`photo:<name>`, `rotated:<name>:<degrees>`, `flat`, `dots`, `checker`, `checker4`, `border`,
+    `noise`."""
     if kind.startswith("photo:"):
         return photo(kind.split(":", 1)[1], width, height)
+    if kind.startswith("rotated:"):
+        _, name, degrees = kind.split(":")
+        return rotated(name, float(degrees), width, height)
     table = {
         "flat": lambda: flat(width, height),
         "dots": lambda: dots(width, height),
