@@ -74,8 +74,8 @@ def rotated(name: str, degrees: float, width: int, height: int) -> np.ndarray:
 
 
 def make(kind: str, width: int, height: int) -> np.ndarray:
-    """`photo:<name>`, `rotated:<name>:<degrees>`, `flat`, `dots`, `checker`, `checker4`, `border`,
-    `noise`."""
+    """`photo:<name>`, `rotated:<name>:<degrees>`, `flat`, `dots`, `dots4`, `checker`, `checker4`,
+    `border`, `noise`."""
     if kind.startswith("photo:"):
         return photo(kind.split(":", 1)[1], width, height)
     if kind.startswith("rotated:"):
@@ -84,6 +84,7 @@ def make(kind: str, width: int, height: int) -> np.ndarray:
     table = {
         "flat": lambda: flat(width, height),
         "dots": lambda: dots(width, height),
+        "dots4": lambda: dots(width, height, 4),  # pitch 2 gives no FAST corner; 4 is the densest that does
         "checker": lambda: checker(width, height),
         "checker4": lambda: checker(width, height, 4),
         "border": lambda: border_corners(width, height),
