@@ -68,7 +68,8 @@ architecture rtl of orb_desc_path is
   constant ENTRY_c     : positive := 2 * COORD_BITS_c + SCORE_BITS_c;
   -- clocks from the column stage to the sector: orb_orient_moments (9) + orb_orient_sector (4);
   -- the tests are registered 2 clocks after the column stage, so they wait 11 clocks
-  constant ORIENT_LAT_c : positive := 9 + 4;
+  constant MOMENTS_LAT_c : positive := 9;
+  constant ORIENT_LAT_c  : positive := MOMENTS_LAT_c + 4;
   constant WAIT_c       : positive := ORIENT_LAT_c - 2;
 
   subtype coord_t is unsigned(COORD_BITS_c - 1 downto 0);
@@ -99,8 +100,7 @@ architecture rtl of orb_desc_path is
   signal stale      : std_logic;
   signal lost_cnt   : unsigned(31 downto 0) := (others => '0');
 
-  -- window stage
-  signal win     : win_t := (others => (others => '0'));
+  -- window stage (the window itself is a variable of the tests process)
   signal w_valid : std_logic := '0';
   signal w_match : std_logic := '0';
   signal w_info  : entry_t := (others => '0');
@@ -117,6 +117,12 @@ architecture rtl of orb_desc_path is
   signal s_valid       : std_logic;
   signal s_x, s_y      : std_logic_vector(COORD_BITS_c - 1 downto 0);
   signal s_sector      : std_logic_vector(5 downto 0);
+
+  -- the feature flag of each column beside the moments pipeline (the sector is only computed for
+  -- features), and the frame's last column beside the whole orientation pipeline
+  signal feat_dly : std_logic_vector(1 to MOMENTS_LAT_c) := (others => '0');
+  signal last_dly : std_logic_vector(1 to ORIENT_LAT_c)  := (others => '0');
+  signal sec_in   : std_logic;
 
   -- tested features waiting for their sector: a 16-entry ring written at the clock count and
   -- read WAIT_c clocks later (distributed RAM; one write per feature, cheap to simulate too)
@@ -253,25 +259,12 @@ begin
   end process queue_ctrl;
 
   -- The window slides one column per input column; after the shift it is centred on the column
-  -- tag minus 18 (15 for the patch, 3 for the smoothing).
-  window : process (clk) is
-  begin
-    if rising_edge(clk) then
-      w_valid <= col_valid;
-      if col_valid = '1' then
-        win(0 to WIN_c - 2) <= win(1 to WIN_c - 1);
-        win(WIN_c - 1)      <= col_data;
-        w_match             <= match;
-        w_info              <= head;
-      end if;
-      if rst = '1' then
-        w_valid <= '0';
-      end if;
-    end if;
-  end process window;
-
-  -- The 256 fixed tests of the sector-0 table, registered only for a feature's window.
-  tests : process (clk) is
+  -- tag minus 18 (15 for the patch, 3 for the smoothing). The 256 fixed tests of the sector-0
+  -- table are evaluated on the window of the previous clock, registered only for a feature's
+  -- window. The window is a process variable (31 x 248 flip-flops in hardware; a variable costs
+  -- the simulator one copy per clock instead of 7,688 signal updates).
+  window_tests : process (clk) is
+    variable win : win_t := (others => (others => '0'));
   begin
     if rising_edge(clk) then
       t_valid <= w_valid and w_match;
@@ -285,11 +278,19 @@ begin
           end if;
         end loop;
       end if;
+      w_valid <= col_valid;
+      if col_valid = '1' then
+        win(0 to WIN_c - 2) := win(1 to WIN_c - 1);
+        win(WIN_c - 1)      := col_data;
+        w_match             <= match;
+        w_info              <= head;
+      end if;
       if rst = '1' then
+        w_valid <= '0';
         t_valid <= '0';
       end if;
     end if;
-  end process tests;
+  end process window_tests;
 
   moments : entity work.orb_orient_moments
     port map (
@@ -306,6 +307,26 @@ begin
       out_m01   => m_m01
     );
 
+  -- Flags in step with the moments and the sector: which column positions are features (only
+  -- those go through orb_orient_sector, which is then idle most of the time), and the frame's
+  -- last position (frame_done). Like the moments' own delay line, feat_dly is never reset.
+  flags : process (clk) is
+  begin
+    if rising_edge(clk) then
+      feat_dly <= match & feat_dly(1 to MOMENTS_LAT_c - 1);
+      if col_valid = '1' and col_x = LINE_WIDTH_g - 1 and col_y = FRAME_HEIGHT_g - 1 then
+        last_dly <= '1' & last_dly(1 to ORIENT_LAT_c - 1);
+      else
+        last_dly <= '0' & last_dly(1 to ORIENT_LAT_c - 1);
+      end if;
+      if rst = '1' then
+        last_dly <= (others => '0');
+      end if;
+    end if;
+  end process flags;
+
+  sec_in <= m_valid and feat_dly(MOMENTS_LAT_c);
+
   sector : entity work.orb_orient_sector
     generic map (
       SECTORS_g => SECTORS_g
@@ -313,7 +334,7 @@ begin
     port map (
       clk        => clk,
       rst        => rst,
-      in_valid   => m_valid,
+      in_valid   => sec_in,
       in_x       => m_x,
       in_y       => m_y,
       in_m10     => m_m10,
@@ -337,7 +358,7 @@ begin
       -- the entry written WAIT_c clocks ago, read into the o1 stage with its sector
       wait_out   <= wait_ram(to_integer(wait_cnt - WAIT_c));
       o1_valid   <= wait_valid(WAIT_c);
-      o1_last    <= s_valid when unsigned(s_x) = LINE_WIDTH_g - 1 and unsigned(s_y) = FRAME_HEIGHT_g - 1 else '0';
+      o1_last    <= last_dly(ORIENT_LAT_c);
       o1_sector  <= unsigned(s_sector);
       if rst = '1' then
         wait_valid <= (others => '0');

@@ -31,18 +31,22 @@ package body orb_fast_pkg is
 
   function has_arc (mask : std_logic_vector(15 downto 0)) return std_logic is
     variable doubled : std_logic_vector(31 downto 0);
-    variable run     : std_logic;
-    variable found   : std_logic := '0';
+    variable run     : boolean;
+    variable found   : boolean := false;
   begin
+    -- booleans: the same AND-OR network, simulated without std_logic resolution tables
     doubled := mask & mask;
     for start in 0 to 15 loop
-      run := '1';
+      run := true;
       for k in 0 to ARC_c - 1 loop
-        run := run and doubled(start + k);
+        run := run and doubled(start + k) = '1';
       end loop;
       found := found or run;
     end loop;
-    return found;
+    if found then
+      return '1';
+    end if;
+    return '0';
   end function has_arc;
 
 end package body orb_fast_pkg;

@@ -32,39 +32,42 @@ end entity orb_fast_score;
 
 architecture rtl of orb_fast_score is
 
-  type abs_t is array (0 to 15) of unsigned(7 downto 0);
-  type part_t is array (0 to 3) of unsigned(9 downto 0);
+  -- Ranged integers: their ranges set the hardware widths; GHDL simulates them natively.
+  subtype mag_t is integer range 0 to 255;
+  subtype part_sum_t is integer range 0 to 4 * 255;
+  subtype score_t is integer range 0 to 16 * 255;
+
+  type abs_t is array (0 to 15) of mag_t;
+  type part_t is array (0 to 3) of part_sum_t;
 
   -- stage 1
   signal v1      : std_logic := '0';
   signal x1, y1  : std_logic_vector(COORD_BITS_c - 1 downto 0) := (others => '0');
   signal bright1 : std_logic_vector(15 downto 0) := (others => '0');
   signal dark1   : std_logic_vector(15 downto 0) := (others => '0');
-  signal abs1    : abs_t := (others => (others => '0'));
+  signal abs1    : abs_t := (others => 0);
   signal inner1  : std_logic := '0';
   -- stage 2
   signal v2      : std_logic := '0';
   signal x2, y2  : std_logic_vector(COORD_BITS_c - 1 downto 0) := (others => '0');
   signal corner2 : std_logic := '0';
-  signal part2   : part_t := (others => (others => '0'));
+  signal part2   : part_t := (others => 0);
   -- stage 3
   signal v3     : std_logic := '0';
   signal x3, y3 : std_logic_vector(COORD_BITS_c - 1 downto 0) := (others => '0');
-  signal score3 : unsigned(SCORE_BITS_c - 1 downto 0) := (others => '0');
+  signal score3 : score_t := 0;
 
-  function pixel (win : std_logic_vector; r, c : natural) return signed is
+  function pixel (win : std_logic_vector; r, c : natural) return mag_t is
   begin
-    return signed('0' & window_pixel(win, 7, r, c));
+    return to_integer(window_pixel(win, 7, r, c));
   end function pixel;
 
 begin
 
   stages : process (clk) is
-    variable centre : signed(8 downto 0);
-    variable diff   : signed(9 downto 0);
-    variable t      : signed(9 downto 0);
-    variable mag    : signed(9 downto 0);
-    variable acc    : unsigned(SCORE_BITS_c - 1 downto 0);
+    variable centre : mag_t;
+    variable diff   : integer range -255 to 255;
+    variable t      : mag_t;
   begin
     if rising_edge(clk) then
       -- stage 1: the 16 differences against the centre (3, 3)
@@ -73,13 +76,16 @@ begin
         x1     <= in_x;
         y1     <= in_y;
         centre := pixel(in_win, 3, 3);
-        t      := signed("00" & threshold);
+        t      := to_integer(unsigned(threshold));
         for i in 0 to 15 loop
-          diff       := resize(pixel(in_win, 3 + CIRCLE_c(i).dy, 3 + CIRCLE_c(i).dx), 10) - resize(centre, 10);
+          diff       := pixel(in_win, 3 + CIRCLE_c(i).dy, 3 + CIRCLE_c(i).dx) - centre;
           bright1(i) <= '1' when diff > t else '0';
           dark1(i)   <= '1' when -diff > t else '0';
-          mag        := abs(diff);
-          abs1(i)    <= unsigned(mag(7 downto 0));
+          if diff < 0 then  -- (ghdl synth has no integer abs)
+            abs1(i) <= -diff;
+          else
+            abs1(i) <= diff;
+          end if;
         end loop;
         inner1 <= '1' when unsigned(in_x) >= 6 and unsigned(in_y) >= 6 else '0';
       end if;
@@ -90,7 +96,7 @@ begin
         y2      <= y1;
         corner2 <= inner1 and (has_arc(bright1) or has_arc(dark1));
         for p in 0 to 3 loop
-          part2(p) <= resize(abs1(4 * p), 10) + abs1(4 * p + 1) + abs1(4 * p + 2) + abs1(4 * p + 3);
+          part2(p) <= (abs1(4 * p) + abs1(4 * p + 1)) + (abs1(4 * p + 2) + abs1(4 * p + 3));
         end loop;
       end if;
       -- stage 3: the score, 0 for non-corners
@@ -98,11 +104,10 @@ begin
       if v2 = '1' then
         x3  <= x2;
         y3  <= y2;
-        acc := resize(part2(0), SCORE_BITS_c) + part2(1) + part2(2) + part2(3);
         if corner2 = '1' then
-          score3 <= acc;
+          score3 <= (part2(0) + part2(1)) + (part2(2) + part2(3));
         else
-          score3 <= (others => '0');
+          score3 <= 0;
         end if;
       end if;
       if rst = '1' then
@@ -116,6 +121,6 @@ begin
   out_valid <= v3;
   out_x     <= x3;
   out_y     <= y3;
-  out_score <= std_logic_vector(score3);
+  out_score <= std_logic_vector(to_unsigned(score3, SCORE_BITS_c));
 
 end architecture rtl;

@@ -9,8 +9,9 @@
 -- the column that entered 15 inputs earlier, so with C = sum d, B = sum u d, A = sum q over all
 -- windows: C' = C + sum (d_in - d_out), A' = A + sum (q_in - q_out) and
 -- B' = B - C + sum (U d_in + (U + 1) d_out), d_in entering at u = +U and d_out leaving from
--- u = -U - 1; then m10 = B and m01 = A. Modular two's-complement arithmetic, exact since
--- |m| < 2^21. The outputs for an input column are the moments of the patch whose rightmost
+-- u = -U - 1; then m10 = B and m01 = A. The arithmetic is on ranged integers (their ranges set
+-- the hardware widths; GHDL simulates them natively): the sums always equal the moments of the
+-- columns in the window, so |m| < 2^21 and no range is ever exceeded. The outputs for an input column are the moments of the patch whose rightmost
 -- column it is (centre 15 inputs back, row 15 of the column); columns before the first count as
 -- zero and nothing is cleared between lines or by rst. Nine pipeline stages (pair sums, weighted
 -- differences, band sums into the delay lines, registered taps, band terms, two adder-tree
@@ -107,53 +108,66 @@ architecture rtl of orb_orient_moments is
 
   constant BAND_U_c : nat_array_t(0 to BANDS_c - 1) := band_halfwidths(UMAX_c);
 
-  -- Bits of a value range: unsigned bits of max, signed bits of +-max.
+  -- Bits of a value range: unsigned bits of max.
   function ubits (max : natural) return positive is
   begin
     return maximum(1, clog2(max + 1));
   end function ubits;
 
-  -- x * c for a constant c >= 0, as shifts and adds/subtracts of its canonical signed digits.
-  function mul_const (x : signed; c : natural; width : positive) return signed is
-    variable xs  : signed(width - 1 downto 0) := resize(x, width);
-    variable acc : signed(width - 1 downto 0) := (others => '0');
-    variable r   : natural                    := c;
+  -- x * c for a constant c >= 0, as shifts and adds/subtracts of its canonical signed digits
+  -- (multiplications by powers of two only: shifts in hardware, no DSP). Integer arithmetic: the
+  -- pipeline works on ranged integers, whose widths follow from their ranges in synthesis and
+  -- which GHDL simulates as native integers (numeric_std vectors cost it a loop per bit).
+  function mul_const (x : integer; c : natural) return integer is
+    variable acc : integer := 0;
+    variable p   : integer := x;
+    variable r   : natural := c;
   begin
     for i in 0 to 20 loop
+      exit when r = 0;
       if r mod 2 = 1 then
         if r mod 4 = 3 then
-          acc := acc - shift_left(xs, i);
+          acc := acc - p;
           r   := r + 1;
         else
-          acc := acc + shift_left(xs, i);
+          acc := acc + p;
           r   := r - 1;
         end if;
       end if;
       r := r / 2;
+      if r /= 0 then
+        p := p * 2;
+      end if;
     end loop;
     return acc;
   end function mul_const;
 
-  -- Widths: per-row pair sums s_v = p(v) + p(-v) (s_0 = p(0)) and weighted differences
-  -- w_v = v * (p(v) - p(-v)); the three per-band delta trees and the accumulators.
-  constant S_BITS_c   : positive := PIXEL_BITS_c + 2;                       -- signed, <= 510
-  constant DIF_BITS_c : positive := PIXEL_BITS_c + 1;                       -- signed, +-255
-  constant W_BITS_c   : positive := ubits(255 * RADIUS_c) + 1;              -- signed, +-3825
-  constant T_BITS_c   : positive := ubits(2 * (2 * RADIUS_c + 1) * 31 * 255) + 1;
-  constant C_BITS_c   : positive := ubits(31 * 31 * 255) + 1;
-  constant M_BITS_c   : positive := 24;
+  -- Value ranges: per-row pair sums s_v = p(v) + p(-v) (s_0 = p(0)) and differences
+  -- p(v) - p(-v), weighted differences w_v = v (p(v) - p(-v)); the per-band delta terms and the
+  -- accumulators (24-bit outputs, |m| < 2^21).
+  constant T_MAX_c : positive := 2 ** ubits(2 * (2 * RADIUS_c + 1) * 31 * 255);
+  constant C_MAX_c : positive := 31 * 31 * 255;
+  constant M_MAX_c : positive := 2 ** 23;
 
-  type s_array_t is array (0 to RADIUS_c) of signed(S_BITS_c - 1 downto 0);
-  type d_array_t is array (1 to RADIUS_c) of signed(DIF_BITS_c - 1 downto 0);
-  type w_array_t is array (1 to RADIUS_c) of signed(W_BITS_c - 1 downto 0);
-  type t_array_t is array (natural range <>) of signed(T_BITS_c - 1 downto 0);
+  subtype pix_t is integer range 0 to 255;
+  subtype s_t is integer range 0 to 510;
+  subtype dif_t is integer range -255 to 255;
+  subtype w_t is integer range -255 * RADIUS_c to 255 * RADIUS_c;
+  subtype term_t is integer range -T_MAX_c to T_MAX_c - 1;
+  subtype acc_c_t is integer range 0 to C_MAX_c;
+  subtype m_t is integer range -M_MAX_c to M_MAX_c - 1;
+
+  type s_array_t is array (0 to RADIUS_c) of s_t;
+  type d_array_t is array (1 to RADIUS_c) of dif_t;
+  type w_array_t is array (1 to RADIUS_c) of w_t;
+  type t_array_t is array (natural range <>) of term_t;
   type tag_t is array (1 to LATENCY_c) of std_logic_vector(2 * COORD_BITS_c - 1 downto 0);
 
   constant GROUPS_c : positive := (BANDS_c + 3) / 4;
 
   -- Balanced sum of arr(base .. base + 3) (missing elements count as 0).
-  function sum4 (arr : t_array_t; base : natural) return signed is
-    variable t : t_array_t(0 to 3) := (others => (others => '0'));
+  function sum4 (arr : t_array_t; base : natural) return integer is
+    variable t : t_array_t(0 to 3) := (others => 0);
   begin
     for i in 0 to 3 loop
       if base + i <= arr'high then
@@ -163,28 +177,33 @@ architecture rtl of orb_orient_moments is
     return (t(0) + t(1)) + (t(2) + t(3));
   end function sum4;
 
+  function pixel (col : std_logic_vector; k : natural) return pix_t is
+  begin
+    return to_integer(unsigned(col(col'low + (k + 1) * PIXEL_BITS_c - 1 downto col'low + k * PIXEL_BITS_c)));
+  end function pixel;
+
   signal valid : std_logic_vector(1 to LATENCY_c) := (others => '0');
   signal tags  : tag_t                            := (others => (others => '0'));
 
   -- stage 1: pair sums and differences; stage 2: weighted differences
-  signal s1   : s_array_t := (others => (others => '0'));
-  signal dif1 : d_array_t := (others => (others => '0'));
-  signal s2   : s_array_t := (others => (others => '0'));
-  signal w2   : w_array_t := (others => (others => '0'));
+  signal s1   : s_array_t := (others => 0);
+  signal dif1 : d_array_t := (others => 0);
+  signal s2   : s_array_t := (others => 0);
+  signal w2   : w_array_t := (others => 0);
 
   -- stage 5: per-band terms; stage 6: groups of four; stage 7: deltas
-  signal term_c5, term_a5, term_b5 : t_array_t(0 to BANDS_c - 1)  := (others => (others => '0'));
-  signal part_c6, part_a6, part_b6 : t_array_t(0 to GROUPS_c - 1) := (others => (others => '0'));
-  signal delta_c7                  : signed(T_BITS_c - 1 downto 0) := (others => '0');
-  signal delta_a7                  : signed(T_BITS_c - 1 downto 0) := (others => '0');
-  signal delta_b7                  : signed(T_BITS_c - 1 downto 0) := (others => '0');
+  signal term_c5, term_a5, term_b5 : t_array_t(0 to BANDS_c - 1)  := (others => 0);
+  signal part_c6, part_a6, part_b6 : t_array_t(0 to GROUPS_c - 1) := (others => 0);
+  signal delta_c7                  : term_t := 0;
+  signal delta_a7                  : term_t := 0;
+  signal delta_b7                  : term_t := 0;
 
   -- stages 8 and 9: the accumulators (C and A in 8, B in 9 from dB - C formed in 8)
-  signal acc_c  : signed(C_BITS_c - 1 downto 0) := (others => '0');
-  signal acc_a  : signed(M_BITS_c - 1 downto 0) := (others => '0');
-  signal step_b : signed(M_BITS_c - 1 downto 0) := (others => '0');
-  signal acc_b  : signed(M_BITS_c - 1 downto 0) := (others => '0');
-  signal m01_9  : signed(M_BITS_c - 1 downto 0) := (others => '0');
+  signal acc_c  : acc_c_t := 0;
+  signal acc_a  : m_t     := 0;
+  signal step_b : m_t     := 0;
+  signal acc_b  : m_t     := 0;
+  signal m01_9  : m_t     := 0;
 
 begin
 
@@ -204,27 +223,24 @@ begin
   end process control;
 
   rows : process (clk) is
-    variable top, bottom : signed(S_BITS_c - 1 downto 0);
+    variable top, bottom : pix_t;
   begin
     if rising_edge(clk) then
       -- stage 1: row v = 15 - k is slice k; s_v = p(v) + p(-v), dif_v = p(v) - p(-v)
       if in_valid = '1' then
-        s1(0) <= resize(signed('0' & in_col((RADIUS_c + 1) * PIXEL_BITS_c - 1 downto RADIUS_c * PIXEL_BITS_c)),
-                        S_BITS_c);
+        s1(0) <= pixel(in_col, RADIUS_c);
         for v in 1 to RADIUS_c loop
-          bottom := resize(signed('0' & in_col((RADIUS_c - v + 1) * PIXEL_BITS_c - 1 downto
-                                               (RADIUS_c - v) * PIXEL_BITS_c)), S_BITS_c);
-          top    := resize(signed('0' & in_col((RADIUS_c + v + 1) * PIXEL_BITS_c - 1 downto
-                                               (RADIUS_c + v) * PIXEL_BITS_c)), S_BITS_c);
+          bottom  := pixel(in_col, RADIUS_c - v);
+          top     := pixel(in_col, RADIUS_c + v);
           s1(v)   <= bottom + top;
-          dif1(v) <= resize(bottom - top, DIF_BITS_c);
+          dif1(v) <= bottom - top;
         end loop;
       end if;
       -- stage 2: w_v = v * dif_v
       if valid(1) = '1' then
         s2 <= s1;
         for v in 1 to RADIUS_c loop
-          w2(v) <= mul_const(dif1(v), v, W_BITS_c);
+          w2(v) <= mul_const(dif1(v), v);
         end loop;
       end if;
     end if;
@@ -258,59 +274,59 @@ begin
       return n;
     end function band_vsum;
 
-    constant U_c      : natural  := BAND_U_c(b);
-    constant D_BITS_c : positive := ubits(255 * band_pixels) + 1;          -- signed, >= 0
-    constant Q_BITS_c : positive := ubits(255 * band_vsum) + 1;            -- signed
-    constant IN_c     : natural  := RADIUS_c - U_c;                        -- enters at u = +U
-    constant OUT_c    : natural  := RADIUS_c + 1 + U_c;                    -- leaves from u = -U-1
+    constant U_c     : natural := BAND_U_c(b);
+    constant D_MAX_c : natural := 255 * band_pixels;
+    constant Q_MAX_c : natural := 255 * band_vsum;
+    constant IN_c    : natural := RADIUS_c - U_c;                        -- enters at u = +U
+    constant OUT_c   : natural := RADIUS_c + 1 + U_c;                    -- leaves from u = -U-1
 
-    type line_t is array (0 to OUT_c) of std_logic_vector(D_BITS_c + Q_BITS_c - 1 downto 0);
+    subtype d_t is integer range 0 to D_MAX_c;
+    subtype q_t is integer range -Q_MAX_c to Q_MAX_c;
+    type d_line_t is array (0 to OUT_c) of d_t;
+    type q_line_t is array (0 to OUT_c) of q_t;
 
-    -- entry j: the band's (d, q) of the column that entered j inputs ago (0: the newest)
-    signal dline : line_t := (others => (others => '0'));
     -- the entering and leaving entries, registered (an SRL output goes straight into a flip-flop)
-    signal tap_in  : std_logic_vector(D_BITS_c + Q_BITS_c - 1 downto 0) := (others => '0');
-    signal tap_out : std_logic_vector(D_BITS_c + Q_BITS_c - 1 downto 0) := (others => '0');
+    signal tap_in_d, tap_out_d : d_t := 0;
+    signal tap_in_q, tap_out_q : q_t := 0;
 
   begin
 
     band : process (clk) is
-      variable d     : signed(D_BITS_c - 1 downto 0);
-      variable q     : signed(Q_BITS_c - 1 downto 0);
-      variable d_in  : signed(D_BITS_c - 1 downto 0);
-      variable d_out : signed(D_BITS_c - 1 downto 0);
-      variable q_in  : signed(Q_BITS_c - 1 downto 0);
-      variable q_out : signed(Q_BITS_c - 1 downto 0);
+      variable d : d_t;
+      variable q : q_t;
+      -- entry j: the band's d and q of the column that entered j inputs ago (0: the newest); a
+      -- variable (SRLs in hardware, no reset) so the simulator moves it as one block
+      variable d_line : d_line_t := (others => 0);
+      variable q_line : q_line_t := (others => 0);
     begin
       if rising_edge(clk) then
+        -- stage 5: this band's contribution to the three deltas
+        if valid(4) = '1' then
+          term_c5(b) <= tap_in_d - tap_out_d;
+          term_a5(b) <= tap_in_q - tap_out_q;
+          term_b5(b) <= mul_const(tap_in_d, U_c) + mul_const(tap_out_d, U_c + 1);
+        end if;
+        -- stage 4: the entering (u = +U) and leaving (u = -U - 1) entries, before this clock's shift
+        if valid(3) = '1' then
+          tap_in_d  <= d_line(IN_c);
+          tap_in_q  <= q_line(IN_c);
+          tap_out_d <= d_line(OUT_c);
+          tap_out_q <= q_line(OUT_c);
+        end if;
         -- stage 3: band sums, shifted into the delay line
         if valid(2) = '1' then
-          d := (others => '0');
-          q := (others => '0');
+          d := 0;
+          q := 0;
           for v in 0 to RADIUS_c loop
             if ROW_BAND_c(v) = b then
-              d := d + resize(s2(v), D_BITS_c);
+              d := d + s2(v);
               if v > 0 then
-                q := q + resize(w2(v), Q_BITS_c);
+                q := q + w2(v);
               end if;
             end if;
           end loop;
-          dline <= std_logic_vector'(std_logic_vector(d) & std_logic_vector(q)) & dline(0 to OUT_c - 1);
-        end if;
-        -- stage 4: the entering (u = +U) and leaving (u = -U - 1) entries
-        if valid(3) = '1' then
-          tap_in  <= dline(IN_c);
-          tap_out <= dline(OUT_c);
-        end if;
-        -- stage 5: this band's contribution to the three deltas
-        if valid(4) = '1' then
-          d_in  := signed(tap_in(D_BITS_c + Q_BITS_c - 1 downto Q_BITS_c));
-          q_in  := signed(tap_in(Q_BITS_c - 1 downto 0));
-          d_out := signed(tap_out(D_BITS_c + Q_BITS_c - 1 downto Q_BITS_c));
-          q_out := signed(tap_out(Q_BITS_c - 1 downto 0));
-          term_c5(b) <= resize(d_in, T_BITS_c) - resize(d_out, T_BITS_c);
-          term_a5(b) <= resize(q_in, T_BITS_c) - resize(q_out, T_BITS_c);
-          term_b5(b) <= mul_const(d_in, U_c, T_BITS_c) + mul_const(d_out, U_c + 1, T_BITS_c);
+          d_line := d & d_line(0 to OUT_c - 1);
+          q_line := q & q_line(0 to OUT_c - 1);
         end if;
       end if;
     end process band;
@@ -336,9 +352,9 @@ begin
       end if;
       -- stage 8: C and A accumulate; B's step uses C before this column
       if valid(7) = '1' then
-        acc_c  <= acc_c + resize(delta_c7, C_BITS_c);
-        acc_a  <= acc_a + resize(delta_a7, M_BITS_c);
-        step_b <= resize(delta_b7, M_BITS_c) - resize(acc_c, M_BITS_c);
+        acc_c  <= acc_c + delta_c7;
+        acc_a  <= acc_a + delta_a7;
+        step_b <= delta_b7 - acc_c;
       end if;
       -- stage 9: B accumulates
       if valid(8) = '1' then
@@ -351,7 +367,7 @@ begin
   out_valid <= valid(LATENCY_c);
   out_x     <= tags(LATENCY_c)(2 * COORD_BITS_c - 1 downto COORD_BITS_c);
   out_y     <= tags(LATENCY_c)(COORD_BITS_c - 1 downto 0);
-  out_m10   <= std_logic_vector(acc_b);
-  out_m01   <= std_logic_vector(m01_9);
+  out_m10   <= std_logic_vector(to_signed(acc_b, 24));
+  out_m01   <= std_logic_vector(to_signed(m01_9, 24));
 
 end architecture rtl;

@@ -4,7 +4,8 @@
 -- first (constant shift-add multiplies, no DSP), then the weighted row of column sums, then the
 -- rounding shift: three pipeline stages. The window's newest pixel is at (in_x, in_y), so the
 -- output is the smoothed value of (in_x - 3, in_y - 3) and carries the input's (x, y) tag;
--- positions whose window wraps around a line or frame edge (in_x < 6 or in_y < 6) give 0.
+-- positions whose window wraps around a line or frame edge (in_x < 6 or in_y < 6) give 0. The
+-- sums are ranged integers (their ranges set the hardware widths; GHDL simulates them natively).
 
 library ieee;
 use ieee.std_logic_1164.all;
@@ -29,8 +30,8 @@ end entity orb_smooth;
 
 architecture rtl of orb_smooth is
 
-  subtype col_sum_t is unsigned(13 downto 0);  -- <= 64 * 255
-  subtype total_t is unsigned(19 downto 0);    -- <= 4096 * 255 + 2048
+  subtype col_sum_t is integer range 0 to 64 * 255;
+  subtype total_t is integer range 0 to 4096 * 255 + 2048;
 
   type col_sums_t is array (0 to 6) of col_sum_t;
 
@@ -40,28 +41,25 @@ architecture rtl of orb_smooth is
   signal x3, y3     : std_logic_vector(COORD_BITS_c - 1 downto 0) := (others => '0');
   signal inner1     : std_logic := '0';
   signal inner2     : std_logic := '0';
-  signal cols1      : col_sums_t := (others => (others => '0'));
-  signal total2     : total_t := (others => '0');
+  signal cols1      : col_sums_t := (others => 0);
+  signal total2     : total_t := 0;
   signal out3       : unsigned(PIXEL_BITS_c - 1 downto 0) := (others => '0');
 
-  -- k * v for the binomial weights, as shifts and adds.
-  function weigh (k : natural; v : unsigned) return unsigned is
-    constant W_c : natural := v'length + 5;
-    variable a   : unsigned(W_c - 1 downto 0);
+  -- k * v for the binomial weights, as shifts and adds (multiplications by powers of two).
+  function weigh (k : natural; v : natural) return natural is
   begin
-    a := resize(v, W_c);
     case k is
-      when 0 | 6  => return a;                                         -- 1
-      when 1 | 5  => return shift_left(a, 2) + shift_left(a, 1);        -- 6
-      when 2 | 4  => return shift_left(a, 4) - a;                       -- 15
-      when others => return shift_left(a, 4) + shift_left(a, 2);        -- 20
+      when 0 | 6  => return v;                  -- 1
+      when 1 | 5  => return v * 4 + v * 2;      -- 6
+      when 2 | 4  => return v * 16 - v;         -- 15
+      when others => return v * 16 + v * 4;     -- 20
     end case;
   end function weigh;
 
 begin
 
   stages : process (clk) is
-    variable acc : unsigned(19 downto 0);
+    variable acc : total_t;
   begin
     if rising_edge(clk) then
       -- stage 1: weighted column sums
@@ -71,11 +69,11 @@ begin
         y1     <= in_y;
         inner1 <= '1' when unsigned(in_x) >= 6 and unsigned(in_y) >= 6 else '0';
         for c in 0 to 6 loop
-          acc := (others => '0');
+          acc := 0;
           for r in 0 to 6 loop
-            acc := acc + weigh(r, window_pixel(in_win, 7, r, c));
+            acc := acc + weigh(r, to_integer(window_pixel(in_win, 7, r, c)));
           end loop;
-          cols1(c) <= resize(acc, col_sum_t'length);
+          cols1(c) <= acc;
         end loop;
       end if;
       -- stage 2: weighted sum of the column sums, plus the rounding constant
@@ -84,9 +82,9 @@ begin
         x2     <= x1;
         y2     <= y1;
         inner2 <= inner1;
-        acc    := to_unsigned(2048, acc'length);
+        acc    := 2048;
         for c in 0 to 6 loop
-          acc := acc + resize(weigh(c, cols1(c)), acc'length);
+          acc := acc + weigh(c, cols1(c));
         end loop;
         total2 <= acc;
       end if;
@@ -96,7 +94,7 @@ begin
         x3 <= x2;
         y3 <= y2;
         if inner2 = '1' then
-          out3 <= total2(19 downto 12);
+          out3 <= to_unsigned(total2 / 4096, PIXEL_BITS_c);
         else
           out3 <= (others => '0');
         end if;
