@@ -25,7 +25,10 @@ SOURCES = (
     "orb_util_pkg.vhd",
     "orb_fast_pkg.vhd",
     "orb_feat_pkg.vhd",
+    "orb_rgb_luma.vhd",
+    "orb_video_check.vhd",
     "orb_pattern_pkg.vhd",
+    "orb_regs_pkg.vhd",
     "orb_line_buffer.vhd",
     "orb_window.vhd",
     "orb_fast_score.vhd",
@@ -39,6 +42,8 @@ SOURCES = (
     "orb_scale_path.vhd",
     "orb_feat_fifo.vhd",
     "orb_feat_merge.vhd",
+    "orb_feat_mem.vhd",
+    "orb_axil_regs.vhd",
     "orb_detect_top.vhd",
 )
 
@@ -68,7 +73,7 @@ def ghdl_path_env() -> dict[str, str]:
 def run(
     toplevel: str,
     module: str,
-    generics: Mapping[str, int],
+    generics: Mapping[str, int | str],
     env: Mapping[str, str] | None = None,
     testcase: str | None = None,
     waves: bool = False,

@@ -1,0 +1,111 @@
+# SPDX-License-Identifier: MIT
+"""Reference model of hdl/orb_video_check.vhd at beat level: which pixels come out (the input's,
+padding zeros), with which tuser/tlast, which frames end bad with which faults, and the counters.
+
+The model takes the beats the checker accepts, in order (a source that honours tready loses
+nothing, so timing does not change the result), and `reset()` between beats (the checker idle: no
+padding under way). Output tuser/tlast follow the checker's own position in a WIDTH x HEIGHT frame.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+SHORT_LINE = 1  # frame_fault bit 0: tlast before x = WIDTH - 1
+LONG_LINE = 2  # bit 1: no tlast at x = WIDTH - 1
+FEW_LINES = 4  # bit 2: tuser at a line start before the frame is complete
+EARLY_SOF = 8  # bit 3: tuser in mid-line
+
+
+@dataclass(frozen=True)
+class Beat:
+    data: int
+    user: int = 0
+    last: int = 0
+
+
+@dataclass(frozen=True)
+class OutBeat:
+    data: int
+    user: int
+    last: int
+    pad: bool  # a padding pixel (not from the input)
+
+
+@dataclass(frozen=True)
+class FrameEnd:
+    bad: bool
+    faults: int
+    beat: int  # index in `out` of the frame's last pixel (frame_end comes with it)
+
+
+@dataclass
+class VideoCheckModel:
+    width: int
+    height: int
+    out: list[OutBeat] = field(default_factory=list)
+    ends: list[FrameEnd] = field(default_factory=list)
+    protocol_errors: int = 0
+    discarded_pixels: int = 0
+    _open: bool = False
+    _x: int = 0
+    _y: int = 0
+    _faults: int = 0
+
+    def reset(self) -> None:
+        """rst: an open frame is abandoned without frame_end; the counters restart from 0."""
+        self._open, self._x, self._y, self._faults = False, 0, 0, 0
+        self.protocol_errors = 0
+        self.discarded_pixels = 0
+
+    def feed(self, beats: list[Beat]) -> None:
+        for b in beats:
+            self.beat(b)
+
+    def beat(self, b: Beat) -> None:
+        if not self._open:
+            if not b.user:
+                self.discarded_pixels += 1
+                return
+            self._open, self._faults = True, 0
+        elif b.user:
+            # the next frame starts early: this one is padded and ends bad, then b opens the next
+            self._faults |= FEW_LINES if self._x == 0 else EARLY_SOF
+            self._pad()
+            self.beat(b)
+            return
+        if b.last and self._x != self.width - 1:
+            self._faults |= SHORT_LINE
+        elif not b.last and self._x == self.width - 1:
+            self._faults |= LONG_LINE
+        self._emit(b.data, pad=False)
+        if self._open and self._faults:
+            self._pad()
+
+    def _pad(self) -> None:
+        while self._open:
+            self._emit(0, pad=True)
+
+    def _emit(self, data: int, pad: bool) -> None:
+        x, y = self._x, self._y
+        self.out.append(OutBeat(data, int(x == 0 and y == 0), int(x == self.width - 1), pad))
+        if x == self.width - 1 and y == self.height - 1:
+            self.ends.append(FrameEnd(bool(self._faults), self._faults, len(self.out) - 1))
+            self.protocol_errors += bool(self._faults)
+            self._open, self._x, self._y = False, 0, 0
+        elif x == self.width - 1:
+            self._x, self._y = 0, y + 1
+        else:
+            self._x = x + 1
+
+
+def lines_to_beats(lines: list[list[int]], sof: bool = True, last_tlast: bool = True) -> list[Beat]:
+    """A frame as beats: tuser on the first pixel (if sof), tlast on every line's last pixel (on the
+    final line only if last_tlast)."""
+    beats = []
+    for i, line in enumerate(lines):
+        for j, v in enumerate(line):
+            user = int(sof and i == 0 and j == 0)
+            last = int(j == len(line) - 1 and (last_tlast or i < len(lines) - 1))
+            beats.append(Beat(int(v), user, last))
+    return beats

@@ -1,0 +1,668 @@
+# SPDX-License-Identifier: MIT
+"""orb_axil_regs through a cocotbext-axi AxiLiteMaster, checked against golden_model/regs.py.
+
+Every channel (AW, W, B, AR, R) runs under a random pause pattern unless a test says otherwise. A
+per-clock monitor records the handshakes of the five channels and the soft_reset, release_valid and
+mem_rd_en pulses, and plays orb_feat_mem: for every mem_rd_en it drives the addressed word (random,
+fixed per address) on mem_rd_data for exactly the clock edge MEM_LATENCY_g edges later and random
+garbage at every other edge, so a read taken one clock early or late returns a wrong word.
+
+Checked: the reset value of every register (generics and status ports included) from
+golden_model.regs; rw round trips and the control outputs; byte strobes; SLVERR without a state
+change for unknown, misaligned and ro-write addresses, writes into the memory window, reads of the
+wo register and illegal values; W1C semantics and the irq level; the soft-reset and bank-release
+pulses; memory reads; AW-before-W and W-before-AW with forced delays; back-to-back transactions;
+a random mix of reads and writes against a Python model of the rules in docs/registers.md.
+"""
+
+from __future__ import annotations
+
+import itertools
+import warnings
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+
+import cocotb
+import numpy as np
+import pytest
+from cocotb.clock import Clock
+from cocotb.triggers import ClockCycles, RisingEdge, with_timeout
+
+from golden_model import regs
+from orbtb.runner import run
+from orbtb.unit import PERIOD_NS, SIM_ENV, env_int
+
+warnings.filterwarnings("ignore", category=DeprecationWarning, module=r"cocotbext\..*")
+warnings.filterwarnings("ignore", category=DeprecationWarning, module=r"cocotb_bus\..*")
+
+from cocotbext.axi import AxiLiteBus, AxiLiteMaster  # noqa: E402
+
+OKAY, SLVERR = 0, 2
+GENERIC_NAMES = ("WIDTH", "HEIGHT", "SCALES", "SECTORS", "MEM_DEPTH", "MEM_LATENCY", "ADDR_BITS")
+PORTS = ("frame_count", "dropped", "proto_errors", "bank_ready", "overflow")
+OP_TIMEOUT_NS = 2000 * PERIOD_NS  # "nothing hangs": every transaction must finish within this
+
+
+def pause_pattern(seed: int, prob: float, length: int = 991) -> Iterator[bool]:
+    rng = np.random.default_rng(seed)
+    return itertools.cycle((rng.random(length) < prob).tolist())
+
+
+@dataclass
+class Monitor:
+    """Per-clock observation of the DUT, and the feature-memory model."""
+
+    latency: int
+    seed: int = 0
+    edge: int = 0
+    hs: dict[str, list[int]] = field(default_factory=lambda: {c: [] for c in ("aw", "w", "b", "ar", "r")})
+    soft_resets: list[int] = field(default_factory=list)
+    releases: list[tuple[int, int]] = field(default_factory=list)
+    mem_reqs: list[int] = field(default_factory=list)
+    mem: dict[int, int] = field(default_factory=dict)
+
+    def word(self, offset: int) -> int:
+        if offset not in self.mem:
+            self.mem[offset] = int(np.random.default_rng((self.seed, offset)).integers(0, 1 << 32))
+        return self.mem[offset]
+
+    async def run(self, dut) -> None:
+        rng = np.random.default_rng(self.seed + 1)
+        due: dict[int, int] = {}  # edge -> word to present at that edge
+        chans = {
+            "aw": (dut.s_axil_awvalid, dut.s_axil_awready),
+            "w": (dut.s_axil_wvalid, dut.s_axil_wready),
+            "b": (dut.s_axil_bvalid, dut.s_axil_bready),
+            "ar": (dut.s_axil_arvalid, dut.s_axil_arready),
+            "r": (dut.s_axil_rvalid, dut.s_axil_rready),
+        }
+        while True:
+            await RisingEdge(dut.clk)
+            self.edge += 1
+            n = self.edge
+            for name, (valid, ready) in chans.items():
+                if valid.value == 1 and ready.value == 1:
+                    self.hs[name].append(n)
+            if dut.soft_reset.value == 1:
+                self.soft_resets.append(n)
+            if dut.release_valid.value == 1:
+                self.releases.append((n, int(dut.release_bank.value)))
+            if dut.mem_rd_en.value == 1:
+                addr = int(dut.mem_rd_addr.value)
+                self.mem_reqs.append(addr)
+                due[n + self.latency] = self.word(addr)
+            # the value for the next edge: the due word, else garbage
+            nxt = due.pop(n + 1, None)
+            dut.mem_rd_data.value = nxt if nxt is not None else int(rng.integers(0, 1 << 32))
+
+
+class Model:
+    """The register bank's rules (docs/registers.md) over golden_model.regs, for the random test."""
+
+    def __init__(self, generics: dict[str, int], ports: dict[str, int], mem_word, addr_bits: int) -> None:
+        self.generics, self.ports, self.mem_word, self.addr_bits = generics, ports, mem_word, addr_bits
+        self.values = {r.name: r.reset_value(generics, ports) for r in regs.REGISTERS if r.access in ("rw", "w1c")}
+        self.releases: list[int] = []
+        self.soft_resets = 0
+
+    def read(self, addr: int) -> tuple[int, int]:
+        if addr % 4:
+            return SLVERR, 0
+        if addr >= regs.MEM_BASE:
+            return OKAY, self.mem_word(addr - regs.MEM_BASE)
+        r = regs.BY_OFFSET.get(addr)
+        if r is None or r.access == "wo":
+            return SLVERR, 0
+        if r.name in self.values:
+            return OKAY, self.values[r.name]
+        return OKAY, r.reset_value(self.generics, self.ports)
+
+    def write(self, addr: int, data: int, strb: int) -> int:
+        r = regs.BY_OFFSET.get(addr) if addr % 4 == 0 and addr < regs.MEM_BASE else None
+        if r is None or r.access == "ro":
+            return SLVERR
+        bm = sum(0xFF << (8 * i) for i in range(4) if strb >> i & 1)
+        cur = self.values.get(r.name, 0) if r.access == "rw" else 0
+        merged = (cur & ~bm) | (data & bm)
+        if r.access == "w1c":
+            self.values[r.name] &= ~(merged & r.mask)
+            return OKAY
+        if not r.legal(merged):
+            return SLVERR
+        if r.access == "wo":  # BANK_RELEASE
+            if strb & 1:
+                self.releases.append(r.field("bank").get(merged))
+            return OKAY
+        pulse = [f for f in r.fields if f.pulse]
+        for f in pulse:
+            self.soft_resets += f.get(merged)
+            merged = f.put(0, merged)
+        self.values[r.name] = merged
+        return OKAY
+
+
+class Bench:
+    def __init__(self, dut) -> None:
+        self.dut = dut
+        self.g = {f"{k}_g": env_int(f"ORB_{k}") for k in GENERIC_NAMES}
+        self.latency = self.g["MEM_LATENCY_g"]
+        self.addr_bits = self.g["ADDR_BITS_g"]
+        self.ports: dict[str, int] = {}
+
+    async def start(self, pause_prob: float, seed: int = 1) -> None:
+        dut = self.dut
+        rng = np.random.default_rng(seed)
+        self.ports = {
+            "frame_count": int(rng.integers(0, 1 << 32)),
+            "dropped": int(rng.integers(0, 1 << 32)),
+            "proto_errors": int(rng.integers(0, 1 << 32)),
+            "bank_ready": int(rng.integers(0, 1 << regs.BANKS)),
+            "overflow": int(rng.integers(0, 2)),
+        }
+        dut.rst.value = 1
+        for name, value in self.ports.items():
+            getattr(dut, name).value = value
+        dut.frame_done_pulse.value = 0
+        dut.error_pulse.value = 0
+        dut.mem_rd_data.value = 0
+        cocotb.start_soon(Clock(dut.clk, PERIOD_NS, unit="ns").start(start_high=False))
+        # bus model only once reset is asserted and the clock starts low (toolchain.md)
+        self.axil = AxiLiteMaster(AxiLiteBus.from_prefix(dut, "s_axil"), dut.clk, dut.rst)
+        self.set_pauses(pause_prob, seed)
+        self.mon = Monitor(self.latency, seed=seed)
+        cocotb.start_soon(self.mon.run(dut))
+        await ClockCycles(dut.clk, 4)
+        dut.rst.value = 0
+        await ClockCycles(dut.clk, 2)
+
+    def set_pauses(self, prob: float, seed: int = 1) -> None:
+        w, r = self.axil.write_if, self.axil.read_if
+        chans = (w.aw_channel, w.w_channel, w.b_channel, r.ar_channel, r.r_channel)
+        for i, ch in enumerate(chans):
+            ch.set_pause_generator(pause_pattern(seed * 10 + i, prob) if prob > 0 else None)
+            if prob <= 0:
+                ch.pause = False  # a killed generator leaves its last value
+
+    async def write(self, addr: int, value: int, strb: int = 0xF) -> int:
+        """One write of the strobed bytes (contiguous) of value to the word at addr: the master's
+        AXI address is addr + the first strobed lane (misaligned unless that lane is 0)."""
+        lanes = [i for i in range(4) if strb >> i & 1]
+        assert lanes == list(range(lanes[0], lanes[-1] + 1)), "strobes must be contiguous"
+        data = bytes((value >> (8 * i)) & 0xFF for i in lanes)
+        resp = await with_timeout(self.axil.write(addr + lanes[0], data), OP_TIMEOUT_NS, "ns")
+        return int(resp.resp)
+
+    async def raw_write(self, addr: int, wdata: int, wstrb: int) -> int:
+        """A write of one raw AW and W beat (any wstrb, unstrobed lanes as given) through the
+        master's channel models, bypassing its command layer (which must be idle)."""
+        w_if = self.axil.write_if
+        assert w_if.idle()
+        aw = w_if.aw_channel._transaction_obj()
+        aw.awaddr, aw.awprot = addr, 0
+        w = w_if.w_channel._transaction_obj()
+        w.wdata, w.wstrb = wdata, wstrb
+        await w_if.aw_channel.send(aw)
+        await w_if.w_channel.send(w)
+        resp = await with_timeout(w_if.b_channel.recv(), OP_TIMEOUT_NS, "ns")
+        return int(resp.bresp)
+
+    async def read(self, addr: int) -> tuple[int, int]:
+        """(resp, 32-bit word) of a read at addr (a misaligned addr reads one byte: one transaction)."""
+        length = 4 if addr % 4 == 0 else 1
+        resp = await with_timeout(self.axil.read(addr, length), OP_TIMEOUT_NS, "ns")
+        return int(resp.resp), int.from_bytes(resp.data, "little")
+
+    async def read_ok(self, reg: regs.Register) -> int:
+        resp, value = await self.read(reg.offset)
+        assert resp == OKAY, f"read {reg.name}: resp {resp}"
+        return value
+
+    def reset_value(self, reg: regs.Register) -> int:
+        return reg.reset_value(self.g, self.ports)
+
+
+def all_ones(reg: regs.Register) -> int:
+    return reg.mask
+
+
+# ------------------------------------------------------------------------------------------------
+
+
+@cocotb.test()
+async def reset_values(dut) -> None:
+    """Every readable register reads its golden_model.regs reset value; outputs at reset."""
+    b = Bench(dut)
+    await b.start(pause_prob=0.3, seed=2)
+    assert int(dut.threshold.value) == regs.THRESHOLD.field("threshold").reset
+    assert int(dut.mode_orb.value) == (regs.CTRL.field("mode").reset == 0)
+    assert int(dut.enable.value) == regs.CTRL.field("enable").reset
+    for name in ("irq", "soft_reset", "release_valid", "mem_rd_en"):
+        assert int(getattr(dut, name).value) == 0, f"{name} is not 0 after reset"
+    for reg in regs.REGISTERS:
+        resp, value = await b.read(reg.offset)
+        if reg.access == "wo":
+            assert resp == SLVERR, f"read of wo {reg.name}: resp {resp}"
+            continue
+        assert resp == OKAY, f"read {reg.name}: resp {resp}"
+        expected = b.reset_value(reg)
+        assert value == expected, f"{reg.name} = {value:#010x} after reset, expected {expected:#010x}"
+    assert (await b.read_ok(regs.ID)) == regs.ORB_ID == 0x4F524231
+    # status ports are shown live
+    dut.frame_count.value = 0xDEADBEEF
+    dut.overflow.value = 1 - b.ports["overflow"]
+    await ClockCycles(dut.clk, 1)
+    assert (await b.read_ok(regs.FRAME_COUNT)) == 0xDEADBEEF
+    st = await b.read_ok(regs.STATUS)
+    assert regs.STATUS.field("overflow").get(st) == 1 - b.ports["overflow"]
+
+
+@cocotb.test()
+async def rw_round_trip(dut) -> None:
+    """rw registers keep what was written (byte strobes honoured) and drive their outputs."""
+    b = Bench(dut)
+    await b.start(pause_prob=0.4, seed=3)
+    rng = np.random.default_rng(3)
+    ctrl, thr, ien = regs.CTRL, regs.THRESHOLD, regs.IRQ_ENABLE
+    for _ in range(12):
+        t = int(rng.integers(0, 256))
+        assert await b.write(thr.offset, t) == OKAY
+        assert await b.read_ok(thr) == t
+        assert int(dut.threshold.value) == t
+        en, mode = int(rng.integers(0, 2)), int(rng.integers(0, 2))
+        word = ctrl.field("mode").put(mode, ctrl.field("enable").put(en))
+        assert await b.write(ctrl.offset, word) == OKAY
+        assert await b.read_ok(ctrl) == word
+        assert int(dut.enable.value) == en and int(dut.mode_orb.value) == (mode == 0)
+        e = int(rng.integers(0, 4))
+        assert await b.write(ien.offset, e) == OKAY
+        assert await b.read_ok(ien) == e
+    # byte strobes (aligned address, lanes 0..k): unstrobed lanes are not written, so their
+    # reserved bits do not count; strobed reserved bits do
+    assert await b.write(thr.offset, 0x0000_77A5, strb=0x1) == OKAY
+    assert await b.read_ok(thr) == 0xA5
+    assert await b.write(thr.offset, 0x0000_7733, strb=0x3) == SLVERR
+    assert await b.read_ok(thr) == 0xA5
+    word = ctrl.field("mode").put(1, ctrl.field("enable").put(1))
+    assert await b.write(ctrl.offset, word) == OKAY
+    assert await b.write(ctrl.offset, 0xFFFF_FF10, strb=0x1) == OKAY  # enable 0, mode 1
+    assert await b.read_ok(ctrl) == ctrl.field("mode").put(1)
+    assert await b.write(ien.offset, 0xFFFF_FF00, strb=0x1) == OKAY
+    assert await b.read_ok(ien) == 0
+    # raw W beats with garbage in the unstrobed lanes (the master always zero-fills them)
+    assert await b.raw_write(thr.offset, 0xDEAD_BE3C, 0x1) == OKAY
+    assert await b.read_ok(thr) == 0x3C
+    assert await b.raw_write(thr.offset, 0xFFFF_FF00, 0xE) == SLVERR, "strobed reserved bytes accepted"
+    assert await b.raw_write(thr.offset, 0x1234_5678, 0x0) == OKAY
+    assert await b.read_ok(thr) == 0x3C, "a write without strobes changed THRESHOLD"
+    assert await b.raw_write(thr.offset, 0x1234_5600, 0xE) == SLVERR
+    assert await b.raw_write(thr.offset, 0x0000_00C3, 0xE) == OKAY
+    assert await b.read_ok(thr) == 0x3C, "an unstrobed byte 0 was written"
+    assert await b.raw_write(ctrl.offset, 0xFFFF_FF11, 0x1) == OKAY
+    assert await b.read_ok(ctrl) == ctrl.field("mode").put(1, ctrl.field("enable").put(1))
+    assert await b.raw_write(regs.BANK_RELEASE.offset, 0x0000_0001, 0x0) == OKAY
+    assert await b.raw_write(regs.BANK_RELEASE.offset, 0xFFFF_FF01, 0x1) == OKAY
+    await ClockCycles(dut.clk, 2)
+    assert [bank for _, bank in b.mon.releases] == [1], "BANK_RELEASE without byte 0 strobed pulsed"
+
+
+@cocotb.test()
+async def illegal_values(dut) -> None:
+    """Reserved bits and out-of-range fields of rw/wo writes: SLVERR and no state change."""
+    b = Bench(dut)
+    await b.start(pause_prob=0.3, seed=4)
+    ctrl, thr, ien = regs.CTRL, regs.THRESHOLD, regs.IRQ_ENABLE
+    good = ctrl.field("enable").put(1, ctrl.field("mode").put(1))
+    assert await b.write(ctrl.offset, good) == OKAY
+    assert await b.write(thr.offset, 77) == OKAY
+    assert await b.write(ien.offset, 2) == OKAY
+    for mode in (2, 3):
+        word = ctrl.field("mode").put(mode, ctrl.field("soft_reset").put(1))
+        assert await b.write(ctrl.offset, word) == SLVERR, f"CTRL.mode = {mode} accepted"
+    assert await b.write(ctrl.offset, good | 1 << 8) == SLVERR, "CTRL reserved bit 8 accepted"
+    assert await b.write(thr.offset, 0x100) == SLVERR, "THRESHOLD 0x100 accepted"
+    assert await b.write(thr.offset, 0xFFFFFFFF) == SLVERR
+    assert await b.write(ien.offset, 0x4) == SLVERR
+    for bank in (regs.BANKS, 7, 15):
+        assert await b.write(regs.BANK_RELEASE.offset, bank) == SLVERR, f"BANK_RELEASE {bank} accepted"
+    assert await b.write(regs.BANK_RELEASE.offset, 0x10) == SLVERR
+    await ClockCycles(dut.clk, 3)
+    assert await b.read_ok(ctrl) == good
+    assert await b.read_ok(thr) == 77 and int(dut.threshold.value) == 77
+    assert await b.read_ok(ien) == 2
+    assert int(dut.mode_orb.value) == 0 and int(dut.enable.value) == 1
+    assert b.mon.soft_resets == [], "a refused CTRL write pulsed soft_reset"
+    assert b.mon.releases == [], "a refused BANK_RELEASE write pulsed release_valid"
+
+
+@cocotb.test()
+async def slverr_addresses(dut) -> None:
+    """Unknown and misaligned addresses, ro writes, memory-window writes: SLVERR, nothing changes."""
+    b = Bench(dut)
+    await b.start(pause_prob=0.3, seed=5)
+    known = {r.offset for r in regs.REGISTERS}
+    rng = np.random.default_rng(5)
+    unknown = sorted(
+        {0x2C, 0x3C, 0x40, regs.MEM_BASE - 4} | {int(a) * 4 for a in rng.integers(0, regs.MEM_BASE // 4, 8)}
+    )
+    unknown = [a for a in unknown if a not in known]
+    for a in unknown:
+        assert (await b.read(a))[0] == SLVERR, f"read of unknown {a:#x} answered OKAY"
+        assert await b.write(a, 0) == SLVERR, f"write to unknown {a:#x} answered OKAY"
+    for reg in regs.REGISTERS:
+        for off in (1, 2, 3):
+            assert (await b.read(reg.offset + off))[0] == SLVERR, f"misaligned read {reg.offset + off:#x}"
+            assert await b.write(reg.offset, 0xFF << (8 * off), strb=1 << off) == SLVERR, (
+                f"misaligned write {reg.offset + off:#x}"
+            )
+    for reg in regs.REGISTERS:
+        if reg.access == "ro":
+            assert await b.write(reg.offset, 0xFFFFFFFF) == SLVERR, f"write to ro {reg.name} answered OKAY"
+            assert await b.write(reg.offset, 0) == SLVERR
+    n_mem = len(b.mon.mem_reqs)
+    top = (1 << b.addr_bits) - 4
+    for a in (regs.MEM_BASE, regs.MEM_BASE + 0x40, top):
+        assert await b.write(a, 0x12345678) == SLVERR, f"write into the memory window at {a:#x} answered OKAY"
+    assert (await b.read(regs.MEM_BASE + 2))[0] == SLVERR, "misaligned memory read answered OKAY"
+    assert len(b.mon.mem_reqs) == n_mem, "a refused access reached the memory port"
+    for reg in regs.REGISTERS:
+        if reg.access != "wo":
+            assert (await b.read(reg.offset))[1] == b.reset_value(reg), f"{reg.name} changed by refused writes"
+    assert b.mon.soft_resets == [] and b.mon.releases == []
+
+
+@cocotb.test()
+async def w1c_and_irq(dut) -> None:
+    """IRQ_STATUS set by pulses, cleared by writing 1 (a pulse during the clear wins); irq level."""
+    b = Bench(dut)
+    await b.start(pause_prob=0.3, seed=6)
+    st, en = regs.IRQ_STATUS, regs.IRQ_ENABLE
+    fd, er = st.field("frame_done"), st.field("error")
+
+    async def pulse(sig) -> None:
+        sig.value = 1
+        await RisingEdge(dut.clk)
+        sig.value = 0
+        await ClockCycles(dut.clk, 2)
+
+    await pulse(dut.frame_done_pulse)
+    assert await b.read_ok(st) == fd.mask
+    assert int(dut.irq.value) == 0, "irq without enable"
+    assert await b.write(en.offset, er.mask) == OKAY
+    await ClockCycles(dut.clk, 2)
+    assert int(dut.irq.value) == 0, "irq from a disabled source"
+    await pulse(dut.error_pulse)
+    assert await b.read_ok(st) == fd.mask | er.mask
+    assert int(dut.irq.value) == 1, "no irq from an enabled, set source"
+    # writing 0 clears nothing; writing 1 to frame_done clears only it
+    assert await b.write(st.offset, 0) == OKAY
+    assert await b.read_ok(st) == fd.mask | er.mask
+    assert await b.write(st.offset, fd.mask) == OKAY
+    assert await b.read_ok(st) == er.mask
+    assert int(dut.irq.value) == 1
+    # the irq is a level: it stays until cleared
+    await ClockCycles(dut.clk, 20)
+    assert int(dut.irq.value) == 1
+    assert await b.write(st.offset, er.mask) == OKAY
+    await ClockCycles(dut.clk, 2)
+    assert await b.read_ok(st) == 0
+    assert int(dut.irq.value) == 0, "irq still high after clearing"
+    # a disabled-then-enabled set source raises irq; disabling drops it with the status kept
+    await pulse(dut.frame_done_pulse)
+    assert int(dut.irq.value) == 0
+    assert await b.write(en.offset, fd.mask | er.mask) == OKAY
+    await ClockCycles(dut.clk, 2)
+    assert int(dut.irq.value) == 1
+    assert await b.write(en.offset, 0) == OKAY
+    await ClockCycles(dut.clk, 2)
+    assert int(dut.irq.value) == 0 and await b.read_ok(st) == fd.mask
+    # W1C with reserved bits set is accepted and clears every flag
+    await pulse(dut.error_pulse)
+    assert await b.write(st.offset, 0xFFFFFFFF) == OKAY
+    assert await b.read_ok(st) == 0
+    # a pulse in the very clock that executes the clearing write wins: without pauses AW and W
+    # hand over at one edge E and the write executes at E + 1, so the pulse is driven right after E
+    b.set_pauses(0.0)
+    for bit, sig in ((fd, dut.frame_done_pulse), (er, dut.error_pulse)):
+        await pulse(sig)
+        assert await b.read_ok(st) == bit.mask
+
+        async def pulse_at_execute(sig=sig) -> None:
+            while True:
+                await RisingEdge(dut.clk)
+                if dut.s_axil_awvalid.value == 1 and dut.s_axil_awready.value == 1:
+                    assert dut.s_axil_wvalid.value == 1 and dut.s_axil_wready.value == 1
+                    break
+            sig.value = 1
+            await RisingEdge(dut.clk)
+            sig.value = 0
+
+        driver = cocotb.start_soon(pulse_at_execute())
+        assert await b.write(st.offset, bit.mask) == OKAY
+        await driver
+        assert await b.read_ok(st) == bit.mask, f"a {bit.name} pulse in the clock of its clear was lost"
+        assert await b.write(st.offset, bit.mask) == OKAY
+        assert await b.read_ok(st) == 0
+
+
+@cocotb.test()
+async def soft_reset_and_bank_release(dut) -> None:
+    """CTRL.soft_reset: one one-clock pulse per write of 1, reads 0; BANK_RELEASE pulses release_valid."""
+    b = Bench(dut)
+    await b.start(pause_prob=0.4, seed=7)
+    ctrl = regs.CTRL
+    word = ctrl.field("enable").put(1, ctrl.field("soft_reset").put(1))
+    assert await b.write(ctrl.offset, word) == OKAY
+    await ClockCycles(dut.clk, 3)
+    assert len(b.mon.soft_resets) == 1, f"soft_reset pulses at edges {b.mon.soft_resets}"
+    assert await b.read_ok(ctrl) == ctrl.field("enable").put(1), "soft_reset does not read 0"
+    assert int(dut.enable.value) == 1
+    assert await b.write(ctrl.offset, ctrl.field("enable").put(1)) == OKAY
+    await ClockCycles(dut.clk, 3)
+    assert len(b.mon.soft_resets) == 1, "a write of soft_reset = 0 pulsed"
+    for _ in range(3):
+        assert await b.write(ctrl.offset, word) == OKAY
+    await ClockCycles(dut.clk, 3)
+    e = b.mon.soft_resets
+    assert len(e) == 4 and all(y - x > 1 for x, y in itertools.pairwise(e)), f"soft_reset pulses at edges {e}"
+
+    banks = [0, 1, 1, 0, 1]
+    for bank in banks:
+        assert await b.write(regs.BANK_RELEASE.offset, bank) == OKAY
+    await ClockCycles(dut.clk, 3)
+    got = [bank for _, bank in b.mon.releases]
+    assert got == banks, f"release_bank sequence {got}, expected {banks}"
+    edges = [n for n, _ in b.mon.releases]
+    assert all(y - x > 1 for x, y in itertools.pairwise(edges)), f"release_valid longer than one clock: {edges}"
+
+
+@cocotb.test()
+async def memory_reads(dut) -> None:
+    """Reads at MEM_BASE and above return the memory model's word after exactly MEM_LATENCY_g clocks."""
+    b = Bench(dut)
+    await b.start(pause_prob=0.4, seed=8)
+    rng = np.random.default_rng(8)
+    span = (1 << b.addr_bits) - regs.MEM_BASE
+    offsets = [0, 4, span - 4] + [int(x) * 4 for x in rng.integers(0, span // 4, 40)]
+    for i, off in enumerate(offsets):
+        resp, value = await b.read(regs.MEM_BASE + off)
+        assert resp == OKAY, f"memory read at offset {off:#x}: resp {resp}"
+        assert value == b.mon.word(off), (
+            f"memory offset {off:#x}: read {value:#010x}, memory holds {b.mon.word(off):#010x}"
+        )
+        if i % 5 == 0:
+            assert await b.read_ok(regs.ID) == regs.ORB_ID
+    assert b.mon.mem_reqs == offsets, "mem_rd_addr sequence differs (or a mem_rd_en longer than one clock)"
+
+
+@cocotb.test()
+async def channel_orders(dut) -> None:
+    """AW before W and W before AW, each by 1 to 6 clocks, and both together: every write executes once."""
+    b = Bench(dut)
+    await b.start(pause_prob=0.0, seed=9)
+    thr = regs.THRESHOLD
+    w, aw = b.axil.write_if.w_channel, b.axil.write_if.aw_channel
+    value = 1
+    for first in ("aw", "w", "both"):
+        for delay in range(1, 7) if first != "both" else (0,):
+            late = w if first == "aw" else aw
+            if first != "both":
+                # the source sees a pause one clock after it is set: delay + 1 paused clocks
+                late.set_pause_generator(itertools.chain([True] * (delay + 1), itertools.repeat(False)))
+            n_aw, n_w = len(b.mon.hs["aw"]), len(b.mon.hs["w"])
+            value = (value * 37 + 11) % 256
+            assert await b.write(thr.offset, value) == OKAY
+            late.set_pause_generator(None)
+            e_aw, e_w = b.mon.hs["aw"][n_aw], b.mon.hs["w"][n_w]
+            what = f"{first} first by {delay}"
+            if first == "aw":
+                assert e_w - e_aw >= delay, f"{what}: AW at edge {e_aw}, W at {e_w}"
+            elif first == "w":
+                assert e_aw - e_w >= delay, f"{what}: W at edge {e_w}, AW at {e_aw}"
+            else:
+                assert e_aw == e_w, f"{what}: AW at edge {e_aw}, W at {e_w}"
+            assert len(b.mon.hs["aw"]) == n_aw + 1 and len(b.mon.hs["w"]) == n_w + 1
+            assert await b.read_ok(thr) == value, what
+            assert int(dut.threshold.value) == value
+
+
+@cocotb.test()
+async def back_to_back(dut) -> None:
+    """Many reads and writes issued at once (no pauses): all complete, in order, at full rate."""
+    b = Bench(dut)
+    await b.start(pause_prob=0.0, seed=10)
+    n = 32
+    vals = [(i * 53 + 7) % 256 for i in range(n)]
+    start = b.mon.edge
+    writes = [cocotb.start_soon(b.write(regs.THRESHOLD.offset, v)) for v in vals]
+    reads = [cocotb.start_soon(b.read(regs.ID.offset)) for _ in range(n)]
+    for t in writes:
+        assert await t == OKAY
+    for t in reads:
+        assert await t == (OKAY, regs.ORB_ID)
+    clocks = b.mon.edge - start
+    hs = b.mon.hs
+    w_gap = max(y - x for x, y in itertools.pairwise(hs["b"][-n:]))
+    r_gap = max(y - x for x, y in itertools.pairwise(hs["r"][-n:]))
+    assert await b.read_ok(regs.THRESHOLD) == vals[-1]
+    dut._log.info(
+        "%d writes and %d reads back to back in %d clocks (B every <= %d, R every <= %d)", n, n, clocks, w_gap, r_gap
+    )
+    assert w_gap <= 2 and r_gap <= 2, f"slower than one write and one read per 2 clocks: {w_gap}, {r_gap}"
+    # memory reads back to back
+    offs = [i * 4 for i in range(16)]
+    tasks = [cocotb.start_soon(b.read(regs.MEM_BASE + o)) for o in offs]
+    for o, t in zip(offs, tasks, strict=True):
+        assert await t == (OKAY, b.mon.word(o)), f"memory offset {o:#x}"
+    # queued writes and reads with pauses (B and R backpressure while the next AW/W/AR waits):
+    # OKAY and SLVERR alternate irregularly, so a lost or merged response shows
+    b.set_pauses(0.5, seed=12)
+    rng = np.random.default_rng(12)
+    legal = rng.random(40) < 0.6
+    vals = [int(v) if ok else 0x100 | int(v) for v, ok in zip(rng.integers(0, 256, 40), legal, strict=True)]
+    addrs = [int(rng.choice([regs.ID.offset, regs.BANK_RELEASE.offset, 0x3C, regs.MEM_BASE + 8])) for _ in range(40)]
+    writes = [cocotb.start_soon(b.write(regs.THRESHOLD.offset, v)) for v in vals]
+    reads = [cocotb.start_soon(b.read(a)) for a in addrs]
+    for i, (t, ok) in enumerate(zip(writes, legal, strict=True)):
+        assert await t == (OKAY if ok else SLVERR), f"queued write {i} ({vals[i]:#x})"
+    for i, (t, a) in enumerate(zip(reads, addrs, strict=True)):
+        expected = {regs.ID.offset: (OKAY, regs.ORB_ID), regs.MEM_BASE + 8: (OKAY, b.mon.word(8))}.get(a, (SLVERR, 0))
+        assert await t == expected, f"queued read {i} at {a:#x}"
+    last_legal = [v for v, ok in zip(vals, legal, strict=True) if ok][-1]
+    assert await b.read_ok(regs.THRESHOLD) == last_legal
+
+
+@cocotb.test()
+async def random_mix(dut) -> None:
+    """Random reads and writes (legal, illegal, unknown, misaligned, memory) against the Python model."""
+    b = Bench(dut)
+    await b.start(pause_prob=0.5, seed=11)
+    model = Model(b.g, b.ports, b.mon.word, b.addr_bits)
+    rng = np.random.default_rng(11)
+    offsets = [r.offset for r in regs.REGISTERS]
+    for i in range(300):
+        kind = rng.random()
+        if kind < 0.7:
+            addr = int(rng.choice(offsets))
+        elif kind < 0.8:
+            addr = int(rng.integers(0, 0x100)) & ~3
+        elif kind < 0.9:
+            addr = regs.MEM_BASE + int(rng.integers(0, ((1 << b.addr_bits) - regs.MEM_BASE) // 4)) * 4
+        else:
+            addr = int(rng.choice(offsets)) + int(rng.integers(1, 4))
+        if rng.random() < 0.5:
+            expected = model.read(addr)
+            got = await b.read(addr)
+            assert got == expected, f"op {i}: read {addr:#x} gave {got}, model {expected}"
+        else:
+            r = regs.BY_OFFSET.get(addr)
+            mask = r.mask if r is not None else 0xFFFFFFFF
+            data = int(rng.integers(0, 1 << 32)) & (mask if rng.random() < 0.7 else 0xFFFFFFFF)
+            strb = 0xF if rng.random() < 0.8 else (0x1, 0x3, 0x7)[int(rng.integers(0, 3))]
+            if addr % 4:  # one byte at a misaligned address
+                strb = 1 << (addr % 4)
+            expected_resp = model.write(addr, data, strb)
+            resp = await b.write(addr & ~3, data, strb)
+            assert resp == expected_resp, (
+                f"op {i}: write {data:#x} strb {strb:#x} to {addr:#x}: resp {resp}, model {expected_resp}"
+            )
+        if int(rng.integers(0, 40)) == 0:
+            dut.frame_done_pulse.value = 1
+            await RisingEdge(dut.clk)
+            dut.frame_done_pulse.value = 0
+            await ClockCycles(dut.clk, 2)
+            model.values["IRQ_STATUS"] |= regs.IRQ_STATUS.field("frame_done").mask
+    await ClockCycles(dut.clk, 3)
+    assert [bank for _, bank in b.mon.releases] == model.releases
+    assert len(b.mon.soft_resets) == model.soft_resets
+    ctrl = model.values["CTRL"]
+    assert int(dut.enable.value) == regs.CTRL.field("enable").get(ctrl)
+    assert int(dut.mode_orb.value) == (regs.CTRL.field("mode").get(ctrl) == 0)
+    assert int(dut.threshold.value) == model.values["THRESHOLD"]
+    irq = bool(model.values["IRQ_STATUS"] & model.values["IRQ_ENABLE"])
+    assert int(dut.irq.value) == irq
+    dut._log.info(
+        "random mix: %d handshakes AW, %d AR, %d releases, %d soft resets",
+        len(b.mon.hs["aw"]),
+        len(b.mon.hs["ar"]),
+        len(model.releases),
+        model.soft_resets,
+    )
+
+
+# ------------------------------------------------------------------------------------------------
+# pytest runners: two generic sets (memory latency 1 and 2, both address widths' extremes)
+
+GENERIC_SETS = {
+    "lat1": {
+        "WIDTH_g": 640,
+        "HEIGHT_g": 480,
+        "SCALES_g": 1,
+        "SECTORS_g": 8,
+        "MEM_DEPTH_g": 4096,
+        "MEM_LATENCY_g": 1,
+        "ADDR_BITS_g": 18,
+    },
+    "lat2": {
+        "WIDTH_g": 1920,
+        "HEIGHT_g": 1080,
+        "SCALES_g": 4,
+        "SECTORS_g": 16,
+        "MEM_DEPTH_g": 12345,
+        "MEM_LATENCY_g": 2,
+        "ADDR_BITS_g": 20,
+    },
+    "lat5": {
+        "WIDTH_g": 64,
+        "HEIGHT_g": 48,
+        "SCALES_g": 2,
+        "SECTORS_g": 4,
+        "MEM_DEPTH_g": 1,
+        "MEM_LATENCY_g": 5,
+        "ADDR_BITS_g": 19,
+    },
+}
+
+
+@pytest.mark.parametrize("name", sorted(GENERIC_SETS))
+def test_orb_axil_regs(name: str) -> None:
+    run("orb_axil_regs", "test_orb_axil_regs", GENERIC_SETS[name], env=SIM_ENV)
