@@ -1,13 +1,19 @@
 # SPDX-License-Identifier: MIT
-"""Feature overlay PNG: scale-coloured circles with an orientation tick, drawn on the image.
+"""Feature overlays: the CLI's PNG (anti-aliased circles) and the HDMI demo's block markers.
 
-Circles are centred on the full-resolution feature position with radius 4 * 2^scale; the tick
-points along the sector's centre angle (clockwise on screen from +x, as the sectors are defined).
-Fast-mode features (no sector) get a circle only.
+PNG (`render_overlay`, `draw_overlay`): circles centred on the full-resolution feature position
+with radius 4 * 2^scale; the tick points along the sector's centre angle (clockwise on screen
+from +x, as the sectors are defined). Fast-mode features (no sector) get a circle only. OpenCV's
+anti-aliasing is not hardware-friendly: this one is for files only.
+
+HDMI (`render_marker_overlay`, `marker_schedule`): the exact rules of docs/spec.md section 13,
+which hdl/orb_overlay.vhd implements bit for bit: a per-block, per-scale marker bitmap drawn as
+nested one-pixel square outlines, and which feature frame each video frame shows.
 """
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from pathlib import Path
 
 import cv2
@@ -41,3 +47,110 @@ def draw_overlay(image: np.ndarray, features: Features, path: Path) -> None:
     rgb = render_overlay(image, features)
     if not cv2.imwrite(str(path), cv2.cvtColor(rgb, cv2.COLOR_RGB2BGR)):
         raise OSError(f"{path}: could not write the overlay image")
+
+
+# ------------------------------------------------------------------------------------------------
+# Marker overlay of the HDMI output (docs/spec.md section 13; RTL: hdl/orb_overlay.vhd)
+
+MARKER_BLOCK_LOG2 = 3  # default block size 8 x 8
+MARKER_BLOCK_LOG2_RANGE = (2, 5)
+MARKER_MAX_SCALES = 4
+
+
+def check_marker_config(scales: int, block_log2: int) -> None:
+    """Refuse the block sizes and scale counts the RTL's generics refuse (spec 13.1)."""
+    lo, hi = MARKER_BLOCK_LOG2_RANGE
+    if not lo <= block_log2 <= hi:
+        raise ValueError(f"block_log2 {block_log2} outside {lo}..{hi}")
+    if not 1 <= scales <= MARKER_MAX_SCALES:
+        raise ValueError(f"scales {scales} outside 1..{MARKER_MAX_SCALES}")
+    if (1 << block_log2) < 2 * scales:
+        raise ValueError(f"block size {1 << block_log2} too small for {scales} nested scale rings (needs 2 * scales)")
+
+
+def marker_bitmap(features: Features, width: int, height: int, scales: int = MARKER_MAX_SCALES,
+                  block_log2: int = MARKER_BLOCK_LOG2) -> np.ndarray:  # fmt: skip
+    """(blocks_y, blocks_x, scales) bool: block (bx, by) holds a feature of scale s (spec 13.1).
+
+    A feature of scale s at (x, y) covers the full-resolution pixels x * 2^s .. x * 2^s + 2^s - 1
+    (likewise in y), all in one block since 2^s <= B: it marks block (x >> (b - s), y >> (b - s))
+    at its scale. Features with s >= scales, or whose block lies outside the ceil(W / B) x
+    ceil(H / B) grid, are ignored. The bitmap is an OR over the features, so their order and
+    repetitions do not matter.
+    """
+    check_marker_config(scales, block_log2)
+    blocks_x, blocks_y = -(-width >> block_log2), -(-height >> block_log2)
+    s = features.scale.astype(np.int64)
+    keep = (s >= 0) & (s < scales) & (features.x >= 0) & (features.y >= 0)
+    s = s[keep]
+    bx = features.x[keep].astype(np.int64) >> (block_log2 - s)
+    by = features.y[keep].astype(np.int64) >> (block_log2 - s)
+    inside = (bx < blocks_x) & (by < blocks_y)
+    marks = np.zeros((blocks_y, blocks_x, scales), dtype=bool)
+    marks[by[inside], bx[inside], s[inside]] = True
+    return marks
+
+
+def marker_rings(width: int, height: int, block_log2: int = MARKER_BLOCK_LOG2) -> np.ndarray:
+    """(height, width) ring index of every pixel in its block: the distance to the nearest block
+    edge, min(u, B-1-u, v, B-1-v) with u = x mod B, v = y mod B (spec 13.2)."""
+    last = (1 << block_log2) - 1
+    u = np.arange(width) & last
+    v = np.arange(height) & last
+    ru = np.minimum(u, last - u)
+    rv = np.minimum(v, last - v)
+    return np.minimum(rv[:, None], ru[None, :])
+
+
+def render_marker_overlay(rgb: np.ndarray, features: Features, scales: int = MARKER_MAX_SCALES,
+                          block_log2: int = MARKER_BLOCK_LOG2) -> np.ndarray:  # fmt: skip
+    """The HDMI overlay (spec 13.2): an (H, W, 3) uint8 RGB frame with the features' block markers.
+
+    Scale s of a marked block is drawn as the one-pixel outline of the square inset s pixels from
+    the block's edge (ring s) in SCALE_COLOURS[s]; rings are disjoint, so every scale of a block
+    shows and the result does not depend on the order of the features. All other pixels pass
+    unchanged. Blocks cut by the right or bottom frame edge keep their nominal B x B rings.
+    """
+    if rgb.ndim != 3 or rgb.shape[2] != 3 or rgb.dtype != np.uint8:
+        raise ValueError(f"expected an (H, W, 3) uint8 RGB frame, got {rgb.dtype} with shape {rgb.shape}")
+    height, width = rgb.shape[:2]
+    marks = marker_bitmap(features, width, height, scales, block_log2)
+    ring = marker_rings(width, height, block_log2)
+    by = (np.arange(height) >> block_log2)[:, None]
+    bx = (np.arange(width) >> block_log2)[None, :]
+    on_ring = ring < scales
+    hit = on_ring & marks[by, bx, np.minimum(ring, scales - 1)]
+    colours = np.array(SCALE_COLOURS[:scales], dtype=np.uint8)
+    out = rgb.copy()
+    out[hit] = colours[ring[hit]]
+    return out
+
+
+def marker_schedule(events: Iterable[str]) -> list[int | None]:
+    """Which feature frame each video frame shows (spec 13.3).
+
+    `events` lists, in the order the overlay accepts them, "sof" (a video start-of-frame beat),
+    "feature" (a feature beat) and "eof" (a feature end-of-frame beat); on one clock edge a "sof"
+    comes before the feature stream's beat. Feature frames are numbered from 0 in the order of
+    their end-of-frame beats (discarded ones included). The result has one entry per "sof": the
+    number of the feature frame that video frame shows, or None (markers of none).
+    """
+    waiting: int | None = None  # a complete feature frame held in the fill bank
+    dropping = False  # the feature frame in progress began while one was waiting: discarded whole
+    frame = 0  # number of the feature frame in progress
+    shown: list[int | None] = []
+    for event in events:
+        if event == "sof":
+            shown.append(waiting)
+            waiting = None
+        elif event == "feature":
+            if waiting is not None:
+                dropping = True
+        elif event == "eof":
+            if waiting is None and not dropping:
+                waiting = frame
+            dropping = False
+            frame += 1
+        else:
+            raise ValueError(f"unknown overlay event {event!r}")
+    return shown

@@ -275,6 +275,14 @@ STATUS = Register(
             description="bit b: feature-memory bank b holds a complete frame (input bank_ready)",
         ),
         Field(
+            name="last_bank",
+            lsb=4,
+            width=1,
+            reset=0,
+            port="last_bank",
+            description="the bank that received the most recent complete frame (input last_bank)",
+        ),
+        Field(
             name="overflow",
             lsb=8,
             width=1,
@@ -400,6 +408,124 @@ BANK_RELEASE = Register(
     description="feature-memory handshake: the CPU hands a read bank back",
 )
 
+BANK0_INFO = Register(
+    name="BANK0_INFO",
+    offset=0x040,
+    access="ro",
+    fields=(
+        Field(
+            name="count",
+            lsb=0,
+            width=16,
+            reset=0,
+            port="bank0_count",
+            description="features stored in bank 0 (input bank0_count)",
+        ),
+        Field(
+            name="frame",
+            lsb=16,
+            width=16,
+            reset=0,
+            port="bank0_frame",
+            description="frame number of bank 0 (input bank0_frame)",
+        ),
+    ),
+    description="header of feature-memory bank 0, valid while STATUS.bank_ready bit 0 is set",
+)
+
+BANK1_INFO = Register(
+    name="BANK1_INFO",
+    offset=0x044,
+    access="ro",
+    fields=(
+        Field(
+            name="count",
+            lsb=0,
+            width=16,
+            reset=0,
+            port="bank1_count",
+            description="features stored in bank 1 (input bank1_count)",
+        ),
+        Field(
+            name="frame",
+            lsb=16,
+            width=16,
+            reset=0,
+            port="bank1_frame",
+            description="frame number of bank 1 (input bank1_frame)",
+        ),
+    ),
+    description="header of feature-memory bank 1, valid while STATUS.bank_ready bit 1 is set",
+)
+
+OVERRUN = Register(
+    name="OVERRUN",
+    offset=0x048,
+    access="ro",
+    fields=(
+        Field(
+            name="count",
+            lsb=0,
+            width=32,
+            reset=0,
+            port="overrun",
+            description="input overrun",
+        ),
+    ),
+    description="frames not stored because the CPU still held the bank they needed",
+)
+
+OVERFLOW_COUNT = Register(
+    name="OVERFLOW_COUNT",
+    offset=0x04C,
+    access="ro",
+    fields=(
+        Field(
+            name="count",
+            lsb=0,
+            width=32,
+            reset=0,
+            port="overflow_count",
+            description="input overflow_count",
+        ),
+    ),
+    description="features not stored because their frame filled its bank (truncated frames)",
+)
+
+DESC_LOST = Register(
+    name="DESC_LOST",
+    offset=0x050,
+    access="ro",
+    fields=(
+        Field(
+            name="count",
+            lsb=0,
+            width=32,
+            reset=0,
+            port="desc_lost",
+            description="input desc_lost",
+        ),
+    ),
+    description="features whose descriptor window never came (malformed frames only)",
+)
+
+DISCARDED = Register(
+    name="DISCARDED",
+    offset=0x054,
+    access="ro",
+    fields=(
+        Field(
+            name="count",
+            lsb=0,
+            width=32,
+            reset=0,
+            port="discarded",
+            description="input discarded",
+        ),
+    ),
+    description="input pixels outside any open frame (no start of frame, extra lines)",
+)
+
 REGISTERS: tuple[Register, ...] = (
     ID,
     VERSION,
@@ -415,6 +541,12 @@ REGISTERS: tuple[Register, ...] = (
     IRQ_ENABLE,
     IRQ_STATUS,
     BANK_RELEASE,
+    BANK0_INFO,
+    BANK1_INFO,
+    OVERRUN,
+    OVERFLOW_COUNT,
+    DESC_LOST,
+    DISCARDED,
 )
 BY_NAME: dict[str, Register] = {r.name: r for r in REGISTERS}
 BY_OFFSET: dict[int, Register] = {r.offset: r for r in REGISTERS}

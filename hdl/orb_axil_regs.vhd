@@ -70,7 +70,16 @@ entity orb_axil_regs is
     dropped      : in    std_logic_vector(31 downto 0);
     proto_errors : in    std_logic_vector(31 downto 0);
     bank_ready   : in    std_logic_vector(BANKS_c - 1 downto 0);
+    last_bank    : in    std_logic;
     overflow     : in    std_logic;
+    bank0_count  : in    std_logic_vector(15 downto 0);
+    bank0_frame  : in    std_logic_vector(15 downto 0);
+    bank1_count  : in    std_logic_vector(15 downto 0);
+    bank1_frame  : in    std_logic_vector(15 downto 0);
+    overrun        : in    std_logic_vector(31 downto 0);
+    overflow_count : in    std_logic_vector(31 downto 0);
+    desc_lost      : in    std_logic_vector(31 downto 0);
+    discarded      : in    std_logic_vector(31 downto 0);
     -- interrupts
     frame_done_pulse : in    std_logic;
     error_pulse      : in    std_logic;
@@ -176,6 +185,8 @@ architecture rtl of orb_axil_regs is
   signal ien_word  : word_t;
   signal ist_word  : word_t;
   signal stat_word : word_t;
+  signal bank0_word : word_t;
+  signal bank1_word : word_t;
 
 begin
 
@@ -199,8 +210,13 @@ begin
   thr_word  <= put(ZERO_c, thr, THRESHOLD_THRESHOLD_MSB_c, THRESHOLD_THRESHOLD_LSB_c);
   ien_word  <= put(ZERO_c, irq_en, IRQ_ENABLE_ERROR_MSB_c, IRQ_ENABLE_FRAME_DONE_LSB_c);
   ist_word  <= put(ZERO_c, irq_st, IRQ_STATUS_ERROR_MSB_c, IRQ_STATUS_FRAME_DONE_LSB_c);
-  stat_word <= put(put(ZERO_c, bank_ready, STATUS_BANK_READY_MSB_c, STATUS_BANK_READY_LSB_c),
+  stat_word <= put(put(put(ZERO_c, bank_ready, STATUS_BANK_READY_MSB_c, STATUS_BANK_READY_LSB_c),
+                       (0 => last_bank), STATUS_LAST_BANK_MSB_c, STATUS_LAST_BANK_LSB_c),
                    (0 => overflow), STATUS_OVERFLOW_MSB_c, STATUS_OVERFLOW_LSB_c);
+  bank0_word <= put(put(ZERO_c, bank0_count, BANK0_INFO_COUNT_MSB_c, BANK0_INFO_COUNT_LSB_c),
+                    bank0_frame, BANK0_INFO_FRAME_MSB_c, BANK0_INFO_FRAME_LSB_c);
+  bank1_word <= put(put(ZERO_c, bank1_count, BANK1_INFO_COUNT_MSB_c, BANK1_INFO_COUNT_LSB_c),
+                    bank1_frame, BANK1_INFO_FRAME_MSB_c, BANK1_INFO_FRAME_LSB_c);
 
   -- AW and W buffers, write execution, the writable registers and the interrupt logic.
   wr : process (clk) is
@@ -348,11 +364,19 @@ begin
                    or sel(addr = REG_DROPPED_c, dropped)
                    or sel(addr = REG_PROTO_ERRORS_c, proto_errors)
                    or sel(addr = REG_IRQ_ENABLE_c, ien_word)
-                   or sel(addr = REG_IRQ_STATUS_c, ist_word);
+                   or sel(addr = REG_IRQ_STATUS_c, ist_word)
+                   or sel(addr = REG_BANK0_INFO_c, bank0_word)
+                   or sel(addr = REG_BANK1_INFO_c, bank1_word)
+                   or sel(addr = REG_OVERRUN_c, overrun)
+                   or sel(addr = REG_OVERFLOW_COUNT_c, overflow_count)
+                   or sel(addr = REG_DESC_LOST_c, desc_lost)
+                   or sel(addr = REG_DISCARDED_c, discarded);
           known := addr = REG_ID_c or addr = REG_VERSION_c or addr = REG_CFG_SIZE_c or addr = REG_CFG_ORB_c
                    or addr = REG_CFG_MEM_c or addr = REG_CTRL_c or addr = REG_THRESHOLD_c
                    or addr = REG_STATUS_c or addr = REG_FRAME_COUNT_c or addr = REG_DROPPED_c
-                   or addr = REG_PROTO_ERRORS_c or addr = REG_IRQ_ENABLE_c or addr = REG_IRQ_STATUS_c;
+                   or addr = REG_PROTO_ERRORS_c or addr = REG_IRQ_ENABLE_c or addr = REG_IRQ_STATUS_c
+                   or addr = REG_BANK0_INFO_c or addr = REG_BANK1_INFO_c or addr = REG_OVERRUN_c
+                   or addr = REG_OVERFLOW_COUNT_c or addr = REG_DESC_LOST_c or addr = REG_DISCARDED_c;
           rdata_r  <= rword;
           rvalid_r <= '1';
           if known then

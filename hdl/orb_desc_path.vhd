@@ -28,18 +28,18 @@ entity orb_desc_path is
     SECTORS_g      : positive range 4 to 16    := 8
   );
   port (
-    clk         : in    std_logic;
-    rst         : in    std_logic;
+    clk : in    std_logic;
+    rst : in    std_logic;
     -- smoothed stream, tagged like orb_smooth's output
-    in_valid    : in    std_logic;
-    in_x        : in    std_logic_vector(COORD_BITS_c - 1 downto 0);
-    in_y        : in    std_logic_vector(COORD_BITS_c - 1 downto 0);
-    in_data     : in    std_logic_vector(PIXEL_BITS_c - 1 downto 0);
+    in_valid : in    std_logic;
+    in_x     : in    std_logic_vector(COORD_BITS_c - 1 downto 0);
+    in_y     : in    std_logic_vector(COORD_BITS_c - 1 downto 0);
+    in_data  : in    std_logic_vector(PIXEL_BITS_c - 1 downto 0);
     -- NMS survivors of the same frame, in raster order
-    det_valid   : in    std_logic;
-    det_x       : in    std_logic_vector(COORD_BITS_c - 1 downto 0);
-    det_y       : in    std_logic_vector(COORD_BITS_c - 1 downto 0);
-    det_score   : in    std_logic_vector(SCORE_BITS_c - 1 downto 0);
+    det_valid : in    std_logic;
+    det_x     : in    std_logic_vector(COORD_BITS_c - 1 downto 0);
+    det_y     : in    std_logic_vector(COORD_BITS_c - 1 downto 0);
+    det_score : in    std_logic_vector(SCORE_BITS_c - 1 downto 0);
     -- described features, raster order
     feat_valid  : out   std_logic;
     feat_x      : out   std_logic_vector(COORD_BITS_c - 1 downto 0);
@@ -54,11 +54,11 @@ end entity orb_desc_path;
 
 architecture rtl of orb_desc_path is
 
-  constant BORDER_c    : natural  := 18;   -- descriptor border, and the window's tag offset
-  constant WIN_c       : positive := 31;
-  constant COL_BITS_c  : positive := WIN_c * PIXEL_BITS_c;
-  constant ORBIT_c     : positive := 4 * SECTORS_g;
-  constant PAT_c       : pattern_t := base_pattern(SECTORS_g);
+  constant BORDER_c   : natural  := 18;   -- descriptor border, and the window's tag offset
+  constant WIN_c      : positive := 31;
+  constant COL_BITS_c : positive := WIN_c * PIXEL_BITS_c;
+  constant ORBIT_c    : positive := 4 * SECTORS_g;
+  constant PAT_c      : pattern_t := base_pattern(SECTORS_g);
   -- Densest legal NMS output: one feature per 2x2 block, so ceil((W - 36) / 2) per line and
   -- per pair of lines. A feature waits from its detection (about 4 lines after its own) to its
   -- window (18 lines after): at most 16 lines, 8 pairs, plus pipeline slack.
@@ -70,7 +70,7 @@ architecture rtl of orb_desc_path is
   -- the tests are registered 2 clocks after the column stage, so they wait 11 clocks
   constant MOMENTS_LAT_c : positive := 9;
   constant ORIENT_LAT_c  : positive := MOMENTS_LAT_c + 4;
-  constant WAIT_c       : positive := ORIENT_LAT_c - 2;
+  constant WAIT_c        : positive := ORIENT_LAT_c - 2;
 
   subtype coord_t is unsigned(COORD_BITS_c - 1 downto 0);
   subtype entry_t is std_logic_vector(ENTRY_c - 1 downto 0);
@@ -111,12 +111,12 @@ architecture rtl of orb_desc_path is
   signal t_bits  : bits_t := (others => '0');
 
   -- moments and sector, in step with the column stream
-  signal m_valid       : std_logic;
-  signal m_x, m_y      : std_logic_vector(COORD_BITS_c - 1 downto 0);
-  signal m_m10, m_m01  : std_logic_vector(23 downto 0);
-  signal s_valid       : std_logic;
-  signal s_x, s_y      : std_logic_vector(COORD_BITS_c - 1 downto 0);
-  signal s_sector      : std_logic_vector(5 downto 0);
+  signal m_valid      : std_logic;
+  signal m_x,   m_y   : std_logic_vector(COORD_BITS_c - 1 downto 0);
+  signal m_m10, m_m01 : std_logic_vector(23 downto 0);
+  signal s_valid      : std_logic;
+  signal s_x,   s_y   : std_logic_vector(COORD_BITS_c - 1 downto 0);
+  signal s_sector     : std_logic_vector(5 downto 0);
 
   -- the feature flag of each column beside the moments pipeline (the sector is only computed for
   -- features), and the frame's last column beside the whole orientation pipeline
@@ -205,8 +205,10 @@ begin
   -- Queue entries hold the window tag at which the feature is centred: (x + 18, y + 18).
   head_tx <= unsigned(head(SCORE_BITS_c + COORD_BITS_c - 1 downto SCORE_BITS_c));
   head_ty <= unsigned(head(ENTRY_c - 1 downto SCORE_BITS_c + COORD_BITS_c));
-  match   <= col_valid and head_valid when head_tx = col_x and head_ty = col_y else '0';
-  stale   <= col_valid and head_valid when head_ty < col_y or (head_ty = col_y and head_tx < col_x) else '0';
+  match   <= col_valid and head_valid when head_tx = col_x and head_ty = col_y else
+             '0';
+  stale   <= col_valid and head_valid when head_ty < col_y or (head_ty = col_y and head_tx < col_x) else
+             '0';
 
   queue_ctrl : process (clk) is
     variable push     : boolean;

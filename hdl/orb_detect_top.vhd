@@ -76,8 +76,8 @@ architecture rtl of orb_detect_top is
 
   type lost_arr_t is array (0 to SCALES_g - 1) of std_logic_vector(31 downto 0);
 
-  signal lost    : lost_arr_t;
-  signal lost_q  : unsigned(31 downto 0) := (others => '0');
+  signal lost     : lost_arr_t;
+  signal lost_q   : unsigned(31 downto 0) := (others => '0');
   signal mode_frm : std_logic := '0';
 
 begin

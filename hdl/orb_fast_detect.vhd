@@ -32,10 +32,10 @@ entity orb_fast_detect is
     feat_score : out   std_logic_vector(SCORE_BITS_c - 1 downto 0);
     frame_done : out   std_logic;
     -- the 7x7 window (orb_window's layout), shared with the smoothing of the descriptor path
-    win_valid  : out   std_logic;
-    win_x      : out   std_logic_vector(COORD_BITS_c - 1 downto 0);
-    win_y      : out   std_logic_vector(COORD_BITS_c - 1 downto 0);
-    win_data   : out   std_logic_vector(49 * PIXEL_BITS_c - 1 downto 0)
+    win_valid : out   std_logic;
+    win_x     : out   std_logic_vector(COORD_BITS_c - 1 downto 0);
+    win_y     : out   std_logic_vector(COORD_BITS_c - 1 downto 0);
+    win_data  : out   std_logic_vector(49 * PIXEL_BITS_c - 1 downto 0)
   );
 end entity orb_fast_detect;
 

@@ -11,11 +11,12 @@
 -- B' = B - C + sum (U d_in + (U + 1) d_out), d_in entering at u = +U and d_out leaving from
 -- u = -U - 1; then m10 = B and m01 = A. The arithmetic is on ranged integers (their ranges set
 -- the hardware widths; GHDL simulates them natively): the sums always equal the moments of the
--- columns in the window, so |m| < 2^21 and no range is ever exceeded. The outputs for an input column are the moments of the patch whose rightmost
--- column it is (centre 15 inputs back, row 15 of the column); columns before the first count as
--- zero and nothing is cleared between lines or by rst. Nine pipeline stages (pair sums, weighted
--- differences, band sums into the delay lines, registered taps, band terms, two adder-tree
--- stages, C and A, B): fixed latency LATENCY_c = 9 clocks, input gaps allowed.
+-- columns in the window, so |m| < 2^21 and no range is ever exceeded. The outputs for an input
+-- column are the moments of the patch whose rightmost column it is (centre 15 inputs back, row 15
+-- of the column); columns before the first count as zero and nothing is cleared between lines or
+-- by rst. Nine pipeline stages (pair sums, weighted differences, band sums into the delay lines,
+-- registered taps, band terms, two adder-tree stages, C and A, B): fixed latency LATENCY_c = 9
+-- clocks, input gaps allowed.
 
 library ieee;
 use ieee.std_logic_1164.all;
@@ -282,8 +283,8 @@ begin
 
     subtype d_t is integer range 0 to D_MAX_c;
     subtype q_t is integer range -Q_MAX_c to Q_MAX_c;
-    type d_line_t is array (0 to OUT_c) of d_t;
-    type q_line_t is array (0 to OUT_c) of q_t;
+    type    d_line_t is array (0 to OUT_c) of d_t;
+    type    q_line_t is array (0 to OUT_c) of q_t;
 
     -- the entering and leaving entries, registered (an SRL output goes straight into a flip-flop)
     signal tap_in_d, tap_out_d : d_t := 0;

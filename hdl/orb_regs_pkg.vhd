@@ -92,10 +92,13 @@ package orb_regs_pkg is
 
   -- STATUS (ro): status flags of the other blocks
   constant REG_STATUS_c              : natural := 16#01C#;
-  constant REG_STATUS_MASK_c         : std_logic_vector(31 downto 0) := x"00000103";
+  constant REG_STATUS_MASK_c         : std_logic_vector(31 downto 0) := x"00000113";
   constant STATUS_BANK_READY_LSB_c   : natural := 0;
   constant STATUS_BANK_READY_MSB_c   : natural := 1;
   constant STATUS_BANK_READY_RESET_c : natural := 0;
+  constant STATUS_LAST_BANK_LSB_c    : natural := 4;
+  constant STATUS_LAST_BANK_MSB_c    : natural := 4;
+  constant STATUS_LAST_BANK_RESET_c  : natural := 0;
   constant STATUS_OVERFLOW_LSB_c     : natural := 8;
   constant STATUS_OVERFLOW_MSB_c     : natural := 8;
   constant STATUS_OVERFLOW_RESET_c   : natural := 0;
@@ -151,5 +154,53 @@ package orb_regs_pkg is
   constant BANK_RELEASE_BANK_MSB_c   : natural := 3;
   constant BANK_RELEASE_BANK_RESET_c : natural := 0;
   constant BANK_RELEASE_BANK_MAX_c   : natural := 1;
+
+  -- BANK0_INFO (ro): header of feature-memory bank 0, valid while STATUS.bank_ready bit 0 is set
+  constant REG_BANK0_INFO_c         : natural := 16#040#;
+  constant REG_BANK0_INFO_MASK_c    : std_logic_vector(31 downto 0) := x"FFFFFFFF";
+  constant BANK0_INFO_COUNT_LSB_c   : natural := 0;
+  constant BANK0_INFO_COUNT_MSB_c   : natural := 15;
+  constant BANK0_INFO_COUNT_RESET_c : natural := 0;
+  constant BANK0_INFO_FRAME_LSB_c   : natural := 16;
+  constant BANK0_INFO_FRAME_MSB_c   : natural := 31;
+  constant BANK0_INFO_FRAME_RESET_c : natural := 0;
+
+  -- BANK1_INFO (ro): header of feature-memory bank 1, valid while STATUS.bank_ready bit 1 is set
+  constant REG_BANK1_INFO_c         : natural := 16#044#;
+  constant REG_BANK1_INFO_MASK_c    : std_logic_vector(31 downto 0) := x"FFFFFFFF";
+  constant BANK1_INFO_COUNT_LSB_c   : natural := 0;
+  constant BANK1_INFO_COUNT_MSB_c   : natural := 15;
+  constant BANK1_INFO_COUNT_RESET_c : natural := 0;
+  constant BANK1_INFO_FRAME_LSB_c   : natural := 16;
+  constant BANK1_INFO_FRAME_MSB_c   : natural := 31;
+  constant BANK1_INFO_FRAME_RESET_c : natural := 0;
+
+  -- OVERRUN (ro): frames not stored because the CPU still held the bank they needed
+  constant REG_OVERRUN_c         : natural := 16#048#;
+  constant REG_OVERRUN_MASK_c    : std_logic_vector(31 downto 0) := x"FFFFFFFF";
+  constant OVERRUN_COUNT_LSB_c   : natural := 0;
+  constant OVERRUN_COUNT_MSB_c   : natural := 31;
+  constant OVERRUN_COUNT_RESET_c : natural := 0;
+
+  -- OVERFLOW_COUNT (ro): features not stored because their frame filled its bank (truncated frames)
+  constant REG_OVERFLOW_COUNT_c         : natural := 16#04C#;
+  constant REG_OVERFLOW_COUNT_MASK_c    : std_logic_vector(31 downto 0) := x"FFFFFFFF";
+  constant OVERFLOW_COUNT_COUNT_LSB_c   : natural := 0;
+  constant OVERFLOW_COUNT_COUNT_MSB_c   : natural := 31;
+  constant OVERFLOW_COUNT_COUNT_RESET_c : natural := 0;
+
+  -- DESC_LOST (ro): features whose descriptor window never came (malformed frames only)
+  constant REG_DESC_LOST_c         : natural := 16#050#;
+  constant REG_DESC_LOST_MASK_c    : std_logic_vector(31 downto 0) := x"FFFFFFFF";
+  constant DESC_LOST_COUNT_LSB_c   : natural := 0;
+  constant DESC_LOST_COUNT_MSB_c   : natural := 31;
+  constant DESC_LOST_COUNT_RESET_c : natural := 0;
+
+  -- DISCARDED (ro): input pixels outside any open frame (no start of frame, extra lines)
+  constant REG_DISCARDED_c         : natural := 16#054#;
+  constant REG_DISCARDED_MASK_c    : std_logic_vector(31 downto 0) := x"FFFFFFFF";
+  constant DISCARDED_COUNT_LSB_c   : natural := 0;
+  constant DISCARDED_COUNT_MSB_c   : natural := 31;
+  constant DISCARDED_COUNT_RESET_c : natural := 0;
 
 end package orb_regs_pkg;

@@ -19,8 +19,8 @@ entity orb_scale_path is
   generic (
     LINE_WIDTH_g   : positive range 8 to 4095 := 640;
     FRAME_HEIGHT_g : positive range 1 to 4095 := 480;
-    SECTORS_g      : positive range 4 to 16    := 8;
-    DESC_g         : boolean                   := true
+    SECTORS_g      : positive range 4 to 16   := 8;
+    DESC_g         : boolean                  := true
   );
   port (
     clk         : in    std_logic;
@@ -51,14 +51,14 @@ architecture rtl of orb_scale_path is
   constant HAS_DESC_c : boolean := DESC_g and LINE_WIDTH_g >= 37 and FRAME_HEIGHT_g >= 37;
 
   signal d_valid, d_done : std_logic;
-  signal d_x, d_y        : std_logic_vector(COORD_BITS_c - 1 downto 0);
+  signal d_x,     d_y    : std_logic_vector(COORD_BITS_c - 1 downto 0);
   signal d_score         : std_logic_vector(SCORE_BITS_c - 1 downto 0);
   signal w_valid         : std_logic;
-  signal w_x, w_y        : std_logic_vector(COORD_BITS_c - 1 downto 0);
+  signal w_x,     w_y    : std_logic_vector(COORD_BITS_c - 1 downto 0);
   signal w_win           : std_logic_vector(49 * PIXEL_BITS_c - 1 downto 0);
 
   signal o_valid, o_done : std_logic := '0';
-  signal o_x, o_y        : std_logic_vector(COORD_BITS_c - 1 downto 0) := (others => '0');
+  signal o_x,     o_y    : std_logic_vector(COORD_BITS_c - 1 downto 0) := (others => '0');
   signal o_score         : std_logic_vector(SCORE_BITS_c - 1 downto 0) := (others => '0');
   signal o_sector        : std_logic_vector(5 downto 0) := (others => '0');
   signal o_desc          : std_logic_vector(255 downto 0) := (others => '0');
@@ -72,12 +72,12 @@ architecture rtl of orb_scale_path is
   signal fast_on   : std_logic;
   signal orb_on    : std_logic;
 
-  signal f_valid   : std_logic := '0';
-  signal f_done    : std_logic := '0';
-  signal f_x, f_y  : std_logic_vector(COORD_BITS_c - 1 downto 0) := (others => '0');
-  signal f_score   : std_logic_vector(SCORE_BITS_c - 1 downto 0) := (others => '0');
-  signal f_sector  : std_logic_vector(5 downto 0) := (others => '0');
-  signal f_desc    : std_logic_vector(255 downto 0) := (others => '0');
+  signal f_valid      : std_logic := '0';
+  signal f_done       : std_logic := '0';
+  signal f_x,     f_y : std_logic_vector(COORD_BITS_c - 1 downto 0) := (others => '0');
+  signal f_score      : std_logic_vector(SCORE_BITS_c - 1 downto 0) := (others => '0');
+  signal f_sector     : std_logic_vector(5 downto 0) := (others => '0');
+  signal f_desc       : std_logic_vector(255 downto 0) := (others => '0');
 
 begin
 

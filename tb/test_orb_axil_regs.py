@@ -39,7 +39,10 @@ from cocotbext.axi import AxiLiteBus, AxiLiteMaster  # noqa: E402
 
 OKAY, SLVERR = 0, 2
 GENERIC_NAMES = ("WIDTH", "HEIGHT", "SCALES", "SECTORS", "MEM_DEPTH", "MEM_LATENCY", "ADDR_BITS")
-PORTS = ("frame_count", "dropped", "proto_errors", "bank_ready", "overflow")
+PORTS = (
+    "frame_count", "dropped", "proto_errors", "bank_ready", "last_bank", "overflow", "bank0_count",
+    "bank0_frame", "bank1_count", "bank1_frame", "overrun", "overflow_count", "desc_lost", "discarded",
+)  # fmt: skip
 OP_TIMEOUT_NS = 2000 * PERIOD_NS  # "nothing hangs": every transaction must finish within this
 
 
@@ -157,7 +160,13 @@ class Bench:
             "dropped": int(rng.integers(0, 1 << 32)),
             "proto_errors": int(rng.integers(0, 1 << 32)),
             "bank_ready": int(rng.integers(0, 1 << regs.BANKS)),
+            "last_bank": int(rng.integers(0, 2)),
             "overflow": int(rng.integers(0, 2)),
+            **{
+                name: int(rng.integers(0, 1 << 16))
+                for name in ("bank0_count", "bank0_frame", "bank1_count", "bank1_frame")
+            },
+            **{name: int(rng.integers(0, 1 << 32)) for name in ("overrun", "overflow_count", "desc_lost", "discarded")},
         }
         dut.rst.value = 1
         for name, value in self.ports.items():

@@ -12,7 +12,7 @@ from __future__ import annotations
 import hashlib
 import os
 import shutil
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -44,7 +44,9 @@ SOURCES = (
     "orb_feat_merge.vhd",
     "orb_feat_mem.vhd",
     "orb_axil_regs.vhd",
+    "orb_overlay.vhd",
     "orb_detect_top.vhd",
+    "orb_accel_top.vhd",
 )
 
 
@@ -75,7 +77,7 @@ def run(
     module: str,
     generics: Mapping[str, int | str],
     env: Mapping[str, str] | None = None,
-    testcase: str | None = None,
+    testcase: str | Sequence[str] | None = None,
     waves: bool = False,
     log_file: Path | None = None,
 ) -> Path:

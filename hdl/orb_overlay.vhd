@@ -1,0 +1,353 @@
+-- SPDX-License-Identifier: MIT
+-- orb_overlay: marks the previous frame's features on a passing RGB video stream (HDMI demo,
+-- docs/spec.md section 13, docs/overlay.md). The feature stream (s_axis_feat, 320-bit words of
+-- orb_feat_pkg; only scale, x, y and tlast are used) sets one bit per (block, scale) in the fill
+-- bank of two block-RAM bitmap banks: a feature of scale s at (x, y) marks block (x >> (b - s),
+-- y >> (b - s)) of the frame's 2^b x 2^b blocks, b = BLOCK_LOG2_g. Each bank is one 1-bit-wide
+-- simple dual-port RAM per scale, so a mark is a plain write (no read-modify-write) and the marks of a
+-- feature frame are an OR, independent of the order in which features or scales arrive. The
+-- video stream (24-bit RGB, R in [23:16]) reads the show bank in raster order and draws scale s of
+-- a marked block as the one-pixel square outline inset s pixels from the block edge, in the
+-- scale's colour; the last pixel of each block clears its bits, so a bank is empty again when a
+-- frame has passed. The banks swap at a video start of frame when a complete feature frame waits
+-- (its end-of-frame beat accepted at an earlier clock edge); a feature frame that begins while
+-- another waits is discarded whole. Video latency is 2 clocks; back-pressure passes through
+-- (s_axis_video_tready = m_axis_video_tready or not m_axis_video_tvalid); s_axis_feat never stalls.
+-- rst resets control state only: the bitmaps are zero at configuration (block RAM default), and
+-- after a reset in mid-stream marks of an interrupted frame can show once.
+
+library ieee;
+use ieee.std_logic_1164.all;
+use ieee.numeric_std.all;
+
+use work.orb_util_pkg.all;
+use work.orb_feat_pkg.all;
+
+entity orb_overlay is
+  generic (
+    WIDTH_g      : positive range 64 to 1920 := 640;
+    HEIGHT_g     : positive range 48 to 1080 := 480;
+    SCALES_g     : positive range 1 to 4     := 4;
+    BLOCK_LOG2_g : positive range 2 to 5     := 3
+  );
+  port (
+    clk                 : in    std_logic;
+    rst                 : in    std_logic;
+    s_axis_video_tdata  : in    std_logic_vector(23 downto 0);
+    s_axis_video_tvalid : in    std_logic;
+    s_axis_video_tready : out   std_logic;
+    s_axis_video_tuser  : in    std_logic;
+    s_axis_video_tlast  : in    std_logic;
+    m_axis_video_tdata  : out   std_logic_vector(23 downto 0);
+    m_axis_video_tvalid : out   std_logic;
+    m_axis_video_tready : in    std_logic;
+    m_axis_video_tuser  : out   std_logic;
+    m_axis_video_tlast  : out   std_logic;
+    s_axis_feat_tdata   : in    std_logic_vector(FEAT_BITS_c - 1 downto 0);
+    s_axis_feat_tvalid  : in    std_logic;
+    s_axis_feat_tready  : out   std_logic;
+    s_axis_feat_tlast   : in    std_logic
+  );
+end entity orb_overlay;
+
+architecture rtl of orb_overlay is
+
+  constant BLOCK_c     : positive := 2 ** BLOCK_LOG2_g;
+  constant BLOCKS_X_c  : positive := (WIDTH_g + BLOCK_c - 1) / BLOCK_c;
+  constant BLOCKS_Y_c  : positive := (HEIGHT_g + BLOCK_c - 1) / BLOCK_c;
+  constant BLOCKS_c    : positive := BLOCKS_X_c * BLOCKS_Y_c;
+  constant ADDR_BITS_c : positive := clog2(BLOCKS_c);
+  constant X_BITS_c    : positive := clog2(WIDTH_g + 1);   -- WIDTH_g means "beyond the line"
+  constant Y_BITS_c    : positive := clog2(HEIGHT_g + 1);  -- HEIGHT_g means "no frame / beyond it"
+  constant RING_BITS_c : positive := BLOCK_LOG2_g - 1;
+
+  type colour_table_t is array (0 to 3) of std_logic_vector(23 downto 0);
+
+  -- Scale colours (RGB): green, cyan, magenta, yellow (golden_model.overlay.SCALE_COLOURS).
+  constant COLOURS_c : colour_table_t := (x"00FF00", x"00DCFF", x"FF00FF", x"FFDC00");
+
+  type bitmap_t is array (0 to BLOCKS_c - 1) of std_logic;
+
+  function bit_of (n : natural) return std_logic is
+  begin
+    if n = 1 then
+      return '1';
+    end if;
+    return '0';
+  end function bit_of;
+
+  -- video input side
+  signal ce       : std_logic;
+  signal v_acc    : std_logic;
+  signal cx       : unsigned(X_BITS_c - 1 downto 0)    := (others => '0');
+  signal cy       : unsigned(Y_BITS_c - 1 downto 0)    := to_unsigned(HEIGHT_g, Y_BITS_c);
+  signal row_base : unsigned(ADDR_BITS_c - 1 downto 0) := (others => '0');
+  signal pos_x    : unsigned(X_BITS_c - 1 downto 0);
+  signal pos_y    : unsigned(Y_BITS_c - 1 downto 0);
+  signal pos_base : unsigned(ADDR_BITS_c - 1 downto 0);
+  signal in_frame : std_logic;
+  signal rd_addr  : unsigned(ADDR_BITS_c - 1 downto 0);
+  signal last_use : std_logic;
+  signal ring     : unsigned(RING_BITS_c - 1 downto 0);
+  signal swap     : std_logic;
+  signal sbank    : std_logic := '0';  -- show bank; the fill bank is the other one
+  signal sbank_n  : std_logic;         -- show bank after this edge's start of frame
+
+  -- feature side
+  signal waiting  : std_logic := '0';  -- the fill bank holds a complete feature frame
+  signal dropping : std_logic := '0';  -- the feature frame in progress is discarded
+  signal f_scale  : unsigned(1 downto 0);
+  signal f_bx     : unsigned(COORD_BITS_c - 1 downto 0);
+  signal f_by     : unsigned(COORD_BITS_c - 1 downto 0);
+  signal f_inside : std_logic;
+  signal f_addr   : unsigned(ADDR_BITS_c - 1 downto 0);
+
+  -- bitmap write ports: one feature mark and one clear per clock (never in the same bank)
+  signal fw_en    : std_logic := '0';
+  signal fw_bank  : std_logic := '0';
+  signal fw_scale : unsigned(1 downto 0) := (others => '0');
+  signal fw_addr  : unsigned(ADDR_BITS_c - 1 downto 0) := (others => '0');
+  signal clr_en   : std_logic := '0';
+  signal clr_bank : std_logic := '0';
+  signal clr_addr : unsigned(ADDR_BITS_c - 1 downto 0) := (others => '0');
+
+  -- bit bank * SCALES_g + s: mark of scale s in bank `bank` at the block read last
+  signal rd_bits : std_logic_vector(2 * SCALES_g - 1 downto 0);
+
+  -- video pipeline: stage 1 (aligned with rd_bits), then the output register
+  signal d1_valid : std_logic := '0';
+  signal d1_data  : std_logic_vector(23 downto 0) := (others => '0');
+  signal d1_user  : std_logic := '0';
+  signal d1_last  : std_logic := '0';
+  signal d1_draw  : std_logic := '0';
+  signal d1_bank  : std_logic := '0';
+  signal d1_ring  : unsigned(RING_BITS_c - 1 downto 0) := (others => '0');
+  signal m_valid  : std_logic := '0';
+  signal m_data   : std_logic_vector(23 downto 0) := (others => '0');
+  signal m_user   : std_logic := '0';
+  signal m_last   : std_logic := '0';
+
+begin
+
+  assert BLOCK_c >= 2 * SCALES_g
+    report "orb_overlay: 2 ** BLOCK_LOG2_g must be at least 2 * SCALES_g (one ring per scale in a block)"
+    severity failure;
+
+  -- ---- video position: the accepted beat's (x, y), its block address and ring -----------------
+  ce    <= m_axis_video_tready or not m_valid;
+  v_acc <= s_axis_video_tvalid and ce;
+
+  pos_x    <= (others => '0') when s_axis_video_tuser = '1' else
+              cx;
+  pos_y    <= (others => '0') when s_axis_video_tuser = '1' else
+              cy;
+  pos_base <= (others => '0') when s_axis_video_tuser = '1' else
+              row_base;
+  in_frame <= '1' when pos_x < WIDTH_g and pos_y < HEIGHT_g else
+              '0';
+  rd_addr  <= pos_base + resize(shift_right(pos_x, BLOCK_LOG2_g), ADDR_BITS_c) when in_frame = '1' else
+              (others => '0');
+  -- The block's last pixel in raster order (its right column and bottom row, cut by the frame).
+  last_use <= '1' when (pos_x(BLOCK_LOG2_g - 1 downto 0) = BLOCK_c - 1 or pos_x = WIDTH_g - 1)
+                       and (pos_y(BLOCK_LOG2_g - 1 downto 0) = BLOCK_c - 1 or pos_y = HEIGHT_g - 1) else
+              '0';
+
+  ring_of : process (pos_x, pos_y) is
+    variable u, v : unsigned(BLOCK_LOG2_g - 1 downto 0);
+  begin
+    u := pos_x(BLOCK_LOG2_g - 1 downto 0);
+    v := pos_y(BLOCK_LOG2_g - 1 downto 0);
+    -- distance to the nearer edge: min(u, B-1-u), B-1-u being not u
+    if u(BLOCK_LOG2_g - 1) = '1' then
+      u := not u;
+    end if;
+    if v(BLOCK_LOG2_g - 1) = '1' then
+      v := not v;
+    end if;
+    if u < v then
+      ring <= u(RING_BITS_c - 1 downto 0);
+    else
+      ring <= v(RING_BITS_c - 1 downto 0);
+    end if;
+  end process ring_of;
+
+  swap    <= v_acc and s_axis_video_tuser and waiting;
+  sbank_n <= sbank xor swap;
+
+  position : process (clk) is
+  begin
+    if rising_edge(clk) then
+      clr_en <= '0';
+      if v_acc = '1' then
+        if s_axis_video_tlast = '1' then
+          cx <= (others => '0');
+          if pos_y < HEIGHT_g then
+            cy <= pos_y + 1;
+          end if;
+          if pos_y(BLOCK_LOG2_g - 1 downto 0) = BLOCK_c - 1 then
+            row_base <= pos_base + BLOCKS_X_c;
+          else
+            row_base <= pos_base;
+          end if;
+        else
+          if pos_x < WIDTH_g then
+            cx <= pos_x + 1;
+          end if;
+          cy       <= pos_y;
+          row_base <= pos_base;
+        end if;
+        sbank    <= sbank_n;
+        clr_en   <= in_frame and last_use;
+        clr_bank <= sbank_n;
+        clr_addr <= rd_addr;
+      end if;
+      if rst = '1' then
+        cx       <= (others => '0');
+        cy       <= to_unsigned(HEIGHT_g, Y_BITS_c);  -- pass pixels untouched until a start of frame
+        row_base <= (others => '0');
+        sbank    <= '0';
+        clr_en   <= '0';
+      end if;
+    end if;
+  end process position;
+
+  -- ---- feature side: block, bitmap address, frame bookkeeping - -----------------------------------
+  s_axis_feat_tready <= '1';
+
+  f_scale <= unsigned(s_axis_feat_tdata(FEAT_SCALE_LO_c + 1 downto FEAT_SCALE_LO_c));
+
+  -- Block of a feature: (x >> (b - s), y >> (b - s)), b = BLOCK_LOG2_g (2^s <= 2^b: the scale pixel's
+  -- whole footprint lies in that block). Scales >= SCALES_g are ignored.
+  block_of : process (s_axis_feat_tdata, f_scale) is
+    variable sh : natural range 0 to 5;
+  begin
+    if to_integer(f_scale) < SCALES_g then
+      sh := BLOCK_LOG2_g - to_integer(f_scale);
+    else
+      sh := BLOCK_LOG2_g;
+    end if;
+    f_bx <= shift_right(unsigned(s_axis_feat_tdata(FEAT_X_LO_c + COORD_BITS_c - 1 downto FEAT_X_LO_c)), sh);
+    f_by <= shift_right(unsigned(s_axis_feat_tdata(FEAT_Y_LO_c + COORD_BITS_c - 1 downto FEAT_Y_LO_c)), sh);
+  end process block_of;
+
+  f_inside <= '1' when to_integer(f_scale) < SCALES_g and f_bx < BLOCKS_X_c and f_by < BLOCKS_Y_c else
+              '0';
+  f_addr   <= resize(resize(f_by, ADDR_BITS_c) * BLOCKS_X_c, ADDR_BITS_c) + resize(f_bx, ADDR_BITS_c);
+
+  -- Order within one clock edge: the video start of frame (swap) first, then the feature beat.
+  frames : process (clk) is
+    variable waiting_v : std_logic;
+  begin
+    if rising_edge(clk) then
+      waiting_v := waiting and not swap;
+      waiting   <= waiting_v;
+      fw_en     <= '0';
+      if s_axis_feat_tvalid = '1' then
+        if s_axis_feat_tlast = '1' then
+          if waiting_v = '0' and dropping = '0' then
+            waiting <= '1';
+          end if;
+          dropping <= '0';
+        elsif waiting_v = '1' or dropping = '1' then
+          dropping <= '1';
+        else
+          fw_en <= f_inside;
+        end if;
+        fw_bank  <= not sbank_n;
+        fw_scale <= f_scale;
+        fw_addr  <= f_addr;
+      end if;
+      if rst = '1' then
+        waiting  <= '0';
+        dropping <= '0';
+        fw_en    <= '0';
+      end if;
+    end if;
+  end process frames;
+
+  -- ---- bitmap banks: per bank and scale a 1-bit simple dual-port RAM, registered read ----------
+  gen_bank : for bank in 0 to 1 generate
+    gen_scale : for s in 0 to SCALES_g - 1 generate
+      -- No initial value: 7-series block RAM configures to zero (INIT default), and a 32K-entry
+      -- initialiser makes GHDL's netlist 12 MB. Unwritten bits read 'U' in simulation: not drawn.
+      signal mem   : bitmap_t;
+      signal q     : std_logic := '0';
+      signal mark  : std_logic;
+      signal we    : std_logic;
+      signal waddr : unsigned(ADDR_BITS_c - 1 downto 0);
+    begin
+      mark  <= '1' when fw_en = '1' and fw_bank = bit_of(bank) else
+               '0';
+      we    <= '1' when (mark = '1' and fw_scale = s) or (clr_en = '1' and clr_bank = bit_of(bank)) else
+               '0';
+      waddr <= fw_addr when mark = '1' else
+               clr_addr;
+
+      ram : process (clk) is
+      begin
+        if rising_edge(clk) then
+          if we = '1' then
+            mem(to_integer(waddr)) <= mark;
+          end if;
+          if ce = '1' then
+            q <= mem(to_integer(rd_addr));
+          end if;
+        end if;
+      end process ram;
+
+      rd_bits(bank * SCALES_g + s) <= q;
+    end generate gen_scale;
+  end generate gen_bank;
+
+  -- pragma translate_off
+  one_writer : process (clk) is
+  begin
+    if rising_edge(clk) then
+      assert not (fw_en = '1' and clr_en = '1' and fw_bank = clr_bank)
+        report "orb_overlay: a feature mark and a clear in the same bank on one clock"
+        severity failure;
+    end if;
+  end process one_writer;
+  -- pragma translate_on
+
+  -- ---- video pipeline: stage 1 beside the RAM read, then the drawn output register -------------
+  video : process (clk) is
+    variable r : natural range 0 to 2 ** RING_BITS_c + SCALES_g - 1;
+  begin
+    if rising_edge(clk) then
+      if ce = '1' then
+        d1_valid <= s_axis_video_tvalid;
+        d1_data  <= s_axis_video_tdata;
+        d1_user  <= s_axis_video_tuser;
+        d1_last  <= s_axis_video_tlast;
+        d1_draw  <= in_frame;
+        d1_bank  <= sbank_n;
+        d1_ring  <= ring;
+        m_valid  <= d1_valid;
+        m_user   <= d1_user;
+        m_last   <= d1_last;
+        m_data   <= d1_data;
+        r        := to_integer(d1_ring);
+        if d1_draw = '1' and r < SCALES_g then
+          if d1_bank = '1' then
+            r := r + SCALES_g;
+          end if;
+          if rd_bits(r) = '1' then
+            m_data <= COLOURS_c(to_integer(d1_ring));
+          end if;
+        end if;
+      end if;
+      if rst = '1' then
+        d1_valid <= '0';
+        m_valid  <= '0';
+      end if;
+    end if;
+  end process video;
+
+  s_axis_video_tready <= ce;
+  m_axis_video_tdata  <= m_data;
+  m_axis_video_tvalid <= m_valid;
+  m_axis_video_tuser  <= m_user;
+  m_axis_video_tlast  <= m_last;
+
+end architecture rtl;
