@@ -15,7 +15,7 @@ help:
 	@echo "make setup   create .venv and install the project with test extras (idempotent)"
 	@echo "make test    run the test suite (pytest -n $(JOBS), slow tests excluded)"
 	@echo "make test-all  run every test, slow full-frame ones included"
-	@echo "make sim     run the accelerator on the bundled default image (model backend until the RTL lands)"
+	@echo "make sim     the complete accelerator in GHDL on the bundled image (IMAGE=, SCALES=, SECTORS=, THRESHOLD=)"
 	@echo "make bench   model speed benchmark (scripts/bench_model.py)"
 	@echo "make bench-sim  RTL simulation speed, one 640x480 frame (scripts/bench_sim.py)"
 	@echo "make eval    compare-fast and rotation-bench against OpenCV on the evaluation photos (STEP=1: ~6 min)"
@@ -41,10 +41,8 @@ test-all: $(STAMP)
 	$(BIN)/python -m pytest -n $(JOBS) tb
 
 sim: $(STAMP)
-	@mkdir -p build/sim
-	$(BIN)/orb-accel extract $(if $(IMAGE),$(IMAGE),--default-image) --backend model \
-		--scales $(SCALES) --sectors $(SECTORS) --threshold $(THRESHOLD) \
-		--out build/sim/features.csv --overlay build/sim/overlay.png
+	$(BIN)/python scripts/sim_accel.py $(if $(IMAGE),--image $(IMAGE)) \
+		--scales $(SCALES) --sectors $(SECTORS) --threshold $(THRESHOLD) --out-dir build/sim
 
 bench: $(STAMP)
 	$(BIN)/python scripts/bench_model.py

@@ -79,7 +79,6 @@ architecture rtl of orb_feat_mem is
   type u16_pair_t is array (0 to 1) of unsigned(15 downto 0);
   type u32_pair_t is array (0 to 1) of unsigned(31 downto 0);
 
-  signal mem : mem_t := (others => (others => '0'));
 
   -- write side
   signal wr_en    : std_logic;
@@ -180,15 +179,18 @@ begin
     wr_data <= w;
   end process pack;
 
-  -- Simple dual-port RAM: one write port (the stream), one registered read port (the CPU).
+  -- Simple dual-port RAM: one write port (the stream), one registered read port (the CPU),
+  -- read-first. A process variable: one value per word for the simulator instead of a signal
+  -- per bit (2 * DEPTH_g * 320 of them).
   ram : process (clk) is
+    variable mem : mem_t := (others => (others => '0'));
   begin
     if rising_edge(clk) then
-      if wr_en = '1' then
-        mem(to_integer(wr_addr)) <= wr_data;
-      end if;
       if mem_rd_en = '1' then
         q <= mem(to_integer(unsigned(mem_rd_addr(SLOT_BITS_c + 6 downto 6))));
+      end if;
+      if wr_en = '1' then
+        mem(to_integer(wr_addr)) := wr_data;
       end if;
     end if;
   end process ram;

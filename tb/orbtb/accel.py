@@ -134,6 +134,12 @@ class AccelBench:
             return (c[..., 0] << 16) | (c[..., 2] << 8) | c[..., 1]
         return (c[..., 0] << 16) | (c[..., 1] << 8) | c[..., 2]
 
+    def shown(self, rgb: np.ndarray) -> np.ndarray:
+        """The (H, W, 3) RGB video the overlay passes for an input frame (grey for LUMA)."""
+        if self.input == "LUMA":
+            return np.repeat(rgb_to_luma(rgb)[..., None], 3, axis=2)
+        return rgb
+
     def luma(self, rgb: np.ndarray) -> np.ndarray:
         return rgb_to_luma(rgb)
 
