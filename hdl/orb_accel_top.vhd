@@ -29,8 +29,8 @@ entity orb_accel_top is
     BLOCK_LOG2_g : positive range 2 to 5     := 3      -- overlay block size 2^BLOCK_LOG2_g
   );
   port (
-    clk                 : in    std_logic;
-    rst                 : in    std_logic;
+    clk : in    std_logic;
+    rst : in    std_logic;
     -- video in
     s_axis_video_tdata  : in    std_logic_vector(8 + 16 * boolean'pos(INPUT_g /= "LUMA") - 1 downto 0);
     s_axis_video_tvalid : in    std_logic;
@@ -44,26 +44,26 @@ entity orb_accel_top is
     m_axis_video_tuser  : out   std_logic;
     m_axis_video_tlast  : out   std_logic;
     -- AXI4-Lite control and feature memory
-    s_axil_awaddr       : in    std_logic_vector(maximum(18, clog2(MEM_BASE_c + 2 * 64 * MEM_DEPTH_g)) - 1 downto 0);
-    s_axil_awprot       : in    std_logic_vector(2 downto 0);
-    s_axil_awvalid      : in    std_logic;
-    s_axil_awready      : out   std_logic;
-    s_axil_wdata        : in    std_logic_vector(31 downto 0);
-    s_axil_wstrb        : in    std_logic_vector(3 downto 0);
-    s_axil_wvalid       : in    std_logic;
-    s_axil_wready       : out   std_logic;
-    s_axil_bresp        : out   std_logic_vector(1 downto 0);
-    s_axil_bvalid       : out   std_logic;
-    s_axil_bready       : in    std_logic;
-    s_axil_araddr       : in    std_logic_vector(maximum(18, clog2(MEM_BASE_c + 2 * 64 * MEM_DEPTH_g)) - 1 downto 0);
-    s_axil_arprot       : in    std_logic_vector(2 downto 0);
-    s_axil_arvalid      : in    std_logic;
-    s_axil_arready      : out   std_logic;
-    s_axil_rdata        : out   std_logic_vector(31 downto 0);
-    s_axil_rresp        : out   std_logic_vector(1 downto 0);
-    s_axil_rvalid       : out   std_logic;
-    s_axil_rready       : in    std_logic;
-    irq                 : out   std_logic
+    s_axil_awaddr  : in    std_logic_vector(maximum(18, clog2(MEM_BASE_c + 2 * 64 * MEM_DEPTH_g)) - 1 downto 0);
+    s_axil_awprot  : in    std_logic_vector(2 downto 0);
+    s_axil_awvalid : in    std_logic;
+    s_axil_awready : out   std_logic;
+    s_axil_wdata   : in    std_logic_vector(31 downto 0);
+    s_axil_wstrb   : in    std_logic_vector(3 downto 0);
+    s_axil_wvalid  : in    std_logic;
+    s_axil_wready  : out   std_logic;
+    s_axil_bresp   : out   std_logic_vector(1 downto 0);
+    s_axil_bvalid  : out   std_logic;
+    s_axil_bready  : in    std_logic;
+    s_axil_araddr  : in    std_logic_vector(maximum(18, clog2(MEM_BASE_c + 2 * 64 * MEM_DEPTH_g)) - 1 downto 0);
+    s_axil_arprot  : in    std_logic_vector(2 downto 0);
+    s_axil_arvalid : in    std_logic;
+    s_axil_arready : out   std_logic;
+    s_axil_rdata   : out   std_logic_vector(31 downto 0);
+    s_axil_rresp   : out   std_logic_vector(1 downto 0);
+    s_axil_rvalid  : out   std_logic;
+    s_axil_rready  : in    std_logic;
+    irq            : out   std_logic
   );
 end entity orb_accel_top;
 
@@ -91,19 +91,19 @@ architecture rtl of orb_accel_top is
   signal ov_out     : std_logic_vector(23 downto 0);
 
   -- luma stream, frame gate, checked stream
-  signal l_data  : std_logic_vector(7 downto 0);
-  signal l_valid : std_logic;
-  signal l_ready : std_logic;
-  signal l_user  : std_logic;
-  signal l_last  : std_logic;
-  signal gate_open : std_logic := '1';
-  signal g_valid : std_logic;
-  signal g_ready : std_logic;
-  signal c_data  : std_logic_vector(7 downto 0);
-  signal c_valid : std_logic;
-  signal c_ready : std_logic;
-  signal c_user  : std_logic;
-  signal c_last  : std_logic;
+  signal l_data          : std_logic_vector(7 downto 0);
+  signal l_valid         : std_logic;
+  signal l_ready         : std_logic;
+  signal l_user          : std_logic;
+  signal l_last          : std_logic;
+  signal gate_open       : std_logic := '1';
+  signal g_valid         : std_logic;
+  signal g_ready         : std_logic;
+  signal c_data          : std_logic_vector(7 downto 0);
+  signal c_valid         : std_logic;
+  signal c_ready         : std_logic;
+  signal c_user          : std_logic;
+  signal c_last          : std_logic;
   signal frame_end       : std_logic;
   signal frame_bad       : std_logic;
   signal frame_abort     : std_logic;

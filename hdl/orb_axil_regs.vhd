@@ -66,16 +66,16 @@ entity orb_axil_regs is
     mode_orb   : out   std_logic;
     threshold  : out   std_logic_vector(7 downto 0);
     -- status from the other blocks
-    frame_count  : in    std_logic_vector(31 downto 0);
-    dropped      : in    std_logic_vector(31 downto 0);
-    proto_errors : in    std_logic_vector(31 downto 0);
-    bank_ready   : in    std_logic_vector(BANKS_c - 1 downto 0);
-    last_bank    : in    std_logic;
-    overflow     : in    std_logic;
-    bank0_count  : in    std_logic_vector(15 downto 0);
-    bank0_frame  : in    std_logic_vector(15 downto 0);
-    bank1_count  : in    std_logic_vector(15 downto 0);
-    bank1_frame  : in    std_logic_vector(15 downto 0);
+    frame_count    : in    std_logic_vector(31 downto 0);
+    dropped        : in    std_logic_vector(31 downto 0);
+    proto_errors   : in    std_logic_vector(31 downto 0);
+    bank_ready     : in    std_logic_vector(BANKS_c - 1 downto 0);
+    last_bank      : in    std_logic;
+    overflow       : in    std_logic;
+    bank0_count    : in    std_logic_vector(15 downto 0);
+    bank0_frame    : in    std_logic_vector(15 downto 0);
+    bank1_count    : in    std_logic_vector(15 downto 0);
+    bank1_frame    : in    std_logic_vector(15 downto 0);
     overrun        : in    std_logic_vector(31 downto 0);
     overflow_count : in    std_logic_vector(31 downto 0);
     desc_lost      : in    std_logic_vector(31 downto 0);
@@ -180,11 +180,11 @@ architecture rtl of orb_axil_regs is
   signal rel_bank    : std_logic_vector(release_bank'range) := (others => '0');
 
   -- register words as read (reserved bits 0, pulse fields 0)
-  signal ctrl_word : word_t;
-  signal thr_word  : word_t;
-  signal ien_word  : word_t;
-  signal ist_word  : word_t;
-  signal stat_word : word_t;
+  signal ctrl_word  : word_t;
+  signal thr_word   : word_t;
+  signal ien_word   : word_t;
+  signal ist_word   : word_t;
+  signal stat_word  : word_t;
   signal bank0_word : word_t;
   signal bank1_word : word_t;
 
@@ -205,14 +205,14 @@ begin
     report "orb_axil_regs: IRQ_ENABLE and IRQ_STATUS must hold frame_done at bit 0 and error at bit 1"
     severity failure;
 
-  ctrl_word <= put(put(ZERO_c, (0 => ctrl_enable), CTRL_ENABLE_MSB_c, CTRL_ENABLE_LSB_c),
+  ctrl_word  <= put(put(ZERO_c, (0 => ctrl_enable), CTRL_ENABLE_MSB_c, CTRL_ENABLE_LSB_c),
                    ctrl_mode, CTRL_MODE_MSB_c, CTRL_MODE_LSB_c);
-  thr_word  <= put(ZERO_c, thr, THRESHOLD_THRESHOLD_MSB_c, THRESHOLD_THRESHOLD_LSB_c);
-  ien_word  <= put(ZERO_c, irq_en, IRQ_ENABLE_ERROR_MSB_c, IRQ_ENABLE_FRAME_DONE_LSB_c);
-  ist_word  <= put(ZERO_c, irq_st, IRQ_STATUS_ERROR_MSB_c, IRQ_STATUS_FRAME_DONE_LSB_c);
-  stat_word <= put(put(put(ZERO_c, bank_ready, STATUS_BANK_READY_MSB_c, STATUS_BANK_READY_LSB_c),
+  thr_word   <= put(ZERO_c, thr, THRESHOLD_THRESHOLD_MSB_c, THRESHOLD_THRESHOLD_LSB_c);
+  ien_word   <= put(ZERO_c, irq_en, IRQ_ENABLE_ERROR_MSB_c, IRQ_ENABLE_FRAME_DONE_LSB_c);
+  ist_word   <= put(ZERO_c, irq_st, IRQ_STATUS_ERROR_MSB_c, IRQ_STATUS_FRAME_DONE_LSB_c);
+  stat_word  <= put(put(put(ZERO_c, bank_ready, STATUS_BANK_READY_MSB_c, STATUS_BANK_READY_LSB_c),
                        (0 => last_bank), STATUS_LAST_BANK_MSB_c, STATUS_LAST_BANK_LSB_c),
-                   (0 => overflow), STATUS_OVERFLOW_MSB_c, STATUS_OVERFLOW_LSB_c);
+                   (0     => overflow), STATUS_OVERFLOW_MSB_c, STATUS_OVERFLOW_LSB_c);
   bank0_word <= put(put(ZERO_c, bank0_count, BANK0_INFO_COUNT_MSB_c, BANK0_INFO_COUNT_LSB_c),
                     bank0_frame, BANK0_INFO_FRAME_MSB_c, BANK0_INFO_FRAME_LSB_c);
   bank1_word <= put(put(ZERO_c, bank1_count, BANK1_INFO_COUNT_MSB_c, BANK1_INFO_COUNT_LSB_c),
