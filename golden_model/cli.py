@@ -118,8 +118,8 @@ def run_backend(backend: str, img: np.ndarray, cfg: Config) -> Features:
 
         feats, report = extract_rtl(img, cfg)
         print(
-            f"RTL: {report['cycles']} clocks for {report['pixels']} pixels, last feature "
-            f"{report['latency_cycles']} clocks after the last pixel, {report['sim_wall_s']} s simulated; "
+            f"RTL (orb_accel_top): {report['cycles']} clocks for {report['pixels']} pixels, end-of-frame "
+            f"record {report['latency_cycles']} clocks after the last pixel, {report['sim_wall_s']} s simulated; "
             f"dropped features: {report['dropped']}, descriptors lost: {report['desc_lost']}"
         )
         return feats

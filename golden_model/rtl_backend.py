@@ -1,8 +1,13 @@
 # SPDX-License-Identifier: MIT
 """`--backend rtl`: run the VHDL accelerator in GHDL (through the cocotb testbench) on one image.
 
-Needs a source checkout (hdl/ and tb/ next to this package) and GHDL; generics come from the
-image size and the options. Both modes run: orb (sectors and descriptors) and fast.
+By default the complete accelerator, orb_accel_top, as `make sim` runs it: the CPU model writes
+the registers over AXI4-Lite, the frame streams in (8-bit luma, or 24-bit RGB for a colour
+array), and the features are read back from the feature memory (MEM_DEPTH_g = 4096 slots per
+bank: a frame with more than 4,095 features is truncated, and the report says how many).
+`top="detect"` runs orb_detect_top alone (its feature stream monitored directly; the simulation
+speed benchmark uses it). Needs a source checkout (hdl/ and tb/ next to this package) and GHDL;
+generics come from the image size and the options. Both modes run: orb and fast.
 """
 
 from __future__ import annotations
@@ -25,8 +30,17 @@ class RtlUnavailable(RuntimeError):
     """The RTL backend cannot run here (no source checkout, no simulator, unsupported mode)."""
 
 
-def extract_rtl(img: np.ndarray, cfg: Config, log_dir: Path | None = None) -> tuple[Features, dict]:
-    """Features of one frame from the RTL, and the simulation report (cycles, latency, wall time)."""
+ACCEL_MEM_DEPTH = 4096
+
+
+def extract_rtl(img: np.ndarray, cfg: Config, log_dir: Path | None = None, top: str = "accel") -> tuple[Features, dict]:
+    """Features of one frame from the RTL, and the simulation report (cycles, pixels,
+    latency_cycles, sim_wall_s, dropped, desc_lost). `img` is (H, W) luma, or (H, W, 3) RGB for
+    the accelerator top."""
+    if top == "accel":
+        return _extract_accel(img, cfg, log_dir)
+    if top != "detect":
+        raise ValueError(f"unknown RTL top {top!r}")
     if not (ROOT / "hdl").is_dir() or not (ROOT / "tb" / "orbtb").is_dir():
         raise RtlUnavailable(f"the RTL backend needs the source checkout (hdl/, tb/) next to {ROOT / 'golden_model'}")
     sys.path.insert(0, str(ROOT / "tb"))
@@ -56,4 +70,41 @@ def extract_rtl(img: np.ndarray, cfg: Config, log_dir: Path | None = None) -> tu
         feats = read_csv(out, sectors_total=cfg.sectors)
         report = json.loads(out.with_suffix(".json").read_text())
         report["total_wall_s"] = round(time.perf_counter() - t0, 2)
+    return feats, report
+
+
+def _extract_accel(img: np.ndarray, cfg: Config, log_dir: Path | None) -> tuple[Features, dict]:
+    if not (ROOT / "hdl").is_dir() or not (ROOT / "tb" / "orbtb").is_dir():
+        raise RtlUnavailable(f"the RTL backend needs the source checkout (hdl/, tb/) next to {ROOT / 'golden_model'}")
+    sys.path.insert(0, str(ROOT / "tb"))
+    from orbtb.runner import ToolMissing, run
+
+    log_dir = log_dir or ROOT / "build" / "rtl"
+    log_dir.mkdir(parents=True, exist_ok=True)
+    with tempfile.TemporaryDirectory() as tmp:
+        job = Path(tmp)
+        np.save(job / "input.npy", np.ascontiguousarray(img, dtype=np.uint8))
+        generics = {"WIDTH_g": cfg.width, "HEIGHT_g": cfg.height, "SCALES_g": cfg.scales,
+                    "SECTORS_g": cfg.sectors_per_quadrant, "MEM_DEPTH_g": ACCEL_MEM_DEPTH,
+                    "INPUT_g": "LUMA" if img.ndim == 2 else "RGB"}  # fmt: skip
+        env = {"ORB_JOB_DIR": str(job), "ORB_JOB_THRESHOLD": str(cfg.threshold), "ORB_JOB_MODE": cfg.mode,
+               "ORB_JOB_OVERLAY": "0", "COCOTB_REWRITE_ASSERTION_FILES": "test_*.py"}  # fmt: skip
+        log = log_dir / "sim.log"
+        what = f"{cfg.width}x{cfg.height}, {cfg.scales} scale(s), {cfg.mode} mode"
+        print(f"simulating orb_accel_top {what} in GHDL (log: {log}) ...", flush=True)
+        t0 = time.perf_counter()
+        try:
+            run("orb_accel_top", "test_orb_accel_top", generics, env=env, testcase="job", log_file=log)
+        except ToolMissing as exc:
+            raise RtlUnavailable(str(exc)) from None
+        except (SystemExit, RuntimeError) as exc:
+            raise RtlUnavailable(f"the simulation failed ({exc}); see {log}") from None
+        if not (job / "job.json").exists():
+            raise RtlUnavailable(f"the simulation wrote no features; see {log}")
+        feats = read_csv(job / "features.csv", sectors_total=cfg.sectors)
+        r = json.loads((job / "job.json").read_text())
+    report = {"cycles": r["frame_cycles"], "pixels": r["pixels"], "latency_cycles": r["latency_cycles"],
+              "sim_wall_s": r["frame_sim_wall_s"], "dropped": r["dropped_merge"] + r["truncated"],
+              "desc_lost": r["desc_lost"], "truncated": r["truncated"],
+              "total_wall_s": round(time.perf_counter() - t0, 2)}  # fmt: skip
     return feats, report

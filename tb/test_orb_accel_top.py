@@ -7,9 +7,10 @@ bank by bank, the overlay video out; everything compared with the golden model.
   AXI4-Lite channels; every published frame bit-exact (features, scores, sectors, descriptors),
   frame numbers consecutive, the end-of-frame record consistent; the overlay output of frame k+1
   equals golden_model.overlay.render_marker_overlay(frame k+1, features of frame k).
-- faults: short line, long line, too few lines, missing start of frame and a soft reset in
-  mid-frame, each followed by a good frame: faulty frames are never published, counted in
-  PROTO_ERRORS / DISCARDED and raise the error interrupt; every good frame is bit-exact.
+- faults: short line, long line, too few lines, missing start of frame, start of frame in mid-line,
+  too many lines, a soft reset and rst in mid-frame, each followed by a good frame: faulty frames
+  are never published, counted in PROTO_ERRORS / DISCARDED and raise the error interrupt; every
+  good frame is bit-exact.
 - overflow_overrun (small MEM_DEPTH): a frame with more features than a bank holds is truncated
   to the first DEPTH - 1 in arrival order, flagged in its record and counted; frames arriving
   while the CPU holds both banks are skipped (OVERRUN) and the frame numbers show the gap.
@@ -145,10 +146,10 @@ async def faults(dut) -> None:
         for y in range(lines):
             n = (line_len or {}).get(y, w)
             for x in range(n):
-                out.append((int(packed[y, x % w]), int(sof and x == 0 and y == 0), int(x == n - 1)))
+                out.append((int(packed[y % h, x % w]), int(sof and x == 0 and y == 0), int(x == n - 1)))
         return out
 
-    cpu_task = cocotb.start_soon(cpu(5))
+    cpu_task = cocotb.start_soon(cpu(7))
     expected_frames: list[tuple[int, np.ndarray]] = []
     await b.send(good[0], gaps)  # detector frame 0
     expected_frames.append((0, good[0]))
@@ -164,15 +165,21 @@ async def faults(dut) -> None:
     await send_words(beats(good[0], 3, sof=False))  # missing start of frame: discarded
     await b.send(good[0], gaps)  # frame 7
     expected_frames.append((7, good[0]))
+    # early start of frame: 3 lines and half a line, then the next frame's tuser in mid-line
+    await send_words(beats(good[1], 3) + [(int(b.pack(good[1])[3, x]), 0, 0) for x in range(w // 2)])  # frame 8
+    await b.send(good[1], gaps)  # frame 9
+    expected_frames.append((9, good[1]))
+    await send_words(beats(good[2], h + 2))  # too many lines: frame 10 is good, 2 lines discarded
+    expected_frames.append((10, good[2]))
     await cpu_task
     assert [n for n, _ in published] == [n for n, _ in expected_frames], f"published frames {published}"
     for (n, feats), (_, rgb) in zip(published, expected_frames, strict=True):
         check_frame(feats, expected(b, rgb, t), f"frame {n}")
-    assert await b.read_reg(regs.PROTO_ERRORS) == 3
+    assert await b.read_reg(regs.PROTO_ERRORS) == 4
     # discarded: the rest of the short-line frame after line 5, the 4 excess pixels of the long
-    # line and the lines after it, the 3 lines without a start of frame
-    assert await b.read_reg(regs.DISCARDED) == (h - 6) * w + 4 + (h - 8) * w + 3 * w
-    assert await b.read_reg(regs.FRAME_COUNT) == 8
+    # line and the lines after it, the 3 lines without a start of frame, the 2 extra lines
+    assert await b.read_reg(regs.DISCARDED) == (h - 6) * w + 4 + (h - 8) * w + 3 * w + 2 * w
+    assert await b.read_reg(regs.FRAME_COUNT) == 11
     # soft reset in mid-frame: the rest of that frame is discarded, counters restart, the next
     # frame is frame 0 again and bit-exact
     task = cocotb.start_soon(b.send(good[1], Gaps()))
@@ -186,6 +193,19 @@ async def faults(dut) -> None:
     feats, record = await read_frame(b)
     assert record.frame == 0, record
     check_frame(feats, expected(b, good[2], t), "frame after the soft reset")
+    # rst in mid-frame: everything restarts (registers too), the next frame is frame 0 and exact
+    task = cocotb.start_soon(b.send(good[3], Gaps()))
+    await ClockCycles(dut.clk, w * (h // 3))
+    dut.rst.value = 1
+    await ClockCycles(dut.clk, 3)
+    dut.rst.value = 0
+    await task
+    assert await b.read_reg(regs.DISCARDED) > 0, "the rest of the frame cut by rst was not counted"
+    await b.configure(threshold=t)
+    await b.send(good[0], gaps)
+    feats, record = await read_frame(b)
+    assert record.frame == 0, record
+    check_frame(feats, expected(b, good[0], t), "frame after rst")
 
 
 @cocotb.test()
@@ -298,8 +318,9 @@ if "ORB_JOB_DIR" in os.environ:
     @cocotb.test()
     async def job(dut) -> None:
         """One image through the accelerator as a CPU drives it: configure over AXI4-Lite, stream
-        the frame, read its bank, then stream it once more (accelerator disabled) to capture the
-        overlay of its features. Writes features.csv, overlay.npy and job.json to ORB_JOB_DIR."""
+        the frame, read its bank, then (unless ORB_JOB_OVERLAY is 0) stream it once more with the
+        accelerator disabled to capture the overlay of its features. Writes features.csv,
+        overlay.npy and job.json to ORB_JOB_DIR. ORB_JOB_MODE: orb (default) or fast."""
         import json
         import time
         from pathlib import Path
@@ -310,9 +331,11 @@ if "ORB_JOB_DIR" in os.environ:
         progress = out / "progress.txt"
         rgb = np.load(out / "input.npy")
         t = int(os.environ["ORB_JOB_THRESHOLD"])
+        mode = os.environ.get("ORB_JOB_MODE", "orb")
+        with_overlay = os.environ.get("ORB_JOB_OVERLAY", "1") != "0"
         b = AccelBench(dut)
         await b.start()
-        await b.configure(threshold=t)
+        await b.configure(threshold=t, mode=mode)
         wall = time.perf_counter()
         pixels = b.width * b.height
         edge = {"n": 0, "done": -1}
@@ -343,19 +366,22 @@ if "ORB_JOB_DIR" in os.environ:
         sim_frame_s = time.perf_counter() - wall
         reporter.cancel()
         progress.write_text(f"readback 0 {pixels} {sim_frame_s:.1f}\n")
-        await b.configure(threshold=t, enable=0)
-        b.start_capture()
-        second = cocotb.start_soon(b.send(rgb))
+        second = None
+        if with_overlay:
+            await b.configure(threshold=t, mode=mode, enable=0)
+            b.start_capture()
+            second = cocotb.start_soon(b.send(rgb))
         await b.write_reg(regs.IRQ_STATUS, 1)
         status = await b.read_reg(regs.STATUS)
         bank = regs.STATUS.field("last_bank").get(status)
-        feats, record = await b.read_bank(bank)
+        feats, record = await b.read_bank(bank, mode)
         await b.release(bank)
-        await second
-        while not b.captured:
-            await RisingEdge(dut.clk)
         write_csv(feats, out / "features.csv")
-        np.save(out / "overlay.npy", b.captured[0])
+        if second is not None:
+            await second
+            while not b.captured:
+                await RisingEdge(dut.clk)
+            np.save(out / "overlay.npy", b.captured[0])
         report = {
             "features": len(feats),
             "frame_cycles": last_pixel - first + 1,

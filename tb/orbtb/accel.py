@@ -126,10 +126,11 @@ class AccelBench:
 
     # ---- video ---------------------------------------------------------------------------------
     def pack(self, rgb: np.ndarray) -> np.ndarray:
-        """tdata words of an (H, W, 3) RGB frame in this configuration's packing."""
+        """tdata words of an (H, W, 3) RGB frame in this configuration's packing (for LUMA also an
+        (H, W) grey frame, sent as it is)."""
         c = rgb.astype(np.int64)
         if self.input == "LUMA":
-            return rgb_to_luma(rgb).astype(np.int64)
+            return c if rgb.ndim == 2 else rgb_to_luma(rgb).astype(np.int64)
         if self.input == "RBG":
             return (c[..., 0] << 16) | (c[..., 2] << 8) | c[..., 1]
         return (c[..., 0] << 16) | (c[..., 1] << 8) | c[..., 2]
