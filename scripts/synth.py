@@ -468,7 +468,12 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--no-sta", action="store_true", help="skip the -abc9 timing pass")
     ap.add_argument("--timeout", type=float, default=3600, help="seconds per yosys run (default 3600)")
     ap.add_argument("--out", type=Path, default=OUT, help=f"output directory (default {OUT.relative_to(ROOT)})")
+    ap.add_argument("--top", choices=("orb_detect_top", "orb_accel_top"), default="orb_detect_top",
+                    help="entity to synthesise (orb_accel_top: the complete accelerator with its defaults "
+                    "MEM_DEPTH_g 1024, INPUT_g RGB)")  # fmt: skip
     args = ap.parse_args(argv)
+    global TOP
+    TOP = args.top
 
     ghdl, yosys = find_tools()
     configs = args.config or [Config(*c) for c in DEFAULT_CONFIGS]

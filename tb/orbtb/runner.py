@@ -47,6 +47,7 @@ SOURCES = (
     "orb_overlay.vhd",
     "orb_detect_top.vhd",
     "orb_accel_top.vhd",
+    "orb_accel_zynq.vhd",
 )
 
 
