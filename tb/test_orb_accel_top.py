@@ -284,6 +284,7 @@ CONFIGS = {
     "rgb_2scales": (128, 96, 2, 8, 256, "RGB"),
     "rbg_1scale_small_mem": (96, 64, 1, 4, 16, "RBG"),
     "luma_1scale": (96, 64, 1, 16, 256, "LUMA"),
+    "rgb_4scales": (192, 160, 4, 8, 1024, "RGB"),
 }
 
 
@@ -296,6 +297,10 @@ def run_accel(config: str, testcase: list[str] | None = None, env: dict[str, str
 @pytest.mark.parametrize("config", ["rgb_2scales", "luma_1scale"])
 def test_accel_stream_faults_registers(config: str) -> None:
     run_accel(config, testcase=["photo_stream", "faults", "registers"])
+
+
+def test_accel_four_scales() -> None:
+    run_accel("rgb_4scales", testcase=["photo_stream"])
 
 
 def test_accel_overflow_overrun() -> None:
