@@ -9,7 +9,7 @@ SECTORS ?= 32
 THRESHOLD ?= 20
 JOBS   ?= 2
 
-.PHONY: setup test test-all sim bench bench-sim eval lint synth tools pattern clean help
+.PHONY: setup test test-all sim bench bench-sim eval lint synth netlist-sim tools pattern clean help
 
 help:
 	@echo "make setup   create .venv and install the project with test extras (idempotent)"
@@ -21,6 +21,7 @@ help:
 	@echo "make eval    compare-fast and rotation-bench against OpenCV on the evaluation photos (STEP=1: ~6 min)"
 	@echo "make lint    ruff over the Python sources; GHDL synth check and vsg style check of hdl/"
 	@echo "make synth   LUT/FF/BRAM/DSP and logic-delay estimate of orb_detect_top (GHDL + yosys; ~10 min)"
+	@echo "make netlist-sim  unit tests on GHDL's synthesised netlists (K=entity: only those; docs/netlist-sim.md)"
 	@echo "make tools   which of ghdl, yosys, python3 are installed, and how to install the rest"
 
 $(STAMP): pyproject.toml
@@ -69,6 +70,12 @@ CONFIG ?=
 synth:
 	@sh scripts/check_tools.sh ghdl yosys python3
 	$(PYTHON) scripts/synth.py --jobs $(JOBS) $(if $(CONFIG),--config $(CONFIG))
+
+# The cocotb tests of docs/netlist-sim.md on `ghdl synth --out=vhdl` netlists; K=orb_overlay runs one entity.
+K ?=
+netlist-sim: $(STAMP)
+	@sh scripts/check_tools.sh ghdl
+	$(BIN)/python scripts/netlist_sim.py $(foreach k,$(K),-k $(k))
 
 tools:
 	@sh scripts/check_tools.sh
