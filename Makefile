@@ -21,7 +21,7 @@ help:
 	@echo "make eval    compare-fast and rotation-bench against OpenCV on the evaluation photos (STEP=1: ~6 min)"
 	@echo "make lint    ruff over the Python sources; GHDL synth check and vsg style check of hdl/"
 	@echo "make synth   LUT/FF/BRAM/DSP and logic-delay estimate of orb_detect_top (GHDL + yosys; ~10 min)"
-	@echo "make netlist-sim  unit tests on GHDL's synthesised netlists (K=entity: only those; docs/netlist-sim.md)"
+	@echo "make netlist-sim  unit tests on GHDL's synthesised netlists (~15 min; K=entity, QUICK=1; docs/netlist-sim.md)"
 	@echo "make tools   which of ghdl, yosys, python3 are installed, and how to install the rest"
 
 $(STAMP): pyproject.toml
@@ -71,11 +71,12 @@ synth:
 	@sh scripts/check_tools.sh ghdl yosys python3
 	$(PYTHON) scripts/synth.py --jobs $(JOBS) $(if $(CONFIG),--config $(CONFIG))
 
-# The cocotb tests of docs/netlist-sim.md on `ghdl synth --out=vhdl` netlists; K=orb_overlay runs one entity.
+# The cocotb tests of docs/netlist-sim.md on `ghdl synth --out=vhdl` netlists (~15 min); K=orb_overlay runs one
+# entity, QUICK=1 leaves out the two slow cases (~3 min).
 K ?=
 netlist-sim: $(STAMP)
 	@sh scripts/check_tools.sh ghdl
-	$(BIN)/python scripts/netlist_sim.py $(foreach k,$(K),-k $(k))
+	$(BIN)/python scripts/netlist_sim.py $(foreach k,$(K),-k $(k)) $(if $(QUICK),--quick)
 
 tools:
 	@sh scripts/check_tools.sh

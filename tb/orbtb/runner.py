@@ -25,6 +25,7 @@ import subprocess
 import time
 from collections.abc import Mapping, Sequence
 from pathlib import Path
+from typing import Any
 
 ROOT = Path(__file__).resolve().parents[2]
 HDL = ROOT / "hdl"
@@ -201,10 +202,38 @@ def fix_memories(netlist_text: str, zero_init: bool = True) -> tuple[str, int, i
     return "".join(out), reads, inits
 
 
-def synth_netlist(toplevel: str, generics: Mapping[str, int | str], build_dir: Path) -> tuple[Path, dict[str, object]]:
+_SELF_ASSIGN = re.compile(r"^\s*(\w+) <= \1; -- \(signal\)\n", re.M)
+
+
+def merge_duplicate_signals(netlist_text: str) -> tuple[str, list[str]]:
+    """Netlist without GHDL 2.0's duplicate net names; returns the text and the names merged.
+
+    GHDL names the net of an instance's output `<instance>_<port>`. When the RTL has a signal of
+    that very name connected to that output (orb_accel_top: `mem_frame_done` on `mem.frame_done`),
+    the writer declares `signal mem_frame_done` twice in one architecture and adds
+    `mem_frame_done <= mem_frame_done;` (GHDL rejects the file; the Verilog output has the same
+    two `wire`s and `assign`, which yosys accepts). Both names stand for the same net, so the
+    second declaration and the self-assignment are dropped."""
+    merged: list[str] = []
+    out: list[str] = []
+    for chunk in re.split(r"(?m)(?=^architecture\b)", netlist_text):
+        for m in list(_SELF_ASSIGN.finditer(chunk)):
+            name = m.group(1)
+            decls = list(re.finditer(rf"(?m)^\s*signal {name} : [^;]+;\n", chunk))
+            if len(decls) < 2 or len({d.group(0) for d in decls}) != 1:
+                continue
+            chunk = chunk.replace(m.group(0), "", 1)
+            first = chunk.index(decls[0].group(0)) + len(decls[0].group(0))
+            chunk = chunk[:first] + chunk[first:].replace(decls[0].group(0), "")
+            merged.append(name)
+        out.append(chunk)
+    return "".join(out), merged
+
+
+def synth_netlist(toplevel: str, generics: Mapping[str, int | str], build_dir: Path) -> tuple[Path, dict[str, Any]]:
     """`ghdl synth --out=vhdl` of `toplevel` with `generics` into build_dir/<toplevel>.ghdl.vhd
-    (GHDL's output as is) and build_dir/<toplevel>.netlist.vhd (the same after fix_memories, unless
-    ORB_NETLIST_RAW=1), the file that is simulated.
+    (GHDL's output as is) and build_dir/<toplevel>.netlist.vhd (the same after fix_memories and
+    merge_duplicate_signals, unless ORB_NETLIST_RAW=1), the file that is simulated.
 
     Returns the netlist and a record (size, synthesis time, interface check) also written to
     build_dir/netlist.json and, when ORB_NETLIST_REPORT names a file, appended to it as a JSON line."""
@@ -230,11 +259,12 @@ def synth_netlist(toplevel: str, generics: Mapping[str, int | str], build_dir: P
         tail = "\n".join(log.read_text().splitlines()[-15:])
         raise RuntimeError(f"ghdl synth of {toplevel} failed (exit {rc}; {log}):\n{tail}")
     text = raw.read_text()
-    # ORB_NETLIST_RAW=1: simulate GHDL's output as is (no fix_memories)
+    # ORB_NETLIST_RAW=1: simulate GHDL's output as is (no fix-ups)
     raw_only = os.environ.get("ORB_NETLIST_RAW", "") not in ("", "0")
     fixed, reads, inits = (text, 0, 0) if raw_only else fix_memories(text)
+    fixed, merged = (fixed, []) if raw_only else merge_duplicate_signals(fixed)
     netlist.write_text(fixed)
-    record: dict[str, object] = {
+    record: dict[str, Any] = {
         "toplevel": toplevel,
         "generics": dict(generics),
         "netlist": str(netlist),
@@ -245,6 +275,7 @@ def synth_netlist(toplevel: str, generics: Mapping[str, int | str], build_dir: P
         "memories": len(re.findall(r"(?m)^\s*variable \w+ : \w+_type\b", text)),
         "guarded_reads": reads,
         "zero_initialised_memories": inits,
+        "merged_duplicate_signals": merged,
         "synth_s": round(seconds, 2),
         "interface_problems": check_netlist_interface(toplevel, text, generics),
     }
@@ -287,7 +318,7 @@ def run(
     runner = get_runner("ghdl")
     if netlist:
         netlist_file, record = synth_netlist(toplevel, generics, build_dir)
-        for problem in record["interface_problems"]:  # type: ignore[attr-defined]
+        for problem in record["interface_problems"]:
             print(f"orbtb.runner: netlist interface of {toplevel}: {problem}")
         sources = [*(HDL / s for s in PACKAGES), netlist_file]
     else:
