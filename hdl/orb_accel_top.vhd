@@ -97,6 +97,7 @@ architecture rtl of orb_accel_top is
   signal l_user          : std_logic;
   signal l_last          : std_logic;
   signal gate_open       : std_logic := '1';
+  signal gate_pass       : std_logic;
   signal g_valid         : std_logic;
   signal g_ready         : std_logic;
   signal c_data          : std_logic_vector(7 downto 0);
@@ -111,35 +112,28 @@ architecture rtl of orb_accel_top is
   signal discarded       : std_logic_vector(31 downto 0);
 
   -- features
-  signal f_data     : std_logic_vector(FEAT_BITS_c - 1 downto 0);
-  signal f_valid    : std_logic;
-  signal f_ready    : std_logic;
-  signal f_last     : std_logic;
-  signal mem_ready  : std_logic;
-  signal ovf_ready  : std_logic;
-  signal dropped    : std_logic_vector(31 downto 0);
-  signal bad_pixels : std_logic_vector(31 downto 0);
-  signal desc_lost  : std_logic_vector(31 downto 0);
-  signal frames     : unsigned(31 downto 0) := (others => '0');
+  signal f_data    : std_logic_vector(FEAT_BITS_c - 1 downto 0);
+  signal f_valid   : std_logic;
+  signal f_ready   : std_logic;
+  signal f_last    : std_logic;
+  signal mem_ready : std_logic;
+  signal ovf_ready : std_logic;
+  signal dropped   : std_logic_vector(31 downto 0);
+  signal desc_lost : std_logic_vector(31 downto 0);
+  signal frames    : unsigned(31 downto 0) := (others => '0');
 
   -- feature memory status and read port
   signal release_valid  : std_logic;
   signal release_bank   : std_logic_vector(BANK_RELEASE_BANK_MSB_c - BANK_RELEASE_BANK_LSB_c downto 0);
   signal mem_frame_done : std_logic;
   signal bank_ready     : std_logic_vector(1 downto 0);
-  signal bank_truncated : std_logic_vector(1 downto 0);
   signal last_bank      : std_logic;
   signal bank0_count    : std_logic_vector(15 downto 0);
   signal bank0_frame    : std_logic_vector(15 downto 0);
-  signal bank0_dropped  : std_logic_vector(15 downto 0);
-  signal bank0_trunc    : std_logic_vector(31 downto 0);
   signal bank1_count    : std_logic_vector(15 downto 0);
   signal bank1_frame    : std_logic_vector(15 downto 0);
-  signal bank1_dropped  : std_logic_vector(15 downto 0);
-  signal bank1_trunc    : std_logic_vector(31 downto 0);
   signal overrun        : std_logic_vector(31 downto 0);
   signal overflow_count : std_logic_vector(31 downto 0);
-  signal aborted        : std_logic_vector(31 downto 0);
   signal overflow       : std_logic;
   signal mem_rd_en      : std_logic;
   signal mem_rd_addr    : std_logic_vector(ADDR_BITS_c - 1 downto 0);
@@ -262,10 +256,11 @@ begin
     end if;
   end process gate;
 
-  g_valid <= l_valid when (l_user = '1' and enable = '1') or (l_user = '0' and gate_open = '1') else
-             '0';
-  l_ready <= g_ready when (l_user = '1' and enable = '1') or (l_user = '0' and gate_open = '1') else
-             '1';
+  gate_pass <= '1' when (l_user = '1' and enable = '1') or (l_user = '0' and gate_open = '1') else
+               '0';
+  g_valid   <= l_valid and gate_pass;
+  l_ready   <= g_ready when gate_pass = '1' else
+               '1';
 
   check : entity work.orb_video_check
     generic map (
@@ -319,7 +314,7 @@ begin
       m_axis_feat_tready  => f_ready,
       m_axis_feat_tlast   => f_last,
       dropped             => dropped,
-      bad_pixels          => bad_pixels,
+      bad_pixels          => open,
       desc_lost           => desc_lost
     );
 
@@ -354,19 +349,19 @@ begin
       release_bank       => release_bank(0),
       frame_done         => mem_frame_done,
       bank_ready         => bank_ready,
-      bank_truncated     => bank_truncated,
+      bank_truncated     => open,
       last_bank          => last_bank,
       bank0_count        => bank0_count,
       bank0_frame        => bank0_frame,
-      bank0_dropped      => bank0_dropped,
-      bank0_trunc        => bank0_trunc,
+      bank0_dropped      => open,
+      bank0_trunc        => open,
       bank1_count        => bank1_count,
       bank1_frame        => bank1_frame,
-      bank1_dropped      => bank1_dropped,
-      bank1_trunc        => bank1_trunc,
+      bank1_dropped      => open,
+      bank1_trunc        => open,
       overrun            => overrun,
       overflow           => overflow_count,
-      aborted            => aborted,
+      aborted            => open,
       mem_rd_en          => mem_rd_en,
       mem_rd_addr        => mem_rd_addr(MEM_BITS_c - 1 downto 0),
       mem_rd_data        => mem_rd_data

@@ -30,13 +30,9 @@ from golden_model.features import read_csv
 from golden_model.images import DEFAULT_IMAGE, ImageError, load_rgb_or_grey
 from golden_model.luma import rgb_to_luma
 from golden_model.overlay import render_marker_overlay
+from golden_model.rtl_backend import RtlUnavailable, run_accel_job
 
 ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT / "tb"))
-
-from orbtb.runner import ToolMissing, run  # noqa: E402
-
-MEM_DEPTH = 4096  # feature slots per bank in this simulation (4,095 features per frame)
 
 
 def progress_loop(path: Path, stop: threading.Event) -> None:
@@ -81,11 +77,6 @@ def main() -> int:
     job = out / "job"
     shutil.rmtree(job, ignore_errors=True)
     job.mkdir(parents=True)
-    np.save(job / "input.npy", rgb)
-    generics = {"WIDTH_g": w, "HEIGHT_g": h, "SCALES_g": cfg.scales, "SECTORS_g": cfg.sectors_per_quadrant,
-                "MEM_DEPTH_g": MEM_DEPTH, "INPUT_g": "RGB"}  # fmt: skip
-    env = {"ORB_JOB_DIR": str(job), "ORB_JOB_THRESHOLD": str(cfg.threshold),
-           "COCOTB_REWRITE_ASSERTION_FILES": "test_*.py"}  # fmt: skip
     log = out / "sim.log"
     print(f"make sim: {path.name} {w}x{h}, {cfg.scales} scale(s), {4 * cfg.sectors_per_quadrant} sectors, "
           f"threshold {cfg.threshold}: orb_accel_top in GHDL (log: {log})", flush=True)  # fmt: skip
@@ -94,20 +85,13 @@ def main() -> int:
     watcher.start()
     t0 = time.perf_counter()
     try:
-        run("orb_accel_top", "test_orb_accel_top", generics, env=env, testcase="job", log_file=log)
-    except ToolMissing as exc:
+        result = run_accel_job(rgb, cfg, job, log, overlay=True)
+    except RtlUnavailable as exc:
         print(f"error: {exc}", file=sys.stderr)
-        return 2
-    except (SystemExit, RuntimeError) as exc:
-        print(f"error: the simulation failed ({exc}); see {log}", file=sys.stderr)
         return 1
     finally:
         stop.set()
     sim_wall = time.perf_counter() - t0
-    if not (job / "job.json").exists():
-        print(f"error: the simulation wrote no result; see {log}", file=sys.stderr)
-        return 1
-    result = json.loads((job / "job.json").read_text())
     feats = read_csv(job / "features.csv", sectors_total=cfg.sectors)
     shutil.copyfile(job / "features.csv", out / "features.csv")
     expected = extract(rgb_to_luma(rgb), cfg)

@@ -24,16 +24,16 @@ import os
 import warnings
 
 import cocotb
-import cv2
 import numpy as np
 import pytest
-import skimage.data
 from cocotb.triggers import ClockCycles, RisingEdge
 
 from golden_model import regs
 from golden_model.features import Features
+from golden_model.luma import rgb_to_luma
 from golden_model.overlay import render_marker_overlay
 from orbtb.accel import OKAY, SLVERR, AccelBench
+from orbtb.images import colour_photo
 from orbtb.runner import run
 from orbtb.scoreboard import check_frame, expected_features
 from orbtb.unit import SIM_ENV
@@ -44,28 +44,8 @@ warnings.filterwarnings("ignore", category=DeprecationWarning)
 PHOTOS = ("astronaut", "coffee", "chelsea", "rocket")
 
 
-def photo(name: str, w: int, h: int) -> np.ndarray:
-    img = getattr(skimage.data, name)()
-    if img.ndim == 2:
-        img = np.repeat(img[..., None], 3, axis=2)
-    return cv2.resize(img[..., :3], (w, h), interpolation=cv2.INTER_AREA)
-
-
 def expected(b: AccelBench, rgb: np.ndarray, threshold: int, mode: str = "orb") -> Features:
-    return expected_features(b.luma(rgb), b.scales, threshold, mode, b.n)
-
-
-async def read_frame(b: AccelBench, mode: str = "orb", clear: bool = True):
-    """After a frame-done interrupt: clear it, read the newest bank, release it."""
-    await b.wait_irq(40 * b.width * b.height)
-    if clear:
-        await b.write_reg(regs.IRQ_STATUS, 1)
-    status = await b.read_reg(regs.STATUS)
-    bank = regs.STATUS.field("last_bank").get(status)
-    assert regs.STATUS.field("bank_ready").get(status) >> bank & 1, f"bank {bank} not ready: {status:#x}"
-    feats, record = await b.read_bank(bank, mode)
-    await b.release(bank)
-    return feats, record
+    return expected_features(rgb_to_luma(rgb), b.scales, threshold, mode, b.n)
 
 
 @cocotb.test()
@@ -74,7 +54,7 @@ async def photo_stream(dut) -> None:
     await b.start(pause_prob=0.3, seed=3)
     t = 20
     await b.configure(threshold=t)
-    frames = [photo(PHOTOS[i % len(PHOTOS)], b.width, b.height) for i in range(4)]
+    frames = [colour_photo(PHOTOS[i % len(PHOTOS)], b.width, b.height) for i in range(4)]
     b.start_capture()
 
     async def video() -> None:
@@ -84,7 +64,7 @@ async def photo_stream(dut) -> None:
     cocotb.start_soon(video())
     prev: Features | None = None
     for k, f in enumerate(frames):
-        feats, record = await read_frame(b)
+        feats, record = await b.read_newest()
         exp = expected(b, f, t)
         check_frame(feats, exp, f"frame {k}")
         assert len(exp) > 0, f"frame {k}: no feature to compare"
@@ -113,16 +93,18 @@ async def faults(dut) -> None:
     t = 20
     await b.configure(threshold=t, irq=3)
     w, h = b.width, b.height
-    good = [photo(p, w, h) for p in PHOTOS]
+    good = [colour_photo(p, w, h) for p in PHOTOS]
     gaps = Gaps("blanking")
     published: list[tuple[int, Features]] = []
+    errors: list[int] = []  # IRQ_STATUS.error at each interrupt
 
     async def cpu(count: int) -> None:
         while len(published) < count:
             await b.wait_irq(40 * w * h)
             st = await b.read_reg(regs.IRQ_STATUS)
             await b.write_reg(regs.IRQ_STATUS, st)
-            if st & 1:
+            errors.append(regs.IRQ_STATUS.field("error").get(st))
+            if regs.IRQ_STATUS.field("frame_done").get(st):
                 status = await b.read_reg(regs.STATUS)
                 bank = regs.STATUS.field("last_bank").get(status)
                 feats, record = await b.read_bank(bank)
@@ -176,6 +158,7 @@ async def faults(dut) -> None:
     for (n, feats), (_, rgb) in zip(published, expected_frames, strict=True):
         check_frame(feats, expected(b, rgb, t), f"frame {n}")
     assert await b.read_reg(regs.PROTO_ERRORS) == 4
+    assert sum(errors) == 4, f"error interrupts seen: {sum(errors)}, expected one per bad frame (4)"
     # discarded: the rest of the short-line frame after line 5, the 4 excess pixels of the long
     # line and the lines after it, the 3 lines without a start of frame, the 2 extra lines
     assert await b.read_reg(regs.DISCARDED) == (h - 6) * w + 4 + (h - 8) * w + 3 * w + 2 * w
@@ -190,7 +173,7 @@ async def faults(dut) -> None:
     assert await b.read_reg(regs.FRAME_COUNT) == 0
     assert await b.read_reg(regs.DISCARDED) > 0
     await b.send(good[2], gaps)
-    feats, record = await read_frame(b)
+    feats, record = await b.read_newest()
     assert record.frame == 0, record
     check_frame(feats, expected(b, good[2], t), "frame after the soft reset")
     # rst in mid-frame: everything restarts (registers too), the next frame is frame 0 and exact
@@ -203,7 +186,7 @@ async def faults(dut) -> None:
     assert await b.read_reg(regs.DISCARDED) > 0, "the rest of the frame cut by rst was not counted"
     await b.configure(threshold=t)
     await b.send(good[0], gaps)
-    feats, record = await read_frame(b)
+    feats, record = await b.read_newest()
     assert record.frame == 0, record
     check_frame(feats, expected(b, good[0], t), "frame after rst")
 
@@ -215,7 +198,7 @@ async def overflow_overrun(dut) -> None:
     t = 10
     await b.configure(threshold=t)
     w, h = b.width, b.height
-    img = photo("astronaut", w, h)
+    img = colour_photo("astronaut", w, h)
     exp = expected(b, img, t)
     cap = b.depth - 1
     assert len(exp) > cap, f"the test photo has {len(exp)} features, not more than {cap}"
@@ -253,15 +236,15 @@ async def registers(dut) -> None:
     resp, _ = await b.read(0x5C)
     assert resp == SLVERR, "an unknown register must answer SLVERR"
     assert await b.write(regs.ID.offset, 0) == SLVERR
-    img = photo("coffee", b.width, b.height)
+    img = colour_photo("coffee", b.width, b.height)
     # fast mode at threshold 30, then orb mode at 15: each frame uses the values set before it
     await b.configure(threshold=30, mode="fast")
     await b.send(img)
-    feats, _ = await read_frame(b, mode="fast")
+    feats, _ = await b.read_newest(mode="fast")
     check_frame(feats, expected(b, img, 30, "fast"), "fast-mode frame")
     await b.configure(threshold=15, mode="orb")
     await b.send(img)
-    feats, _ = await read_frame(b)
+    feats, _ = await b.read_newest()
     check_frame(feats, expected(b, img, 15), "orb-mode frame")
     # disabled: frames are taken and ignored (no interrupt), enabled again: processed
     await b.configure(threshold=15, enable=0)
@@ -270,7 +253,7 @@ async def registers(dut) -> None:
     assert dut.irq.value == 0, "a disabled accelerator published a frame"
     await b.configure(threshold=15)
     await b.send(img)
-    feats, _ = await read_frame(b)
+    feats, _ = await b.read_newest()
     check_frame(feats, expected(b, img, 15), "frame after re-enabling")
     assert await b.write(regs.MEM_BASE - 4, 0) == SLVERR
     assert (await b.read(regs.MEM_BASE))[0] == OKAY

@@ -13,113 +13,38 @@ names (aclk, aresetn active low, s_axi_ctrl_* AXI4-Lite, s_axis_video_* / m_axis
 
 from __future__ import annotations
 
-import os
 import warnings
 
 import cocotb
-import cv2
 import numpy as np
-import skimage.data
-from cocotb.clock import Clock
 from cocotb.triggers import ClockCycles, ReadOnly, RisingEdge
-from cocotbext.axi import AxiLiteBus, AxiLiteMaster
 
 from golden_model import regs
+from golden_model.luma import rgb_to_luma
 from golden_model.overlay import render_marker_overlay
-from orbtb.accel import PERIOD_NS, AccelBench
+from orbtb.accel import AccelBench
+from orbtb.images import colour_photo
 from orbtb.runner import run
 from orbtb.scoreboard import check_frame, expected_features
 from orbtb.unit import SIM_ENV
-from orbtb.video import Gaps, VideoSource
+from orbtb.video import Gaps
 
 warnings.filterwarnings("ignore", category=DeprecationWarning)
 
 
-def photo(name: str, w: int, h: int) -> np.ndarray:
-    img = getattr(skimage.data, name)()
-    if img.ndim == 2:
-        img = np.repeat(img[..., None], 3, axis=2)
-    return cv2.resize(img[..., :3], (w, h), interpolation=cv2.INTER_AREA)
-
-
-class ZynqBench(AccelBench):
-    """AccelBench (register and bank access, packing) on the wrapper's names: clock aclk, reset
-    aresetn (active low), AXI4-Lite prefix s_axi_ctrl; m_axis_video is captured into `captured`."""
-
-    def __init__(self, dut) -> None:
-        self.dut = dut
-        self.clk = dut.aclk
-        self.width = int(os.environ["ORB_WIDTH"])
-        self.height = int(os.environ["ORB_HEIGHT"])
-        self.scales = int(os.environ["ORB_SCALES"])
-        self.n = int(os.environ["ORB_SECTORS"])
-        self.depth = int(os.environ["ORB_MEM_DEPTH"])
-        self.input = os.environ["ORB_INPUT"]
-        self.video = VideoSource(dut, dut.aclk)
-        self.captured: list[np.ndarray] = []
-
-    async def start(self, pause_prob: float = 0.0, seed: int = 1) -> None:
-        dut = self.dut
-        dut.aresetn.value = 0
-        self.video.idle()
-        dut.m_axis_video_tready.value = 1
-        cocotb.start_soon(Clock(dut.aclk, PERIOD_NS, unit="ns").start(start_high=False))
-        # created while aresetn is low, after the clock: its first edge sees a defined tready
-        self.axil = AxiLiteMaster(
-            AxiLiteBus.from_prefix(dut, "s_axi_ctrl"), dut.aclk, dut.aresetn, reset_active_level=False
-        )
-        await ClockCycles(dut.aclk, 4)
-        dut.aresetn.value = 1
-        await RisingEdge(dut.aclk)
-        cocotb.start_soon(self._capture_frames())
-
-    async def wait_irq(self, timeout_clocks: int) -> None:
-        for _ in range(timeout_clocks):
-            if self.dut.irq.value == 1:
-                return
-            await RisingEdge(self.clk)
-        raise AssertionError(f"no interrupt within {timeout_clocks} clocks")
-
-    async def _capture_frames(self) -> None:
-        dut = self.dut
-        frame: list[int] = []
-        while True:
-            await RisingEdge(self.clk)
-            await ReadOnly()
-            if dut.aresetn.value == 0:
-                frame = []  # a frame cut by the reset is not one
-            elif dut.m_axis_video_tvalid.value == 1 and dut.m_axis_video_tready.value == 1:
-                assert (dut.m_axis_video_tuser.value == 1) == (not frame), "m_axis_video tuser not on a first beat"
-                frame.append(int(dut.m_axis_video_tdata.value))
-                if len(frame) == self.width * self.height:
-                    words = np.array(frame, dtype=np.int64)
-                    self.captured.append(self.unpack_out(words).reshape(self.height, self.width, 3))
-                    frame = []
-
-    async def read_newest(self):
-        """After a frame-done interrupt: clear it, read the newest bank, release it."""
-        await self.wait_irq(40 * self.width * self.height)
-        await self.write_reg(regs.IRQ_STATUS, 1)
-        status = await self.read_reg(regs.STATUS)
-        bank = regs.STATUS.field("last_bank").get(status)
-        assert regs.STATUS.field("bank_ready").get(status) >> bank & 1, f"bank {bank} not ready: {status:#x}"
-        feats, record = await self.read_bank(bank)
-        await self.release(bank)
-        return feats, record
-
-
 @cocotb.test()
 async def wrapper(dut) -> None:
-    b = ZynqBench(dut)
+    b = AccelBench(dut, "aclk", "aresetn", reset_active_low=True, axil_prefix="s_axi_ctrl")
     await b.start()
+    b.start_capture()
     w, h, t = b.width, b.height, 25
     assert await b.read_reg(regs.ID) == regs.ORB_ID
     size = await b.read_reg(regs.CFG_SIZE)
     assert (regs.CFG_SIZE.field("width").get(size), regs.CFG_SIZE.field("height").get(size)) == (w, h)
     assert regs.CFG_MEM.field("depth").get(await b.read_reg(regs.CFG_MEM)) == b.depth
     await b.configure(threshold=t)
-    frames = [photo("astronaut", w, h), photo("coffee", w, h)]
-    exps = [expected_features(b.luma(f), b.scales, t, "orb", b.n) for f in frames]
+    frames = [colour_photo("astronaut", w, h), colour_photo("coffee", w, h)]
+    exps = [expected_features(rgb_to_luma(f), b.scales, t, "orb", b.n) for f in frames]
     assert all(len(e) > 0 for e in exps), "a test photograph has no feature to compare"
 
     async def video() -> None:

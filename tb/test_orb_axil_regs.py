@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import itertools
 import warnings
-from collections.abc import Iterator
 from dataclasses import dataclass, field
 
 import cocotb
@@ -30,7 +29,7 @@ from cocotb.triggers import ClockCycles, RisingEdge, with_timeout
 
 from golden_model import regs
 from orbtb.runner import run
-from orbtb.unit import PERIOD_NS, SIM_ENV, env_int
+from orbtb.unit import PERIOD_NS, SIM_ENV, env_int, set_axil_pauses
 
 warnings.filterwarnings("ignore", category=DeprecationWarning, module=r"cocotbext\..*")
 warnings.filterwarnings("ignore", category=DeprecationWarning, module=r"cocotb_bus\..*")
@@ -39,16 +38,7 @@ from cocotbext.axi import AxiLiteBus, AxiLiteMaster  # noqa: E402
 
 OKAY, SLVERR = 0, 2
 GENERIC_NAMES = ("WIDTH", "HEIGHT", "SCALES", "SECTORS", "MEM_DEPTH", "MEM_LATENCY", "ADDR_BITS")
-PORTS = (
-    "frame_count", "dropped", "proto_errors", "bank_ready", "last_bank", "overflow", "bank0_count",
-    "bank0_frame", "bank1_count", "bank1_frame", "overrun", "overflow_count", "desc_lost", "discarded",
-)  # fmt: skip
 OP_TIMEOUT_NS = 2000 * PERIOD_NS  # "nothing hangs": every transaction must finish within this
-
-
-def pause_pattern(seed: int, prob: float, length: int = 991) -> Iterator[bool]:
-    rng = np.random.default_rng(seed)
-    return itertools.cycle((rng.random(length) < prob).tolist())
 
 
 @dataclass
@@ -185,12 +175,7 @@ class Bench:
         await ClockCycles(dut.clk, 2)
 
     def set_pauses(self, prob: float, seed: int = 1) -> None:
-        w, r = self.axil.write_if, self.axil.read_if
-        chans = (w.aw_channel, w.w_channel, w.b_channel, r.ar_channel, r.r_channel)
-        for i, ch in enumerate(chans):
-            ch.set_pause_generator(pause_pattern(seed * 10 + i, prob) if prob > 0 else None)
-            if prob <= 0:
-                ch.pause = False  # a killed generator leaves its last value
+        set_axil_pauses(self.axil, prob, seed)
 
     async def write(self, addr: int, value: int, strb: int = 0xF) -> int:
         """One write of the strobed bytes (contiguous) of value to the word at addr: the master's

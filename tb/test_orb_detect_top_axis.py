@@ -13,7 +13,6 @@ the next good frame bit-exact.
 
 from __future__ import annotations
 
-import itertools
 import warnings
 
 import cocotb
@@ -25,7 +24,7 @@ from orbtb import images
 from orbtb.feature_stream import FEAT_BITS, Frame
 from orbtb.runner import run
 from orbtb.scoreboard import check_frame, expected_features
-from orbtb.unit import PERIOD_NS, SIM_ENV, env_int
+from orbtb.unit import PERIOD_NS, SIM_ENV, env_int, pause_pattern
 
 warnings.filterwarnings("ignore", category=DeprecationWarning, module=r"cocotbext\..*")
 warnings.filterwarnings("ignore", category=DeprecationWarning, module=r"cocotb_bus\..*")
@@ -33,11 +32,6 @@ warnings.filterwarnings("ignore", category=DeprecationWarning, module=r"cocotb_b
 from cocotbext.axi import AxiStreamBus, AxiStreamFrame, AxiStreamSink, AxiStreamSource  # noqa: E402
 
 FEATURE_BYTE_SIZE = FEAT_BITS  # one 320-bit word per beat (no tkeep on m_axis_feat)
-
-
-def pause_pattern(seed: int, prob: float, length: int = 997) -> itertools.cycle:
-    rng = np.random.default_rng(seed)
-    return itertools.cycle((rng.random(length) < prob).tolist())
 
 
 class Bench:

@@ -16,7 +16,6 @@ the edge where the sink can take its luma).
 
 from __future__ import annotations
 
-import itertools
 import warnings
 
 import cocotb
@@ -28,7 +27,7 @@ from cocotb.utils import get_sim_time, get_time_from_sim_steps
 
 from golden_model.luma import rgb_to_luma
 from orbtb.runner import run
-from orbtb.unit import PERIOD_NS, SIM_ENV, env_int, env_str
+from orbtb.unit import PERIOD_NS, SIM_ENV, env_int, env_str, pause_pattern
 
 warnings.filterwarnings("ignore", category=DeprecationWarning, module=r"cocotbext\..*")
 warnings.filterwarnings("ignore", category=DeprecationWarning, module=r"cocotb_bus\..*")
@@ -36,11 +35,6 @@ warnings.filterwarnings("ignore", category=DeprecationWarning, module=r"cocotb_b
 from cocotbext.axi import AxiStreamBus, AxiStreamFrame, AxiStreamSink, AxiStreamSource  # noqa: E402
 
 LATENCY = 3  # clocks from the edge that accepts a beat to the edge where the sink can take it
-
-
-def pause_pattern(seed: int, prob: float, length: int = 997) -> itertools.cycle:
-    rng = np.random.default_rng(seed)
-    return itertools.cycle((rng.random(length) < prob).tolist())
 
 
 def pack(rgb: np.ndarray, packing: str) -> np.ndarray:

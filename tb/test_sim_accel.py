@@ -11,17 +11,17 @@ import sys
 from pathlib import Path
 
 import cv2
-import skimage.data
 
 from golden_model import Config, extract, first_difference
 from golden_model.features import read_csv
 from golden_model.luma import rgb_to_luma
+from orbtb.images import colour_photo
 
 ROOT = Path(__file__).resolve().parents[1]
 
 
 def test_sim_accel_small_photo(tmp_path: Path) -> None:
-    rgb = cv2.resize(skimage.data.coffee(), (160, 96), interpolation=cv2.INTER_AREA)
+    rgb = colour_photo("coffee", 160, 96)
     image = tmp_path / "coffee.png"
     cv2.imwrite(str(image), cv2.cvtColor(rgb, cv2.COLOR_RGB2BGR))
     out = tmp_path / "sim"

@@ -8,7 +8,6 @@ ORB_SCALES, ORB_SECTORS, ORB_MEM_DEPTH, ORB_INPUT).
 from __future__ import annotations
 
 import os
-from collections.abc import Iterator
 
 import cocotb
 import numpy as np
@@ -21,52 +20,52 @@ from golden_model.featmem import SLOT_BYTES, SLOT_WORDS_USED, EndOfFrame, decode
 from golden_model.features import Features
 from golden_model.luma import rgb_to_luma
 
+from .unit import PERIOD_NS, set_axil_pauses
 from .video import Gaps, VideoSource
 
-PERIOD_NS = 10
 BLANKING = Gaps("blanking")
 OKAY, SLVERR = 0, 2
 OP_TIMEOUT_NS = 5000 * PERIOD_NS  # no AXI4-Lite transaction may take longer: nothing hangs
 
 
-def pause_pattern(seed: int, prob: float) -> Iterator[int]:
-    rng = np.random.default_rng(seed)
-    while True:
-        yield from (rng.random(256) < prob).astype(int).tolist()
-
-
 class AccelBench:
-    def __init__(self, dut) -> None:
+    """The bench of orb_accel_top, or of a wrapper with other clock, reset and AXI4-Lite names
+    (orb_accel_zynq: `AccelBench(dut, "aclk", "aresetn", reset_active_low=True, axil_prefix=
+    "s_axi_ctrl")`)."""
+
+    def __init__(self, dut, clk: str = "clk", reset: str = "rst", reset_active_low: bool = False,
+                 axil_prefix: str = "s_axil") -> None:  # fmt: skip
         self.dut = dut
+        self.clk = getattr(dut, clk)
+        self.reset = getattr(dut, reset)
+        self.reset_active = 0 if reset_active_low else 1
+        self.axil_prefix = axil_prefix
         self.width = int(os.environ["ORB_WIDTH"])
         self.height = int(os.environ["ORB_HEIGHT"])
         self.scales = int(os.environ["ORB_SCALES"])
         self.n = int(os.environ["ORB_SECTORS"])
         self.depth = int(os.environ["ORB_MEM_DEPTH"])
         self.input = os.environ.get("ORB_INPUT", "RGB")
-        self.video = VideoSource(dut, dut.clk)
+        self.video = VideoSource(dut, self.clk)
         self.captured: list[np.ndarray] = []
-        self.capture_on = False
         self._capturing = False
 
     async def start(self, pause_prob: float = 0.0, seed: int = 1) -> None:
         dut = self.dut
-        dut.rst.value = 1
+        self.reset.value = self.reset_active
         self.video.idle()
         dut.m_axis_video_tready.value = 1
-        cocotb.start_soon(Clock(dut.clk, PERIOD_NS, unit="ns").start(start_high=False))
-        self.axil = AxiLiteMaster(AxiLiteBus.from_prefix(dut, "s_axil"), dut.clk, dut.rst)
-        w, r = self.axil.write_if, self.axil.read_if
-        for i, ch in enumerate((w.aw_channel, w.w_channel, w.b_channel, r.ar_channel, r.r_channel)):
-            if pause_prob > 0:
-                ch.set_pause_generator(pause_pattern(seed * 10 + i, pause_prob))
-        await ClockCycles(dut.clk, 4)
-        dut.rst.value = 0
-        await RisingEdge(dut.clk)
+        cocotb.start_soon(Clock(self.clk, PERIOD_NS, unit="ns").start(start_high=False))
+        # the bus model only once reset is asserted and the clock starts low (toolchain.md)
+        bus = AxiLiteBus.from_prefix(dut, self.axil_prefix)
+        self.axil = AxiLiteMaster(bus, self.clk, self.reset, reset_active_level=bool(self.reset_active))
+        set_axil_pauses(self.axil, pause_prob, seed)
+        await ClockCycles(self.clk, 4)
+        self.reset.value = 1 - self.reset_active
+        await RisingEdge(self.clk)
 
     def start_capture(self) -> None:
-        """Capture m_axis_video frames into `captured` from now on (costs Python every clock)."""
-        self.capture_on = True
+        """Capture every m_axis_video frame into `captured` from now on (Python every clock)."""
         if not self._capturing:
             self._capturing = True
             cocotb.start_soon(self._capture())
@@ -99,7 +98,7 @@ class AccelBench:
         for _ in range(timeout_clocks):
             if self.dut.irq.value == 1:
                 return
-            await RisingEdge(self.dut.clk)
+            await RisingEdge(self.clk)
         raise AssertionError(f"no interrupt within {timeout_clocks} clocks")
 
     async def read_words(self, addr: int, count: int) -> list[int]:
@@ -124,6 +123,17 @@ class AccelBench:
     async def release(self, bank: int) -> None:
         await self.write_reg(regs.BANK_RELEASE, bank)
 
+    async def read_newest(self, mode: str = "orb") -> tuple[Features, EndOfFrame]:
+        """After a frame-done interrupt: clear it, read the newest bank, release it."""
+        await self.wait_irq(40 * self.width * self.height)
+        await self.write_reg(regs.IRQ_STATUS, 1)
+        status = await self.read_reg(regs.STATUS)
+        bank = regs.STATUS.field("last_bank").get(status)
+        assert regs.STATUS.field("bank_ready").get(status) >> bank & 1, f"bank {bank} not ready: {status:#x}"
+        feats, record = await self.read_bank(bank, mode)
+        await self.release(bank)
+        return feats, record
+
     # ---- video ---------------------------------------------------------------------------------
     def pack(self, rgb: np.ndarray) -> np.ndarray:
         """tdata words of an (H, W, 3) RGB frame in this configuration's packing (for LUMA also an
@@ -141,9 +151,6 @@ class AccelBench:
             return np.repeat(rgb_to_luma(rgb)[..., None], 3, axis=2)
         return rgb
 
-    def luma(self, rgb: np.ndarray) -> np.ndarray:
-        return rgb_to_luma(rgb)
-
     async def send(self, rgb: np.ndarray, gaps: Gaps = BLANKING) -> None:
         await self.video.send_frame(self.pack(rgb), gaps)
 
@@ -155,20 +162,18 @@ class AccelBench:
         return rgb.astype(np.uint8)
 
     async def _capture(self) -> None:
-        """Collects m_axis_video frames of W x H beats while capture_on."""
+        """Collects m_axis_video frames of W x H beats; a frame cut by a reset is dropped."""
         dut = self.dut
         frame: list[int] = []
-        while self.capture_on:
-            await RisingEdge(dut.clk)
+        while True:
+            await RisingEdge(self.clk)
             await ReadOnly()
-            if dut.m_axis_video_tvalid.value == 1 and dut.m_axis_video_tready.value == 1:
-                assert (dut.m_axis_video_tuser.value == 1) == (not frame), (
-                    "m_axis_video tuser not on a frame's first beat"
-                )
+            if self.reset.value == self.reset_active:
+                frame = []
+            elif dut.m_axis_video_tvalid.value == 1 and dut.m_axis_video_tready.value == 1:
+                assert (dut.m_axis_video_tuser.value == 1) == (not frame), "m_axis_video tuser not on a first beat"
                 frame.append(int(dut.m_axis_video_tdata.value))
                 if len(frame) == self.width * self.height:
-                    self.captured.append(
-                        self.unpack_out(np.array(frame, dtype=np.int64)).reshape(self.height, self.width, 3)
-                    )
+                    words = np.array(frame, dtype=np.int64)
+                    self.captured.append(self.unpack_out(words).reshape(self.height, self.width, 3))
                     frame = []
-        self._capturing = False

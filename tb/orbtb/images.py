@@ -30,6 +30,16 @@ def photo(name: str, width: int, height: int) -> np.ndarray:
     return np.ascontiguousarray(big[y0 : y0 + height, x0 : x0 + width])
 
 
+def colour_photo(name: str, width: int, height: int) -> np.ndarray:
+    """A scikit-image photograph (grey ones as R = G = B) resized to (height, width, 3) RGB."""
+    import skimage.data
+
+    img = getattr(skimage.data, name)()
+    if img.ndim == 2:
+        img = np.repeat(img[..., None], 3, axis=2)
+    return cv2.resize(img[..., :3], (width, height), interpolation=cv2.INTER_AREA)
+
+
 def flat(width: int, height: int, value: int = 128) -> np.ndarray:
     return np.full((height, width), value, dtype=np.uint8)
 
