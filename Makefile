@@ -16,11 +16,11 @@ help:
 	@echo "make test    run the test suite (pytest -n $(JOBS), slow tests excluded)"
 	@echo "make test-all  run every test, slow full-frame ones included"
 	@echo "make sim     the complete accelerator in GHDL on the bundled image (IMAGE=, SCALES=, SECTORS=, THRESHOLD=)"
-	@echo "make bench   model speed benchmark (scripts/bench_model.py)"
-	@echo "make bench-sim  RTL simulation speed, one 640x480 frame (scripts/bench_sim.py)"
+	@echo "make bench   model speed benchmark (scripts/bench/bench_model.py)"
+	@echo "make bench-sim  RTL simulation speed, one 640x480 frame (scripts/bench/bench_sim.py)"
 	@echo "make eval    compare-fast and rotation-bench against OpenCV on the evaluation photos (STEP=1: ~6 min)"
 	@echo "make lint    ruff over the Python sources; GHDL synth check and vsg style check of hdl/"
-	@echo "make synth   LUT/FF/BRAM/DSP and logic-delay estimate of orb_detect_top (GHDL + yosys; ~10 min)"
+	@echo "make synth   LUT/FF/BRAM/DSP and logic-delay estimate of orb_core (GHDL + yosys; ~10 min)"
 	@echo "make netlist-sim  unit tests on GHDL's synthesised netlists (~15 min; K=entity, QUICK=1; docs/netlist-sim.md)"
 	@echo "make tools   which of ghdl, yosys, python3 are installed, and how to install the rest"
 
@@ -42,48 +42,48 @@ test-all: $(STAMP)
 	$(BIN)/python -m pytest -n $(JOBS) tb
 
 sim: $(STAMP)
-	$(BIN)/python scripts/sim_accel.py $(if $(IMAGE),--image $(IMAGE)) \
+	$(BIN)/python scripts/flow/sim_accel.py $(if $(IMAGE),--image $(IMAGE)) \
 		--scales $(SCALES) --sectors $(SECTORS) --threshold $(THRESHOLD) --out-dir build/sim
 
 bench: $(STAMP)
-	$(BIN)/python scripts/bench_model.py
+	$(BIN)/python scripts/bench/bench_model.py
 
 bench-sim: $(STAMP)
-	$(BIN)/python scripts/bench_sim.py
+	$(BIN)/python scripts/bench/bench_sim.py
 
 STEP ?= 1
 EVAL_PHOTOS := build/eval/photos
 eval: $(STAMP)
-	$(BIN)/python scripts/sample_photos.py $(EVAL_PHOTOS) > /dev/null
+	$(BIN)/python scripts/gen/sample_photos.py $(EVAL_PHOTOS) > /dev/null
 	$(BIN)/orb-accel compare-fast $(EVAL_PHOTOS)/*.png --threshold 15 20 25 30 35 40 --out-dir build/eval/compare-fast
 	$(BIN)/orb-accel rotation-bench $(EVAL_PHOTOS)/*.png --sectors 16 32 64 --step $(STEP) --threshold 20 \
 		--scales 1 --out-dir build/eval/rotation-bench
 
 lint: $(STAMP)
-	$(BIN)/ruff check golden_model tb scripts
-	$(BIN)/ruff format --check golden_model tb scripts
-	@sh scripts/check_tools.sh ghdl
-	$(BIN)/python scripts/lint_hdl.py
+	$(BIN)/ruff check golden_model sw tb scripts
+	$(BIN)/ruff format --check golden_model sw tb scripts
+	@sh scripts/flow/check_tools.sh ghdl
+	$(BIN)/python scripts/flow/lint_hdl.py
 
 # Resource and logic-delay estimate (GHDL + yosys, no Vivado); CONFIG=1920x1080x2 runs one configuration.
 CONFIG ?=
 synth:
-	@sh scripts/check_tools.sh ghdl yosys python3
-	$(PYTHON) scripts/synth.py --jobs $(JOBS) $(if $(CONFIG),--config $(CONFIG))
+	@sh scripts/flow/check_tools.sh ghdl yosys python3
+	$(PYTHON) scripts/flow/synth.py --jobs $(JOBS) $(if $(CONFIG),--config $(CONFIG))
 
 # The cocotb tests of docs/netlist-sim.md on `ghdl synth --out=vhdl` netlists (~15 min); K=orb_overlay runs one
 # entity, QUICK=1 leaves out the two slow cases (~3 min).
 K ?=
 netlist-sim: $(STAMP)
-	@sh scripts/check_tools.sh ghdl
-	$(BIN)/python scripts/netlist_sim.py $(foreach k,$(K),-k $(k)) $(if $(QUICK),--quick)
+	@sh scripts/flow/check_tools.sh ghdl
+	$(BIN)/python scripts/flow/netlist_sim.py $(foreach k,$(K),-k $(k)) $(if $(QUICK),--quick)
 
 tools:
-	@sh scripts/check_tools.sh
+	@sh scripts/flow/check_tools.sh
 
 pattern: $(STAMP)
-	$(BIN)/python scripts/gen_pattern.py
-	$(BIN)/python scripts/gen_pattern_vhdl.py
+	$(BIN)/python scripts/gen/gen_pattern.py
+	$(BIN)/python scripts/gen/gen_pattern_vhdl.py
 
 clean:
 	rm -rf build .pytest_cache

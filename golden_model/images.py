@@ -1,11 +1,11 @@
 # SPDX-License-Identifier: MIT
-"""Image loading for the CLI and the tests: any file OpenCV reads, converted to 8-bit luma."""
+"""Pixel formats of the model's input: 8-bit luma from grey or RGB(A) arrays (file loading is
+orb_tools.images)."""
 
 from __future__ import annotations
 
 from pathlib import Path
 
-import cv2
 import numpy as np
 
 from .luma import rgb_to_luma
@@ -28,31 +28,3 @@ def to_luma(img: np.ndarray) -> np.ndarray:
     if img.ndim == 3 and img.shape[2] in (3, 4):
         return rgb_to_luma(np.ascontiguousarray(img[..., :3]))
     raise ImageError(f"unsupported image shape {img.shape}")
-
-
-def load_rgb_or_grey(path: Path) -> np.ndarray:
-    """The image as OpenCV reads it, with colour in RGB order."""
-    if not path.exists():
-        raise ImageError(f"{path}: no such file")
-    if path.is_dir():
-        raise ImageError(f"{path}: is a directory, not an image")
-    img = cv2.imread(str(path), cv2.IMREAD_UNCHANGED)
-    if img is None:
-        raise ImageError(f"{path}: not an image OpenCV can read")
-    if img.ndim == 3 and img.shape[2] == 4:
-        img = cv2.cvtColor(img, cv2.COLOR_BGRA2RGB)
-    elif img.ndim == 3 and img.shape[2] == 3:
-        img = cv2.cvtColor(img, cv2.COLOR_BGR2RGB)
-    return img
-
-
-def load_luma(path: Path) -> np.ndarray:
-    return to_luma(load_rgb_or_grey(Path(path)))
-
-
-def sample_photographs() -> dict[str, np.ndarray]:
-    """scikit-image's bundled real photographs as luma (no download needed)."""
-    import skimage.data as data
-
-    names = ("astronaut", "camera", "coffee", "chelsea", "rocket")
-    return {name: to_luma(getattr(data, name)()) for name in names}

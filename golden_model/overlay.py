@@ -1,56 +1,23 @@
 # SPDX-License-Identifier: MIT
-"""Feature overlays: the CLI's PNG (anti-aliased circles) and the HDMI demo's block markers.
-
-PNG (`render_overlay`, `draw_overlay`): circles centred on the full-resolution feature position
-with radius 4 * 2^scale; the tick points along the sector's centre angle (clockwise on screen
-from +x, as the sectors are defined). Fast-mode features (no sector) get a circle only. OpenCV's
-anti-aliasing is not hardware-friendly: this one is for files only.
-
-HDMI (`render_marker_overlay`, `marker_schedule`): the exact rules of docs/spec.md section 13,
-which hdl/orb_overlay.vhd implements bit for bit: a per-block, per-scale marker bitmap drawn as
-nested one-pixel square outlines, and which feature frame each video frame shows.
+"""The HDMI feature overlay (`render_marker_overlay`, `marker_schedule`): the exact rules of
+docs/spec.md section 13, which hdl/output/orb_overlay.vhd implements bit for bit: a per-block,
+per-scale marker bitmap drawn as nested one-pixel square outlines, and which feature frame each
+video frame shows. (The CLI's anti-aliased PNG drawing is orb_tools.drawing.)
 """
 
 from __future__ import annotations
 
 from collections.abc import Iterable
-from pathlib import Path
 
-import cv2
 import numpy as np
 
 from .features import Features
 
-# RGB colours per scale: green, cyan, magenta, yellow.
+# RGB colours per scale: green, cyan, magenta, yellow (the HDMI markers and the CLI's PNG).
 SCALE_COLOURS = ((0, 255, 0), (0, 220, 255), (255, 0, 255), (255, 220, 0))
 
-
-def render_overlay(image: np.ndarray, features: Features) -> np.ndarray:
-    """RGB uint8 image with the features drawn on it (grey input is expanded to RGB)."""
-    canvas = np.repeat(image[..., None], 3, axis=2) if image.ndim == 2 else image[..., :3].copy()
-    canvas = np.ascontiguousarray(canvas)
-    x0, y0 = features.full_res()
-    angles = np.radians(features.angle_deg())
-    for i in range(len(features)):
-        s = int(features.scale[i])
-        colour = SCALE_COLOURS[s % len(SCALE_COLOURS)]
-        r = 4 << s
-        cx, cy = round(float(x0[i])), round(float(y0[i]))
-        cv2.circle(canvas, (cx, cy), r, colour, 1, cv2.LINE_AA)
-        if not np.isnan(angles[i]):
-            tip = (round(cx + r * np.cos(angles[i])), round(cy + r * np.sin(angles[i])))
-            cv2.line(canvas, (cx, cy), tip, colour, 1, cv2.LINE_AA)
-    return canvas
-
-
-def draw_overlay(image: np.ndarray, features: Features, path: Path) -> None:
-    rgb = render_overlay(image, features)
-    if not cv2.imwrite(str(path), cv2.cvtColor(rgb, cv2.COLOR_RGB2BGR)):
-        raise OSError(f"{path}: could not write the overlay image")
-
-
 # ------------------------------------------------------------------------------------------------
-# Marker overlay of the HDMI output (docs/spec.md section 13; RTL: hdl/orb_overlay.vhd)
+# Marker overlay of the HDMI output (docs/spec.md section 13; RTL: hdl/output/orb_overlay.vhd)
 
 MARKER_BLOCK_LOG2 = 3  # default block size 8 x 8
 MARKER_BLOCK_LOG2_RANGE = (2, 5)

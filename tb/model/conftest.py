@@ -16,8 +16,8 @@ import numpy as np
 import pytest
 
 from golden_model.features import Features
-from golden_model.images import sample_photographs
 from golden_model.pattern_data import ORBIT_SEEDS
+from orb_tools.images import sample_photographs
 
 Grid = list[list[int]]
 Row = tuple[int, int, int, int, int, str]  # (scale, y, x, score, sector, descriptor hex)

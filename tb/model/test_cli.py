@@ -13,8 +13,9 @@ import numpy as np
 import pytest
 
 from golden_model import Config, extract, read_csv
-from golden_model.cli import main
-from golden_model.images import DEFAULT_IMAGE, load_luma
+from golden_model.images import DEFAULT_IMAGE
+from orb_tools.cli import main
+from orb_tools.images import load_luma
 
 
 def _photo_png(tmp_path: Path) -> Path:
@@ -56,7 +57,7 @@ def test_default_image_is_640x480() -> None:
 
 
 def _run_cli(*args: str) -> subprocess.CompletedProcess[str]:
-    cmd = [sys.executable, "-m", "golden_model.cli", *args]
+    cmd = [sys.executable, "-m", "orb_tools.cli", *args]
     return subprocess.run(cmd, capture_output=True, text=True, check=False)
 
 

@@ -10,9 +10,12 @@ import cv2
 import numpy as np
 import pytest
 
-from golden_model.cli import main
 from golden_model.config import Config
-from golden_model.evaluate import (
+from golden_model.fast import fast_score
+from golden_model.features import read_csv
+from golden_model.pipeline import extract
+from orb_tools.cli import main
+from orb_tools.evaluate import (
     BENCH_COLUMNS,
     FAST_COLUMNS,
     SUMMARY_COLUMNS,
@@ -24,10 +27,7 @@ from golden_model.evaluate import (
     rotation_bench,
     rotation_matrix,
 )
-from golden_model.fast import fast_score
-from golden_model.features import read_csv
-from golden_model.images import sample_photographs
-from golden_model.pipeline import extract
+from orb_tools.images import sample_photographs
 
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 

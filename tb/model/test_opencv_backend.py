@@ -9,10 +9,10 @@ import pytest
 
 from golden_model.config import Config
 from golden_model.fast import fast_score
-from golden_model.images import sample_photographs
-from golden_model.opencv_backend import angle_to_sector, extract_opencv, fast_keypoints, orb_detector, sad_score_at
 from golden_model.pipeline import detect
 from golden_model.scaler import pyramid
+from orb_tools.images import sample_photographs
+from orb_tools.opencv_backend import angle_to_sector, extract_opencv, fast_keypoints, orb_detector, sad_score_at
 
 
 @pytest.fixture(scope="module")

@@ -8,7 +8,7 @@ from functools import cache
 import cv2
 import numpy as np
 
-from golden_model.images import sample_photographs
+from orb_tools.images import sample_photographs
 
 
 @cache

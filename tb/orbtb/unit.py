@@ -9,9 +9,8 @@ read at edge `in_edge + L` (values read right after a rising edge are those samp
 
 from __future__ import annotations
 
-import itertools
 import os
-from collections.abc import Iterator, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import cocotb
@@ -19,7 +18,10 @@ import numpy as np
 from cocotb.clock import Clock
 from cocotb.triggers import ClockCycles, RisingEdge
 
-PERIOD_NS = 10
+from orb_sim.cocotb_bus import PERIOD_NS, pause_pattern, set_axil_pauses
+
+__all__ = ["PERIOD_NS", "pause_pattern", "set_axil_pauses"]  # re-exported for the unit tests
+
 
 # Extra environment for orbtb.runner.run: cocotb applies pytest's assertion rewriting to every
 # module the simulation imports unless told otherwise, and rewriting scikit-image and SciPy on
@@ -34,22 +36,6 @@ def env_int(name: str, default: int | None = None) -> int:
             raise KeyError(f"environment variable {name} is not set")
         return default
     return int(value)
-
-
-def pause_pattern(seed: int, prob: float, length: int = 997) -> Iterator[bool]:
-    """A seeded, repeating pause pattern for cocotbext-axi's set_pause_generator: True with
-    probability `prob`."""
-    rng = np.random.default_rng(seed)
-    return itertools.cycle((rng.random(length) < prob).tolist())
-
-
-def set_axil_pauses(axil, prob: float, seed: int = 1) -> None:
-    """Random pauses (probability `prob`, 0: none) on all five channels of an AxiLiteMaster."""
-    w, r = axil.write_if, axil.read_if
-    for i, ch in enumerate((w.aw_channel, w.w_channel, w.b_channel, r.ar_channel, r.r_channel)):
-        ch.set_pause_generator(pause_pattern(seed * 10 + i, prob) if prob > 0 else None)
-        if prob <= 0:
-            ch.pause = False  # a killed generator leaves its last value
 
 
 def env_str(name: str, default: str = "") -> str:

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: MIT
-"""Reference model of hdl/orb_video_check.vhd at beat level: which pixels come out (the input's,
+"""Reference model of hdl/input/orb_video_check.vhd at beat level: which pixels come out (the input's,
 padding zeros), with which tuser/tlast, which frames end bad with which faults, and the counters.
 
 The model takes the beats the checker accepts, in order (a source that honours tready loses

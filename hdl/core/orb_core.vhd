@@ -1,0 +1,225 @@
+-- SPDX-License-Identifier: MIT
+-- orb_core: the accelerator's streaming core, detection and description, for SCALES_g
+-- scales. Pixels enter as AXI4-Stream video (8-bit luma, tuser = start of frame, tlast = end of
+-- line) at up to one per clock; tready is high whenever not in reset, since a video source cannot
+-- be stalled. Scale 0 is the input; each further scale comes from an orb_scaler on the previous
+-- one. Each scale's orb_scale_path reports, per frame, either every NMS survivor (fast mode,
+-- mode_orb = 0) or every survivor inside the descriptor border with its sector and 256-bit
+-- rBRIEF descriptor (orb mode, mode_orb = 1; needs DESC_g = true, which builds the descriptor
+-- path), merged by orb_feat_merge into m_axis_feat (layout in orb_feat_pkg) with an end-of-frame
+-- beat after each frame. The FAST threshold and the mode are sampled with each frame's first pixel
+-- (tuser) and hold for every scale of that frame. Pixels outside the configured WIDTH_g x
+-- HEIGHT_g frame (a long line or extra lines) are ignored and counted in bad_pixels; features
+-- the descriptor path had to discard (only on a malformed frame) are counted in desc_lost.
+
+library ieee;
+use ieee.std_logic_1164.all;
+use ieee.numeric_std.all;
+
+use work.orb_util_pkg.all;
+use work.orb_feat_pkg.all;
+
+entity orb_core is
+  generic (
+    WIDTH_g      : positive range 64 to 1920 := 640;
+    HEIGHT_g     : positive range 48 to 1080 := 480;
+    SCALES_g     : positive range 1 to 4     := 1;
+    FIFO_DEPTH_g : positive range 2 to 512   := 32;
+    SECTORS_g    : positive range 4 to 16    := 8;   -- sectors per quadrant: 4, 8 or 16
+    DESC_g       : boolean                   := true
+  );
+  port (
+    clk                 : in    std_logic;
+    rst                 : in    std_logic;
+    s_axis_video_tdata  : in    std_logic_vector(7 downto 0);
+    s_axis_video_tvalid : in    std_logic;
+    s_axis_video_tready : out   std_logic;
+    s_axis_video_tuser  : in    std_logic;
+    s_axis_video_tlast  : in    std_logic;
+    threshold           : in    std_logic_vector(7 downto 0);
+    mode_orb            : in    std_logic;
+    m_axis_feat_tdata   : out   std_logic_vector(FEAT_BITS_c - 1 downto 0);
+    m_axis_feat_tvalid  : out   std_logic;
+    m_axis_feat_tready  : in    std_logic;
+    m_axis_feat_tlast   : out   std_logic;
+    dropped             : out   std_logic_vector(31 downto 0);
+    bad_pixels          : out   std_logic_vector(31 downto 0);
+    desc_lost           : out   std_logic_vector(31 downto 0)
+  );
+end entity orb_core;
+
+architecture rtl of orb_core is
+
+  type coord_arr_t is array (0 to SCALES_g - 1) of std_logic_vector(COORD_BITS_c - 1 downto 0);
+  type pixel_arr_t is array (0 to SCALES_g - 1) of std_logic_vector(PIXEL_BITS_c - 1 downto 0);
+
+  -- position of the next input pixel
+  signal next_x  : unsigned(COORD_BITS_c - 1 downto 0) := (others => '0');
+  signal next_y  : unsigned(COORD_BITS_c - 1 downto 0) := (others => '0');
+  signal bad_cnt : unsigned(31 downto 0) := (others => '0');
+  signal ready   : std_logic := '0';
+  signal thr_frm : std_logic_vector(7 downto 0) := (others => '0');
+
+  -- per-scale pixel streams (index 0: the input, registered)
+  signal px_valid : std_logic_vector(SCALES_g - 1 downto 0) := (others => '0');
+  signal px_x     : coord_arr_t := (others => (others => '0'));
+  signal px_y     : coord_arr_t := (others => (others => '0'));
+  signal px_data  : pixel_arr_t := (others => (others => '0'));
+
+  signal f_valid : std_logic_vector(SCALES_g - 1 downto 0);
+  signal f_done  : std_logic_vector(SCALES_g - 1 downto 0);
+  signal f_x     : std_logic_vector(SCALES_g * COORD_BITS_c - 1 downto 0);
+  signal f_y     : std_logic_vector(SCALES_g * COORD_BITS_c - 1 downto 0);
+  signal f_score : std_logic_vector(SCALES_g * SCORE_BITS_c - 1 downto 0);
+  signal f_sect  : std_logic_vector(SCALES_g * FEAT_SECTOR_BITS_c - 1 downto 0);
+  signal f_desc  : std_logic_vector(SCALES_g * DESC_BITS_c - 1 downto 0);
+
+  type lost_arr_t is array (0 to SCALES_g - 1) of std_logic_vector(31 downto 0);
+
+  signal lost     : lost_arr_t;
+  signal lost_q   : unsigned(31 downto 0) := (others => '0');
+  signal mode_frm : std_logic := '0';
+
+begin
+
+  assert (WIDTH_g / 2 ** (SCALES_g - 1)) >= 8
+    report "orb_core: the smallest scale must be at least 8 pixels wide"
+    severity failure;
+
+  s_axis_video_tready <= ready;
+
+  -- Input registers and frame position: tuser marks (0, 0), tlast ends a line.
+  input : process (clk) is
+    variable x, y : unsigned(COORD_BITS_c - 1 downto 0);
+  begin
+    if rising_edge(clk) then
+      ready       <= '1';
+      px_valid(0) <= '0';
+      if s_axis_video_tvalid = '1' and ready = '1' then
+        if s_axis_video_tuser = '1' then
+          x := (others => '0');
+          y := (others => '0');
+        else
+          x := next_x;
+          y := next_y;
+        end if;
+        if s_axis_video_tuser = '1' then
+          thr_frm  <= threshold;  -- the whole frame, every scale, uses these values
+          mode_frm <= mode_orb;
+        end if;
+        if x < WIDTH_g and y < HEIGHT_g then
+          px_valid(0) <= '1';
+          px_x(0)     <= std_logic_vector(x);
+          px_y(0)     <= std_logic_vector(y);
+          px_data(0)  <= s_axis_video_tdata;
+        else
+          bad_cnt <= bad_cnt + 1;
+        end if;
+        if s_axis_video_tlast = '1' then
+          next_x <= (others => '0');
+          next_y <= y + 1;
+        elsif x /= 2 ** COORD_BITS_c - 1 then
+          next_x <= x + 1;
+          next_y <= y;
+        end if;
+      end if;
+      if rst = '1' then
+        ready       <= '0';
+        px_valid(0) <= '0';
+        next_x      <= (others => '0');
+        next_y      <= (others => '0');
+        bad_cnt     <= (others => '0');
+      end if;
+    end if;
+  end process input;
+
+  scales : for s in 0 to SCALES_g - 1 generate
+
+    has_scaler : if s > 0 generate
+      scaler : entity work.orb_scaler
+        generic map (
+          LINE_WIDTH_g => WIDTH_g / 2 ** (s - 1)
+        )
+        port map (
+          clk       => clk,
+          rst       => rst,
+          in_valid  => px_valid(s - 1),
+          in_x      => px_x(s - 1),
+          in_y      => px_y(s - 1),
+          in_data   => px_data(s - 1),
+          out_valid => px_valid(s),
+          out_x     => px_x(s),
+          out_y     => px_y(s),
+          out_data  => px_data(s)
+        );
+    end generate has_scaler;
+
+    path : entity work.orb_scale_path
+      generic map (
+        LINE_WIDTH_g   => WIDTH_g / 2 ** s,
+        FRAME_HEIGHT_g => HEIGHT_g / 2 ** s,
+        SECTORS_g      => SECTORS_g,
+        DESC_g         => DESC_g
+      )
+      port map (
+        clk         => clk,
+        rst         => rst,
+        threshold   => thr_frm,
+        mode_orb    => mode_frm,
+        in_valid    => px_valid(s),
+        in_x        => px_x(s),
+        in_y        => px_y(s),
+        in_data     => px_data(s),
+        feat_valid  => f_valid(s),
+        feat_x      => f_x((s + 1) * COORD_BITS_c - 1 downto s * COORD_BITS_c),
+        feat_y      => f_y((s + 1) * COORD_BITS_c - 1 downto s * COORD_BITS_c),
+        feat_score  => f_score((s + 1) * SCORE_BITS_c - 1 downto s * SCORE_BITS_c),
+        feat_sector => f_sect((s + 1) * FEAT_SECTOR_BITS_c - 1 downto s * FEAT_SECTOR_BITS_c),
+        feat_desc   => f_desc((s + 1) * DESC_BITS_c - 1 downto s * DESC_BITS_c),
+        frame_done  => f_done(s),
+        lost        => lost(s)
+      );
+
+  end generate scales;
+
+  merge : entity work.orb_feat_merge
+    generic map (
+      SCALES_g     => SCALES_g,
+      FIFO_DEPTH_g => FIFO_DEPTH_g,
+      DESC_g       => DESC_g
+    )
+    port map (
+      clk                => clk,
+      rst                => rst,
+      in_valid           => f_valid,
+      in_x               => f_x,
+      in_y               => f_y,
+      in_score           => f_score,
+      in_sector          => f_sect,
+      in_desc            => f_desc,
+      in_done            => f_done,
+      m_axis_feat_tdata  => m_axis_feat_tdata,
+      m_axis_feat_tvalid => m_axis_feat_tvalid,
+      m_axis_feat_tready => m_axis_feat_tready,
+      m_axis_feat_tlast  => m_axis_feat_tlast,
+      dropped            => dropped
+    );
+
+  bad_pixels <= std_logic_vector(bad_cnt);
+
+  -- features the descriptor paths discarded (malformed frames only), all scales
+  lost_sum : process (clk) is
+    variable acc : unsigned(31 downto 0);
+  begin
+    if rising_edge(clk) then
+      acc := (others => '0');
+      for s in 0 to SCALES_g - 1 loop
+        acc := acc + unsigned(lost(s));
+      end loop;
+      lost_q <= acc;
+    end if;
+  end process lost_sum;
+
+  desc_lost <= std_logic_vector(lost_q);
+
+end architecture rtl;

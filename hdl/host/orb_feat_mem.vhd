@@ -1,0 +1,310 @@
+-- SPDX-License-Identifier: MIT
+-- orb_feat_mem: the feature memory the CPU reads, double-buffered per frame. It takes the feature
+-- stream of orb_core (s_axis_feat, 320-bit words, layout in orb_feat_pkg; tready is always
+-- 1: one beat per clock is stored, nothing ever stalls the stream) and writes each frame into one
+-- of two banks of DEPTH_g 64-byte slots: the features in arrival order, then an end-of-frame
+-- record (so at most DEPTH_g - 1 features per frame are kept; further ones are counted as
+-- truncated). At the frame's end-of-frame beat (tlast = 1) the bank's header (feature count,
+-- frame number, dropped-upstream count, truncated count and flag) is stored, the bank becomes
+-- READY, frame_done pulses for one clock, and the next frame goes to the other bank. The CPU
+-- reads a READY bank at leisure and releases it (release_valid with release_bank). A frame whose
+-- bank is still READY at the frame's first beat (not released, a release in that very clock
+-- counts) is skipped as a whole and counted in `overrun`; a frame_abort pulse discards the frame
+-- in progress (the one whose end-of-frame beat is not yet accepted, ending in this clock
+-- included), counted in `aborted` at its end-of-frame beat. So the CPU only ever sees complete
+-- frames, in order. One RAM word (320 bits) holds CPU words 0..9 of a slot, written in one clock;
+-- the RAM is a simple dual-port block RAM with a registered read. Reads: mem_rd_en with the byte
+-- address mem_rd_addr ([5:2] word, [clog2(DEPTH_g) + 5:6] slot, [clog2(DEPTH_g) + 6] bank) gives
+-- mem_rd_data two clocks later (RAM read register, then the word mux register), held until the
+-- next read. The layout and the protocol are in docs/feature-memory.md. rst resets the control
+-- state (banks free, bank 0 next, counters 0, no read pending); RAM contents and bank headers are
+-- kept.
+
+library ieee;
+use ieee.std_logic_1164.all;
+use ieee.numeric_std.all;
+
+use work.orb_util_pkg.all;
+use work.orb_feat_pkg.all;
+
+entity orb_feat_mem is
+  generic (
+    DEPTH_g : positive range 16 to 4096 := 1024
+  );
+  port (
+    clk : in    std_logic;
+    rst : in    std_logic;
+    -- feature stream
+    s_axis_feat_tdata  : in    std_logic_vector(FEAT_BITS_c - 1 downto 0);
+    s_axis_feat_tvalid : in    std_logic;
+    s_axis_feat_tready : out   std_logic;
+    s_axis_feat_tlast  : in    std_logic;
+    frame_abort        : in    std_logic;
+    -- bank hand-over to the CPU
+    release_valid  : in    std_logic;
+    release_bank   : in    std_logic;
+    frame_done     : out   std_logic;
+    bank_ready     : out   std_logic_vector(1 downto 0);
+    bank_truncated : out   std_logic_vector(1 downto 0);
+    last_bank      : out   std_logic;
+    bank0_count    : out   std_logic_vector(15 downto 0);
+    bank0_frame    : out   std_logic_vector(15 downto 0);
+    bank0_dropped  : out   std_logic_vector(15 downto 0);
+    bank0_trunc    : out   std_logic_vector(31 downto 0);
+    bank1_count    : out   std_logic_vector(15 downto 0);
+    bank1_frame    : out   std_logic_vector(15 downto 0);
+    bank1_dropped  : out   std_logic_vector(15 downto 0);
+    bank1_trunc    : out   std_logic_vector(31 downto 0);
+    overrun        : out   std_logic_vector(31 downto 0);
+    overflow       : out   std_logic_vector(31 downto 0);
+    aborted        : out   std_logic_vector(31 downto 0);
+    -- CPU read port (latency 2)
+    mem_rd_en   : in    std_logic;
+    mem_rd_addr : in    std_logic_vector(clog2(DEPTH_g) + 6 downto 0);
+    mem_rd_data : out   std_logic_vector(31 downto 0)
+  );
+end entity orb_feat_mem;
+
+architecture rtl of orb_feat_mem is
+
+  constant SLOT_BITS_c   : positive := clog2(DEPTH_g);
+  constant WORDS_c       : positive := 10;         -- CPU words 0..9 of a slot are stored
+  constant WORD_BITS_c   : positive := 32 * WORDS_c;
+  constant LAST_SLOT_c   : natural  := DEPTH_g - 1; -- the slot only an end-of-frame record may use
+  constant BANK_c        : std_logic_vector(0 to 1) := "01";
+  constant SECTOR_BITS_c : positive := FEAT_SECTOR_BITS_c;
+  constant SECTOR_LO_c   : natural  := FEAT_SECTOR_LO_c;
+
+  type mem_t is array (0 to 2 * DEPTH_g - 1) of std_logic_vector(WORD_BITS_c - 1 downto 0);
+  type u16_pair_t is array (0 to 1) of unsigned(15 downto 0);
+  type u32_pair_t is array (0 to 1) of unsigned(31 downto 0);
+
+
+  -- write side
+  signal wr_en    : std_logic;
+  signal wr_addr  : unsigned(SLOT_BITS_c downto 0);
+  signal wr_data  : std_logic_vector(WORD_BITS_c - 1 downto 0);
+  signal beat     : std_logic;
+  signal store_nw : std_logic;                   -- the current frame goes into bank wbank
+  signal abort_nw : std_logic;                   -- the current frame is aborted
+  signal full     : std_logic;                   -- DEPTH_g - 1 features stored
+
+  signal wbank    : std_logic := '0';
+  signal in_frame : std_logic := '0';
+  signal storing  : std_logic := '0';
+  signal abort_f  : std_logic := '0';
+  signal cnt      : unsigned(SLOT_BITS_c - 1 downto 0) := (others => '0');
+  signal trunc    : unsigned(31 downto 0) := (others => '0');
+  signal ready    : std_logic_vector(1 downto 0) := (others => '0');
+  signal done_r   : std_logic := '0';
+  signal last_r   : std_logic := '0';
+  signal ovr_cnt  : unsigned(31 downto 0) := (others => '0');
+  signal ovf_cnt  : unsigned(31 downto 0) := (others => '0');
+  signal abt_cnt  : unsigned(31 downto 0) := (others => '0');
+
+  -- bank headers
+  signal h_count : u16_pair_t := (others => (others => '0'));
+  signal h_frame : u16_pair_t := (others => (others => '0'));
+  signal h_drop  : u16_pair_t := (others => (others => '0'));
+  signal h_trunc : u32_pair_t := (others => (others => '0'));
+
+  -- read side
+  signal q       : std_logic_vector(WORD_BITS_c - 1 downto 0) := (others => '0');
+  signal rd_widx : unsigned(3 downto 0) := (others => '0');
+  signal rd_pend : std_logic := '0';
+  signal rd_word : std_logic_vector(31 downto 0) := (others => '0');
+
+  function bank_index (b : std_logic) return natural is
+  begin
+    if b = '1' then
+      return 1;
+    end if;
+    return 0;
+  end function bank_index;
+
+begin
+
+  assert DEPTH_g = 2 ** SLOT_BITS_c
+    report "orb_feat_mem: DEPTH_g must be a power of two"
+    severity failure;
+
+  beat <= s_axis_feat_tvalid;
+
+  -- A frame's first beat decides whether the frame is stored: bank wbank must not be READY (a
+  -- release of it in the same clock frees it). The decision holds for the whole frame.
+  decide : process (all) is
+    variable free_w : std_logic;
+  begin
+    free_w := '0';
+    if ready(bank_index(wbank)) = '0' or (release_valid = '1' and release_bank = wbank) then
+      free_w := '1';
+    end if;
+    if in_frame = '1' then
+      store_nw <= storing;
+    else
+      store_nw <= free_w;
+    end if;
+  end process decide;
+
+  abort_nw <= abort_f or frame_abort;
+  full     <= '1' when cnt = LAST_SLOT_c else
+              '0';
+  wr_en    <= beat and store_nw and not abort_nw and (s_axis_feat_tlast or not full);
+  wr_addr  <= wbank & cnt;
+
+  -- The RAM word: CPU words 0..9 of the slot (word k at bits 32 * k + 31 downto 32 * k).
+  pack : process (all) is
+    variable w : std_logic_vector(WORD_BITS_c - 1 downto 0);
+  begin
+    w := (others => '0');
+    if s_axis_feat_tlast = '1' then
+      -- end-of-frame record: 0 count, 1 flags, 2 frame number, 3 dropped upstream, 4 truncated
+      w(SLOT_BITS_c - 1 downto 0) := std_logic_vector(cnt);
+      w(63)                       := '1';
+      if trunc /= 0 then
+        w(62) := '1';
+      end if;
+      w(64 + 15 downto 64)   := s_axis_feat_tdata(EOF_FRAME_LO_c + 15 downto EOF_FRAME_LO_c);
+      w(96 + 15 downto 96)   := s_axis_feat_tdata(EOF_DROPS_LO_c + 15 downto EOF_DROPS_LO_c);
+      w(128 + 31 downto 128) := std_logic_vector(trunc);
+    else
+      -- feature: 0 x | y << 16, 1 score | scale << 16 | sector << 24, 2..9 descriptor
+      w(COORD_BITS_c - 1 downto 0)       := s_axis_feat_tdata(FEAT_X_LO_c + COORD_BITS_c - 1 downto FEAT_X_LO_c);
+      w(16 + COORD_BITS_c - 1 downto 16) := s_axis_feat_tdata(FEAT_Y_LO_c + COORD_BITS_c - 1 downto FEAT_Y_LO_c);
+      w(32 + SCORE_BITS_c - 1 downto 32) := s_axis_feat_tdata(FEAT_SCORE_LO_c + SCORE_BITS_c - 1 downto 0);
+      w(48 + 1 downto 48) := s_axis_feat_tdata(FEAT_SCALE_LO_c + 1 downto FEAT_SCALE_LO_c);
+      w(56 + SECTOR_BITS_c - 1 downto 56) := s_axis_feat_tdata(SECTOR_LO_c + SECTOR_BITS_c - 1 downto SECTOR_LO_c);
+      w(WORD_BITS_c - 1 downto 64) := s_axis_feat_tdata(FEAT_DESC_LO_c + DESC_BITS_c - 1 downto FEAT_DESC_LO_c);
+    end if;
+    wr_data <= w;
+  end process pack;
+
+  -- Simple dual-port RAM: one write port (the stream), one registered read port (the CPU),
+  -- read-first. A process variable: one value per word for the simulator instead of a signal
+  -- per bit (2 * DEPTH_g * 320 of them).
+  ram : process (clk) is
+    variable mem : mem_t := (others => (others => '0'));
+  begin
+    if rising_edge(clk) then
+      if mem_rd_en = '1' then
+        q <= mem(to_integer(unsigned(mem_rd_addr(SLOT_BITS_c + 6 downto 6))));
+      end if;
+      if wr_en = '1' then
+        mem(to_integer(wr_addr)) := wr_data;
+      end if;
+    end if;
+  end process ram;
+
+  ctrl : process (clk) is
+  begin
+    if rising_edge(clk) then
+      done_r <= '0';
+      for k in 0 to 1 loop
+        if release_valid = '1' and release_bank = BANK_c(k) then
+          ready(k) <= '0';
+        end if;
+      end loop;
+      if frame_abort = '1' then
+        abort_f <= '1';
+      end if;
+      if beat = '1' and s_axis_feat_tlast = '0' then
+        in_frame <= '1';
+        storing  <= store_nw;
+        if store_nw = '1' and abort_nw = '0' then
+          if full = '0' then
+            cnt <= cnt + 1;
+          else
+            trunc <= trunc + 1;
+          end if;
+        end if;
+      elsif beat = '1' then
+        -- end of the frame: published, skipped (overrun) or discarded (aborted)
+        in_frame <= '0';
+        storing  <= '0';
+        abort_f  <= '0';
+        cnt      <= (others => '0');
+        trunc    <= (others => '0');
+        if abort_nw = '1' then
+          abt_cnt <= abt_cnt + 1;
+        elsif store_nw = '0' then
+          ovr_cnt <= ovr_cnt + 1;
+        else
+          -- constant indices only: GHDL 2.0 synth drops writes to a signal array element
+          -- indexed by a variable in this process (the headers came out as constants)
+          for k in 0 to 1 loop
+            if wbank = BANK_c(k) then
+              ready(k)   <= '1';
+              h_count(k) <= resize(cnt, 16);
+              h_frame(k) <= unsigned(s_axis_feat_tdata(EOF_FRAME_LO_c + 15 downto EOF_FRAME_LO_c));
+              h_drop(k)  <= unsigned(s_axis_feat_tdata(EOF_DROPS_LO_c + 15 downto EOF_DROPS_LO_c));
+              h_trunc(k) <= trunc;
+            end if;
+          end loop;
+          ovf_cnt    <= ovf_cnt + trunc;
+          last_r     <= wbank;
+          wbank      <= not wbank;
+          done_r     <= '1';
+        end if;
+      end if;
+      if rst = '1' then
+        wbank    <= '0';
+        in_frame <= '0';
+        storing  <= '0';
+        abort_f  <= '0';
+        cnt      <= (others => '0');
+        trunc    <= (others => '0');
+        ready    <= (others => '0');
+        done_r   <= '0';
+        last_r   <= '0';
+        ovr_cnt  <= (others => '0');
+        ovf_cnt  <= (others => '0');
+        abt_cnt  <= (others => '0');
+      end if;
+    end if;
+  end process ctrl;
+
+  -- Read pipeline, second stage: the addressed 32-bit word of the RAM word (words 10..15 are 0).
+  rd_mux : process (clk) is
+    variable k : natural range 0 to 15;
+  begin
+    if rising_edge(clk) then
+      if mem_rd_en = '1' then
+        rd_widx <= unsigned(mem_rd_addr(5 downto 2));
+      end if;
+      rd_pend <= mem_rd_en;
+      if rd_pend = '1' then
+        k := to_integer(rd_widx);
+        if k < WORDS_c then
+          rd_word <= q(32 * k + 31 downto 32 * k);
+        else
+          rd_word <= (others => '0');
+        end if;
+      end if;
+      if rst = '1' then
+        rd_pend <= '0';
+      end if;
+    end if;
+  end process rd_mux;
+
+  s_axis_feat_tready <= '1';
+  frame_done         <= done_r;
+  bank_ready         <= ready;
+  bank_truncated(0)  <= '1' when h_trunc(0) /= 0 else
+                        '0';
+  bank_truncated(1)  <= '1' when h_trunc(1) /= 0 else
+                        '0';
+  last_bank          <= last_r;
+  bank0_count        <= std_logic_vector(h_count(0));
+  bank0_frame        <= std_logic_vector(h_frame(0));
+  bank0_dropped      <= std_logic_vector(h_drop(0));
+  bank0_trunc        <= std_logic_vector(h_trunc(0));
+  bank1_count        <= std_logic_vector(h_count(1));
+  bank1_frame        <= std_logic_vector(h_frame(1));
+  bank1_dropped      <= std_logic_vector(h_drop(1));
+  bank1_trunc        <= std_logic_vector(h_trunc(1));
+  overrun            <= std_logic_vector(ovr_cnt);
+  overflow           <= std_logic_vector(ovf_cnt);
+  aborted            <= std_logic_vector(abt_cnt);
+  mem_rd_data        <= rd_word;
+
+end architecture rtl;

@@ -1,0 +1,418 @@
+-- SPDX-License-Identifier: MIT
+-- orb_accel_top: the complete accelerator (docs/accelerator.md). Video in (AXI4-Stream, 24-bit
+-- RGB, dvi2rgb's RBG packing or 8-bit luma, INPUT_g) is broadcast to the overlay and to the
+-- feature path: orb_rgb_luma -> a frame gate (CTRL.enable, sampled at each start of frame) ->
+-- orb_video_check (the detector only ever sees complete frames; faulty ones are padded and
+-- flagged) -> orb_core (SCALES_g scales, 4 * SECTORS_g sectors, orb or fast mode) ->
+-- orb_feat_mem (two banks the CPU reads over AXI4-Lite; a frame flagged bad by the checker is
+-- aborted there, never published) and orb_overlay (the previous frame's features drawn on the
+-- passing video, m_axis_video, in the input's packing). orb_axil_regs holds the registers
+-- (docs/registers.md) and forwards reads at MEM_BASE_c and above to the feature memory. rst
+-- resets everything; CTRL.soft_reset resets the video and feature path (not the registers).
+
+library ieee;
+use ieee.std_logic_1164.all;
+use ieee.numeric_std.all;
+
+use work.orb_util_pkg.all;
+use work.orb_feat_pkg.all;
+use work.orb_regs_pkg.all;
+
+entity orb_accel_top is
+  generic (
+    WIDTH_g      : positive range 64 to 1920 := 640;
+    HEIGHT_g     : positive range 48 to 1080 := 480;
+    SCALES_g     : positive range 1 to 4     := 2;
+    SECTORS_g    : positive range 4 to 16    := 8;     -- sectors per quadrant: 4, 8 or 16
+    MEM_DEPTH_g  : positive range 16 to 4096 := 1024;  -- feature slots per bank (power of two)
+    INPUT_g      : string                    := "RGB"; -- "RGB", "RBG" (dvi2rgb) or "LUMA"
+    BLOCK_LOG2_g : positive range 2 to 5     := 3      -- overlay block size 2^BLOCK_LOG2_g
+  );
+  port (
+    clk : in    std_logic;
+    rst : in    std_logic;
+    -- video in
+    s_axis_video_tdata  : in    std_logic_vector(8 + 16 * boolean'pos(INPUT_g /= "LUMA") - 1 downto 0);
+    s_axis_video_tvalid : in    std_logic;
+    s_axis_video_tready : out   std_logic;
+    s_axis_video_tuser  : in    std_logic;
+    s_axis_video_tlast  : in    std_logic;
+    -- video out with the overlay (24 bit, the input's packing; grey as R = G = B for LUMA)
+    m_axis_video_tdata  : out   std_logic_vector(23 downto 0);
+    m_axis_video_tvalid : out   std_logic;
+    m_axis_video_tready : in    std_logic;
+    m_axis_video_tuser  : out   std_logic;
+    m_axis_video_tlast  : out   std_logic;
+    -- AXI4-Lite control and feature memory
+    s_axil_awaddr  : in    std_logic_vector(maximum(18, clog2(MEM_BASE_c + 2 * 64 * MEM_DEPTH_g)) - 1 downto 0);
+    s_axil_awprot  : in    std_logic_vector(2 downto 0);
+    s_axil_awvalid : in    std_logic;
+    s_axil_awready : out   std_logic;
+    s_axil_wdata   : in    std_logic_vector(31 downto 0);
+    s_axil_wstrb   : in    std_logic_vector(3 downto 0);
+    s_axil_wvalid  : in    std_logic;
+    s_axil_wready  : out   std_logic;
+    s_axil_bresp   : out   std_logic_vector(1 downto 0);
+    s_axil_bvalid  : out   std_logic;
+    s_axil_bready  : in    std_logic;
+    s_axil_araddr  : in    std_logic_vector(maximum(18, clog2(MEM_BASE_c + 2 * 64 * MEM_DEPTH_g)) - 1 downto 0);
+    s_axil_arprot  : in    std_logic_vector(2 downto 0);
+    s_axil_arvalid : in    std_logic;
+    s_axil_arready : out   std_logic;
+    s_axil_rdata   : out   std_logic_vector(31 downto 0);
+    s_axil_rresp   : out   std_logic_vector(1 downto 0);
+    s_axil_rvalid  : out   std_logic;
+    s_axil_rready  : in    std_logic;
+    irq            : out   std_logic
+  );
+end entity orb_accel_top;
+
+architecture rtl of orb_accel_top is
+
+  constant ADDR_BITS_c : positive := maximum(18, clog2(MEM_BASE_c + 2 * 64 * MEM_DEPTH_g));
+  constant MEM_BITS_c  : positive := clog2(MEM_DEPTH_g) + 7;  -- byte offset into both banks
+  constant LUMA_c      : boolean  := INPUT_g = "LUMA";
+  constant RBG_c       : boolean  := INPUT_g = "RBG";
+
+  -- resets
+  signal soft_reset : std_logic;
+  signal core_rst   : std_logic := '1';
+
+  -- registers
+  signal enable   : std_logic;
+  signal mode_orb : std_logic;
+  signal thresh   : std_logic_vector(7 downto 0);
+
+  -- video broadcast
+  signal in_ready   : std_logic;
+  signal luma_ready : std_logic;
+  signal ov_ready   : std_logic;
+  signal ov_data    : std_logic_vector(23 downto 0);
+  signal ov_out     : std_logic_vector(23 downto 0);
+
+  -- luma stream, frame gate, checked stream
+  signal l_data          : std_logic_vector(7 downto 0);
+  signal l_valid         : std_logic;
+  signal l_ready         : std_logic;
+  signal l_user          : std_logic;
+  signal l_last          : std_logic;
+  signal gate_open       : std_logic := '1';
+  signal gate_pass       : std_logic;
+  signal g_valid         : std_logic;
+  signal g_ready         : std_logic;
+  signal c_data          : std_logic_vector(7 downto 0);
+  signal c_valid         : std_logic;
+  signal c_ready         : std_logic;
+  signal c_user          : std_logic;
+  signal c_last          : std_logic;
+  signal frame_end       : std_logic;
+  signal frame_bad       : std_logic;
+  signal frame_abort     : std_logic;
+  signal protocol_errors : std_logic_vector(31 downto 0);
+  signal discarded       : std_logic_vector(31 downto 0);
+
+  -- features
+  signal f_data    : std_logic_vector(FEAT_BITS_c - 1 downto 0);
+  signal f_valid   : std_logic;
+  signal f_ready   : std_logic;
+  signal f_last    : std_logic;
+  signal mem_ready : std_logic;
+  signal ovf_ready : std_logic;
+  signal dropped   : std_logic_vector(31 downto 0);
+  signal desc_lost : std_logic_vector(31 downto 0);
+  signal frames    : unsigned(31 downto 0) := (others => '0');
+
+  -- feature memory status and read port
+  signal release_valid  : std_logic;
+  signal release_bank   : std_logic_vector(BANK_RELEASE_BANK_MSB_c - BANK_RELEASE_BANK_LSB_c downto 0);
+  signal mem_frame_done : std_logic;
+  signal bank_ready     : std_logic_vector(1 downto 0);
+  signal last_bank      : std_logic;
+  signal bank0_count    : std_logic_vector(15 downto 0);
+  signal bank0_frame    : std_logic_vector(15 downto 0);
+  signal bank1_count    : std_logic_vector(15 downto 0);
+  signal bank1_frame    : std_logic_vector(15 downto 0);
+  signal overrun        : std_logic_vector(31 downto 0);
+  signal overflow_count : std_logic_vector(31 downto 0);
+  signal overflow       : std_logic;
+  signal mem_rd_en      : std_logic;
+  signal mem_rd_addr    : std_logic_vector(ADDR_BITS_c - 1 downto 0);
+  signal mem_rd_data    : std_logic_vector(31 downto 0);
+
+begin
+
+  assert INPUT_g = "RGB" or INPUT_g = "RBG" or INPUT_g = "LUMA"
+    report "orb_accel_top: INPUT_g must be ""RGB"", ""RBG"" or ""LUMA"""
+    severity failure;
+
+  assert 2 ** clog2(MEM_DEPTH_g) = MEM_DEPTH_g
+    report "orb_accel_top: MEM_DEPTH_g must be a power of two"
+    severity failure;
+
+  -- The soft reset (a register pulse) resets the video and feature path for one clock after it.
+  resets : process (clk) is
+  begin
+    if rising_edge(clk) then
+      core_rst <= rst or soft_reset;
+    end if;
+  end process resets;
+
+  regs : entity work.orb_axil_regs
+    generic map (
+      WIDTH_g       => WIDTH_g,
+      HEIGHT_g      => HEIGHT_g,
+      SCALES_g      => SCALES_g,
+      SECTORS_g     => SECTORS_g,
+      MEM_DEPTH_g   => MEM_DEPTH_g,
+      MEM_LATENCY_g => 2,
+      ADDR_BITS_g   => ADDR_BITS_c
+    )
+    port map (
+      clk              => clk,
+      rst              => rst,
+      s_axil_awaddr    => s_axil_awaddr,
+      s_axil_awprot    => s_axil_awprot,
+      s_axil_awvalid   => s_axil_awvalid,
+      s_axil_awready   => s_axil_awready,
+      s_axil_wdata     => s_axil_wdata,
+      s_axil_wstrb     => s_axil_wstrb,
+      s_axil_wvalid    => s_axil_wvalid,
+      s_axil_wready    => s_axil_wready,
+      s_axil_bresp     => s_axil_bresp,
+      s_axil_bvalid    => s_axil_bvalid,
+      s_axil_bready    => s_axil_bready,
+      s_axil_araddr    => s_axil_araddr,
+      s_axil_arprot    => s_axil_arprot,
+      s_axil_arvalid   => s_axil_arvalid,
+      s_axil_arready   => s_axil_arready,
+      s_axil_rdata     => s_axil_rdata,
+      s_axil_rresp     => s_axil_rresp,
+      s_axil_rvalid    => s_axil_rvalid,
+      s_axil_rready    => s_axil_rready,
+      enable           => enable,
+      soft_reset       => soft_reset,
+      mode_orb         => mode_orb,
+      threshold        => thresh,
+      frame_count      => std_logic_vector(frames),
+      dropped          => dropped,
+      proto_errors     => protocol_errors,
+      bank_ready       => bank_ready,
+      last_bank        => last_bank,
+      overflow         => overflow,
+      bank0_count      => bank0_count,
+      bank0_frame      => bank0_frame,
+      bank1_count      => bank1_count,
+      bank1_frame      => bank1_frame,
+      overrun          => overrun,
+      overflow_count   => overflow_count,
+      desc_lost        => desc_lost,
+      discarded        => discarded,
+      frame_done_pulse => mem_frame_done,
+      error_pulse      => frame_abort,
+      irq              => irq,
+      release_valid    => release_valid,
+      release_bank     => release_bank,
+      mem_rd_en        => mem_rd_en,
+      mem_rd_addr      => mem_rd_addr,
+      mem_rd_data      => mem_rd_data
+    );
+
+  -- Video broadcast: a beat is taken when both the luma path and the overlay can take it.
+  in_ready            <= luma_ready and ov_ready;
+  s_axis_video_tready <= in_ready;
+
+  luma : entity work.orb_rgb_luma
+    generic map (
+      INPUT_g => INPUT_g
+    )
+    port map (
+      clk                 => clk,
+      rst                 => core_rst,
+      s_axis_video_tdata  => s_axis_video_tdata,
+      s_axis_video_tvalid => s_axis_video_tvalid and ov_ready,
+      s_axis_video_tready => luma_ready,
+      s_axis_video_tuser  => s_axis_video_tuser,
+      s_axis_video_tlast  => s_axis_video_tlast,
+      m_axis_video_tdata  => l_data,
+      m_axis_video_tvalid => l_valid,
+      m_axis_video_tready => l_ready,
+      m_axis_video_tuser  => l_user,
+      m_axis_video_tlast  => l_last
+    );
+
+  -- Frame gate: CTRL.enable is sampled with each start of frame; the frames of a disabled
+  -- accelerator are taken and ignored (the overlay still passes them). Out of reset the gate is
+  -- open, so pixels of a frame cut by a (soft) reset reach orb_video_check and are counted there
+  -- as pixels without a start of frame.
+  gate : process (clk) is
+  begin
+    if rising_edge(clk) then
+      if l_valid = '1' and l_ready = '1' and l_user = '1' then
+        gate_open <= enable;
+      end if;
+      if core_rst = '1' then
+        gate_open <= '1';
+      end if;
+    end if;
+  end process gate;
+
+  gate_pass <= '1' when (l_user = '1' and enable = '1') or (l_user = '0' and gate_open = '1') else
+               '0';
+  g_valid   <= l_valid and gate_pass;
+  l_ready   <= g_ready when gate_pass = '1' else
+               '1';
+
+  check : entity work.orb_video_check
+    generic map (
+      WIDTH_g  => WIDTH_g,
+      HEIGHT_g => HEIGHT_g
+    )
+    port map (
+      clk                 => clk,
+      rst                 => core_rst,
+      s_axis_video_tdata  => l_data,
+      s_axis_video_tvalid => g_valid,
+      s_axis_video_tready => g_ready,
+      s_axis_video_tuser  => l_user,
+      s_axis_video_tlast  => l_last,
+      m_axis_video_tdata  => c_data,
+      m_axis_video_tvalid => c_valid,
+      m_axis_video_tready => c_ready,
+      m_axis_video_tuser  => c_user,
+      m_axis_video_tlast  => c_last,
+      frame_end           => frame_end,
+      frame_bad           => frame_bad,
+      frame_fault         => open,
+      protocol_errors     => protocol_errors,
+      discarded_pixels    => discarded
+    );
+
+  -- A frame the checker had to pad is discarded by the feature memory (its end-of-frame beat
+  -- leaves the detector after its last pixel, so the frame being written is this one).
+  frame_abort <= frame_end and frame_bad;
+
+  detect : entity work.orb_core
+    generic map (
+      WIDTH_g   => WIDTH_g,
+      HEIGHT_g  => HEIGHT_g,
+      SCALES_g  => SCALES_g,
+      SECTORS_g => SECTORS_g,
+      DESC_g    => true
+    )
+    port map (
+      clk                 => clk,
+      rst                 => core_rst,
+      s_axis_video_tdata  => c_data,
+      s_axis_video_tvalid => c_valid,
+      s_axis_video_tready => c_ready,
+      s_axis_video_tuser  => c_user,
+      s_axis_video_tlast  => c_last,
+      threshold           => thresh,
+      mode_orb            => mode_orb,
+      m_axis_feat_tdata   => f_data,
+      m_axis_feat_tvalid  => f_valid,
+      m_axis_feat_tready  => f_ready,
+      m_axis_feat_tlast   => f_last,
+      dropped             => dropped,
+      bad_pixels          => open,
+      desc_lost           => desc_lost
+    );
+
+  -- Feature broadcast (both sinks always take a beat; the AND keeps it correct if one did not).
+  f_ready <= mem_ready and ovf_ready;
+
+  count_frames : process (clk) is
+  begin
+    if rising_edge(clk) then
+      if f_valid = '1' and f_ready = '1' and f_last = '1' then
+        frames <= frames + 1;
+      end if;
+      if core_rst = '1' then
+        frames <= (others => '0');
+      end if;
+    end if;
+  end process count_frames;
+
+  mem : entity work.orb_feat_mem
+    generic map (
+      DEPTH_g => MEM_DEPTH_g
+    )
+    port map (
+      clk                => clk,
+      rst                => core_rst,
+      s_axis_feat_tdata  => f_data,
+      s_axis_feat_tvalid => f_valid and ovf_ready,
+      s_axis_feat_tready => mem_ready,
+      s_axis_feat_tlast  => f_last,
+      frame_abort        => frame_abort,
+      release_valid      => release_valid,
+      release_bank       => release_bank(0),
+      frame_done         => mem_frame_done,
+      bank_ready         => bank_ready,
+      bank_truncated     => open,
+      last_bank          => last_bank,
+      bank0_count        => bank0_count,
+      bank0_frame        => bank0_frame,
+      bank0_dropped      => open,
+      bank0_trunc        => open,
+      bank1_count        => bank1_count,
+      bank1_frame        => bank1_frame,
+      bank1_dropped      => open,
+      bank1_trunc        => open,
+      overrun            => overrun,
+      overflow           => overflow_count,
+      aborted            => open,
+      mem_rd_en          => mem_rd_en,
+      mem_rd_addr        => mem_rd_addr(MEM_BITS_c - 1 downto 0),
+      mem_rd_data        => mem_rd_data
+    );
+
+  overflow <= '1' when unsigned(overflow_count) /= 0 else
+              '0';
+
+  -- The overlay works on R [23:16], G [15:8], B [7:0]; other packings are reordered around it.
+  gen_luma : if LUMA_c generate
+    ov_data <= s_axis_video_tdata(7 downto 0) & s_axis_video_tdata(7 downto 0) & s_axis_video_tdata(7 downto 0);
+  end generate gen_luma;
+
+  gen_rbg : if RBG_c generate
+    ov_data            <= s_axis_video_tdata(23 downto 16) & s_axis_video_tdata(7 downto 0) &
+                          s_axis_video_tdata(15 downto 8);
+    m_axis_video_tdata <= ov_out(23 downto 16) & ov_out(7 downto 0) & ov_out(15 downto 8);
+  end generate gen_rbg;
+
+  gen_rgb : if not RBG_c generate
+    m_axis_video_tdata <= ov_out;
+  end generate gen_rgb;
+
+  gen_rgb_in : if not LUMA_c and not RBG_c generate
+    ov_data <= s_axis_video_tdata;
+  end generate gen_rgb_in;
+
+  overlay : entity work.orb_overlay
+    generic map (
+      WIDTH_g      => WIDTH_g,
+      HEIGHT_g     => HEIGHT_g,
+      SCALES_g     => SCALES_g,
+      BLOCK_LOG2_g => BLOCK_LOG2_g
+    )
+    port map (
+      clk                 => clk,
+      rst                 => core_rst,
+      s_axis_video_tdata  => ov_data,
+      s_axis_video_tvalid => s_axis_video_tvalid and luma_ready,
+      s_axis_video_tready => ov_ready,
+      s_axis_video_tuser  => s_axis_video_tuser,
+      s_axis_video_tlast  => s_axis_video_tlast,
+      m_axis_video_tdata  => ov_out,
+      m_axis_video_tvalid => m_axis_video_tvalid,
+      m_axis_video_tready => m_axis_video_tready,
+      m_axis_video_tuser  => m_axis_video_tuser,
+      m_axis_video_tlast  => m_axis_video_tlast,
+      s_axis_feat_tdata   => f_data,
+      s_axis_feat_tvalid  => f_valid and mem_ready,
+      s_axis_feat_tready  => ovf_ready,
+      s_axis_feat_tlast   => f_last
+    );
+
+end architecture rtl;

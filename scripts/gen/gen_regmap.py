@@ -1,0 +1,520 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: MIT
+"""Generate the register map's three views from golden_model/data/regmap.json, the one definition.
+
+Writes hdl/host/orb_regs_pkg.vhd (offsets, field positions, write masks, reset values, ID and version
+constants for orb_axil_regs), golden_model/regs.py (the same as Python dataclasses for the
+on-target driver and the testbenches) and docs/registers.md (the table). Deterministic: the same
+data gives byte-identical files. The data is checked first (aligned unique offsets below MEM_BASE,
+fields inside 32 bits and not overlapping, resets and maxima that fit their fields, known reset
+names). Usage: scripts/gen/gen_regmap.py [--out DIR] (DIR gets hdl/, golden_model/ and docs/ below it;
+default: the repository; tb/host/test_orb_regs_pkg.py regenerates into a temporary directory).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+DATA = ROOT / "golden_model" / "data" / "regmap.json"
+OUTPUTS = {
+    "vhdl": Path("hdl") / "host" / "orb_regs_pkg.vhd",
+    "python": Path("golden_model") / "regs.py",
+    "markdown": Path("docs") / "registers.md",
+}
+ACCESS = ("ro", "rw", "w1c", "wo")
+GENERIC_RE = re.compile(r"^[A-Z][A-Z0-9_]*_g$")
+NAME_RE = re.compile(r"^[A-Z][A-Z0-9_]*$")
+FIELD_RE = re.compile(r"^[a-z][a-z0-9_]*$")
+SOURCE = "golden_model/data/regmap.json"
+
+
+@dataclass(frozen=True)
+class Const:
+    name: str
+    value: int
+    hex: bool
+    description: str
+
+
+@dataclass(frozen=True)
+class Fld:
+    name: str
+    msb: int
+    lsb: int
+    reset: int | str  # an integer, a constant's name or a generic's name (ending _g)
+    description: str
+    port: str | None = None
+    max: int | None = None
+    pulse: bool = False
+    values: dict[int, str] = field(default_factory=dict)
+
+    @property
+    def width(self) -> int:
+        return self.msb - self.lsb + 1
+
+    @property
+    def mask(self) -> int:
+        return ((1 << self.width) - 1) << self.lsb
+
+
+@dataclass(frozen=True)
+class Reg:
+    name: str
+    offset: int
+    access: str
+    description: str
+    fields: tuple[Fld, ...]
+
+    @property
+    def mask(self) -> int:
+        m = 0
+        for f in self.fields:
+            m |= f.mask
+        return m
+
+
+@dataclass(frozen=True)
+class RegMap:
+    name: str
+    description: str
+    constants: tuple[Const, ...]
+    notes: tuple[str, ...]
+    registers: tuple[Reg, ...]
+
+    def const(self, name: str) -> int:
+        return next(c.value for c in self.constants if c.name == name)
+
+
+class RegMapError(ValueError):
+    """The register map data is inconsistent."""
+
+
+def load(path: Path = DATA) -> RegMap:
+    raw = json.loads(path.read_text())
+    consts = tuple(
+        Const(name, int(c["value"]), bool(c.get("hex", False)), str(c["description"]))
+        for name, c in raw["constants"].items()
+    )
+    regs = []
+    for r in raw["registers"]:
+        fields = []
+        for f in r["fields"]:
+            msb, lsb = f["bits"]
+            values = {int(k): str(v) for k, v in f.get("values", {}).items()}
+            fields.append(
+                Fld(
+                    f["name"],
+                    int(msb),
+                    int(lsb),
+                    f["reset"],
+                    str(f["description"]),
+                    f.get("port"),
+                    f.get("max"),
+                    bool(f.get("pulse", False)),
+                    values,
+                )
+            )
+        regs.append(Reg(r["name"], int(r["offset"]), r["access"], str(r["description"]), tuple(fields)))
+    rm = RegMap(raw["name"], raw["description"], consts, tuple(raw.get("notes", ())), tuple(regs))
+    check(rm)
+    return rm
+
+
+def check(rm: RegMap) -> None:
+    names = {c.name for c in rm.constants}
+    for need in ("ORB_ID", "VERSION_MAJOR", "VERSION_MINOR", "MEM_BASE", "BANKS"):
+        if need not in names:
+            raise RegMapError(f"constant {need} missing")
+    for c in rm.constants:
+        if not NAME_RE.match(c.name) or not 0 <= c.value < 1 << 32:
+            raise RegMapError(f"constant {c.name} = {c.value}: bad name or not a 32-bit unsigned value")
+    mem_base = rm.const("MEM_BASE")
+    if mem_base & (mem_base - 1):
+        raise RegMapError(f"MEM_BASE {mem_base:#x} is not a power of two")
+    seen: dict[int, str] = {}
+    reg_names: set[str] = set()
+    for r in rm.registers:
+        where = f"register {r.name}"
+        if not NAME_RE.match(r.name) or r.name in reg_names:
+            raise RegMapError(f"{where}: bad or repeated name")
+        reg_names.add(r.name)
+        if r.offset % 4 or not 0 <= r.offset < mem_base:
+            raise RegMapError(f"{where}: offset {r.offset:#x} not 32-bit aligned below MEM_BASE {mem_base:#x}")
+        if r.offset in seen:
+            raise RegMapError(f"{where}: offset {r.offset:#x} already used by {seen[r.offset]}")
+        seen[r.offset] = r.name
+        if r.access not in ACCESS:
+            raise RegMapError(f"{where}: access {r.access!r} not one of {ACCESS}")
+        if not r.fields:
+            raise RegMapError(f"{where}: no fields")
+        used = 0
+        fnames: set[str] = set()
+        for f in r.fields:
+            fw = f"{where} field {f.name}"
+            if not FIELD_RE.match(f.name) or f.name in fnames:
+                raise RegMapError(f"{fw}: bad or repeated name")
+            fnames.add(f.name)
+            if not 0 <= f.lsb <= f.msb <= 31:
+                raise RegMapError(f"{fw}: bits [{f.msb}, {f.lsb}] outside 31..0")
+            if used & f.mask:
+                raise RegMapError(f"{fw}: overlaps another field")
+            used |= f.mask
+            if isinstance(f.reset, str):
+                if not (GENERIC_RE.match(f.reset) or f.reset in names):
+                    raise RegMapError(f"{fw}: reset {f.reset!r} is neither a constant nor a generic (NAME_g)")
+                if GENERIC_RE.match(f.reset) and r.access != "ro":
+                    raise RegMapError(f"{fw}: a generic reset value needs a ro register")
+                value = rm.const(f.reset) if f.reset in names else 0
+            else:
+                value = int(f.reset)
+            if not 0 <= value < 1 << f.width:
+                raise RegMapError(f"{fw}: reset {value} does not fit {f.width} bits")
+            if f.max is not None and not (0 <= f.max < (1 << f.width) - 1 and value <= f.max):
+                raise RegMapError(f"{fw}: max {f.max} must be below the field's all-ones value and >= reset")
+            if (f.max is not None or f.pulse) and r.access not in ("rw", "wo"):
+                raise RegMapError(f"{fw}: max and pulse need a rw or wo register")
+            if f.port is not None and r.access != "ro":
+                raise RegMapError(f"{fw}: a field following an input port must be ro")
+
+
+# ------------------------------------------------------------------------------------------------
+# VHDL
+
+
+def vhex(value: int, bits: int = 32) -> str:
+    return f'x"{value:0{bits // 4}X}"'
+
+
+def vnat(value: int, hexa: bool = False) -> str:
+    return f"16#{value:X}#" if hexa else str(value)
+
+
+def reset_word(rm: RegMap, r: Reg) -> int | None:
+    """The register's reset value when no field depends on a generic or an input port."""
+    word = 0
+    for f in r.fields:
+        if f.port is not None or (isinstance(f.reset, str) and GENERIC_RE.match(f.reset)):
+            return None
+        value = rm.const(f.reset) if isinstance(f.reset, str) else f.reset
+        word |= value << f.lsb
+    return word
+
+
+def render_vhdl(rm: RegMap) -> str:
+    out = [
+        "-- SPDX-License-Identifier: MIT",
+        "-- orb_regs_pkg: the register map of orb_axil_regs (docs/registers.md): identification and",
+        "-- version constants, the feature-memory window base MEM_BASE_c, and per register its byte",
+        "-- offset REG_<NAME>_c, its defined-bits mask REG_<NAME>_MASK_c and, when no field follows a",
+        "-- generic or an input port, its reset value REG_<NAME>_RESET_c; per field <REG>_<FIELD>_LSB_c,",
+        "-- _MSB_c, _RESET_c (integer or constant resets) and _MAX_c (largest legal written value).",
+        f"-- Generated by scripts/gen/gen_regmap.py from {SOURCE}: do not edit.",
+        "",
+        "library ieee;",
+        "use ieee.std_logic_1164.all;",
+        "",
+        "package orb_regs_pkg is",
+        "",
+    ]
+    for c in rm.constants:
+        out.append(f"  -- {c.description}")
+        if c.name == "ORB_ID":
+            out.append(f"  constant {c.name}_c : std_logic_vector(31 downto 0) := {vhex(c.value)};")
+        else:
+            out.append(f"  constant {c.name}_c : natural := {vnat(c.value, c.hex)};")
+    out.append("")
+    for r in rm.registers:
+        out.append(f"  -- {r.name} ({r.access}): {r.description}")
+        out.append(f"  constant REG_{r.name}_c : natural := 16#{r.offset:03X}#;")
+        out.append(f"  constant REG_{r.name}_MASK_c : std_logic_vector(31 downto 0) := {vhex(r.mask)};")
+        word = reset_word(rm, r)
+        if word is not None:
+            out.append(f"  constant REG_{r.name}_RESET_c : std_logic_vector(31 downto 0) := {vhex(word)};")
+        for f in r.fields:
+            p = f"{r.name}_{f.name.upper()}"
+            out.append(f"  constant {p}_LSB_c : natural := {f.lsb};")
+            out.append(f"  constant {p}_MSB_c : natural := {f.msb};")
+            if isinstance(f.reset, int):
+                out.append(f"  constant {p}_RESET_c : natural := {f.reset};")
+            elif not GENERIC_RE.match(f.reset):
+                if f.reset == "ORB_ID":
+                    continue
+                out.append(f"  constant {p}_RESET_c : natural := {f.reset}_c;")
+            if f.max is not None:
+                out.append(f"  constant {p}_MAX_c : natural := {f.max};")
+        out.append("")
+    out.append("end package orb_regs_pkg;")
+    return "\n".join(align_colons(out)) + "\n"
+
+
+def align_colons(lines: list[str]) -> list[str]:
+    """Pad the names of consecutive constant declarations so their colons line up (vsg's rule)."""
+    out: list[str] = []
+    group: list[tuple[str, str]] = []
+
+    def flush() -> None:
+        width = max((len(n) for n, _ in group), default=0)
+        out.extend(f"  constant {n.ljust(width)} :{rest}" for n, rest in group)
+        group.clear()
+
+    for line in lines:
+        if line.startswith("  constant "):
+            name, _, rest = line.removeprefix("  constant ").partition(" :")
+            group.append((name, rest))
+        else:
+            flush()
+            out.append(line)
+    flush()
+    return out
+
+
+# ------------------------------------------------------------------------------------------------
+# Python
+
+
+def pystr(s: str) -> str:
+    """A string literal the way ruff format writes it (double quotes unless that needs escapes)."""
+    if '"' in s and "'" not in s:
+        return "'" + s.replace("\\", "\\\\") + "'"
+    return json.dumps(s, ensure_ascii=False)
+
+
+def pyfield(rm: RegMap, f: Fld) -> list[str]:
+    names = {c.name for c in rm.constants}
+    args = [f"name={pystr(f.name)}", f"lsb={f.lsb}", f"width={f.width}"]
+    if isinstance(f.reset, int):
+        args.append(f"reset={f.reset}")
+    elif f.reset in names:
+        args.append(f"reset={f.reset}")
+    else:
+        args += ["reset=None", f"generic={pystr(f.reset)}"]
+    if f.port is not None:
+        args.append(f"port={pystr(f.port)}")
+    if f.max is not None:
+        args.append(f"max={f.max}")
+    if f.pulse:
+        args.append("pulse=True")
+    lines = ["        Field("]
+    lines += [f"            {a}," for a in args]
+    lines.append(f"            description={pystr(f.description)},")
+    lines.append("        ),")
+    return lines
+
+
+PY_HEADER = '''\
+# SPDX-License-Identifier: MIT
+"""The accelerator's register map (docs/registers.md), for the on-target driver and the testbenches.
+
+Generated by scripts/gen/gen_regmap.py from golden_model/data/regmap.json: do not edit.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+'''
+
+PY_CLASSES = '''
+
+@dataclass(frozen=True)
+class Field:
+    """Bits lsb .. lsb + width - 1 of a register. reset is None when the value is a generic of
+    orb_axil_regs (generic names it); port names the input a ro field shows; max is the largest
+    legal written value (a larger one answers SLVERR); pulse fields read 0."""
+
+    name: str
+    lsb: int
+    width: int
+    reset: int | None
+    description: str
+    generic: str | None = None
+    port: str | None = None
+    max: int | None = None
+    pulse: bool = False
+
+    @property
+    def mask(self) -> int:
+        return ((1 << self.width) - 1) << self.lsb
+
+    def get(self, word: int) -> int:
+        """This field's value in a register word."""
+        return (word & self.mask) >> self.lsb
+
+    def put(self, value: int, word: int = 0) -> int:
+        """word with this field set to value."""
+        if not 0 <= value < 1 << self.width:
+            raise ValueError(f"{self.name}: {value} does not fit {self.width} bits")
+        return (word & ~self.mask) | (value << self.lsb)
+
+
+@dataclass(frozen=True)
+class Register:
+    """A 32-bit register at byte offset `offset`; access is ro, rw, w1c or wo."""
+
+    name: str
+    offset: int
+    access: str
+    fields: tuple[Field, ...]
+    description: str
+
+    @property
+    def mask(self) -> int:
+        """The defined bits (reserved bits read 0; setting one in a rw or wo write answers SLVERR)."""
+        m = 0
+        for f in self.fields:
+            m |= f.mask
+        return m
+
+    def field(self, name: str) -> Field:
+        for f in self.fields:
+            if f.name == name:
+                return f
+        raise KeyError(f"{self.name} has no field {name}")
+
+    def reset_value(self, generics: Mapping[str, int] | None = None, ports: Mapping[str, int] | None = None) -> int:
+        """The value read after reset; generic fields from `generics` (NAME_g keys), port fields
+        from `ports` (default 0), pulse fields read 0."""
+        word = 0
+        for f in self.fields:
+            if f.generic is not None:
+                value = (generics or {})[f.generic]
+            elif f.port is not None:
+                value = (ports or {}).get(f.port, 0)
+            else:
+                value = 0 if f.pulse else f.reset or 0
+            word |= (value << f.lsb) & f.mask
+        return word
+
+    def legal(self, word: int) -> bool:
+        """Whether a rw or wo write of word is accepted (no reserved bit set, no field above its max)."""
+        if word & ~self.mask & 0xFFFFFFFF:
+            return False
+        return all(f.max is None or f.get(word) <= f.max for f in self.fields)
+
+'''
+
+
+def render_python(rm: RegMap) -> str:
+    out = [PY_HEADER.rstrip("\n"), ""]
+    for c in rm.constants:
+        value = f"0x{c.value:X}" if c.hex else str(c.value)
+        out.append(f"{c.name} = {value}  # {c.description}")
+    out.append(PY_CLASSES.rstrip("\n"))
+    out.append("")
+    for r in rm.registers:
+        out.append("")
+        out.append(f"{r.name} = Register(")
+        out.append(f"    name={pystr(r.name)},")
+        out.append(f"    offset=0x{r.offset:03X},")
+        out.append(f"    access={pystr(r.access)},")
+        out.append("    fields=(")
+        for f in r.fields:
+            out += pyfield(rm, f)
+        out.append("    ),")
+        out.append(f"    description={pystr(r.description)},")
+        out.append(")")
+    out.append("")
+    out.append("REGISTERS: tuple[Register, ...] = (")
+    out += [f"    {r.name}," for r in rm.registers]
+    out.append(")")
+    out.append("BY_NAME: dict[str, Register] = {r.name: r for r in REGISTERS}")
+    out.append("BY_OFFSET: dict[int, Register] = {r.offset: r for r in REGISTERS}")
+    text = "\n".join(out) + "\n"
+    return text
+
+
+# ------------------------------------------------------------------------------------------------
+# Markdown
+
+
+def md_reset(rm: RegMap, f: Fld) -> str:
+    if f.port is not None:
+        return f"input `{f.port}`"
+    if isinstance(f.reset, str):
+        if GENERIC_RE.match(f.reset):
+            return f"generic `{f.reset}`"
+        return f"`{f.reset}` = {rm.const(f.reset):#x}"
+    return str(f.reset) if f.reset < 10 else f"{f.reset} ({f.reset:#x})"
+
+
+def md_bits(f: Fld) -> str:
+    return f"{f.msb}" if f.msb == f.lsb else f"{f.msb}:{f.lsb}"
+
+
+def render_markdown(rm: RegMap) -> str:
+    out = [
+        "# Registers of orb_axil_regs",
+        "",
+        f"<!-- Generated by scripts/gen/gen_regmap.py from {SOURCE}: do not edit. -->",
+        "",
+        rm.description,
+        "The entity, its ports and the design decisions: [axil-regs.md](axil-regs.md).",
+        "",
+        "## Constants",
+        "",
+        "| name | value | meaning |",
+        "|---|---|---|",
+    ]
+    for c in rm.constants:
+        value = f"0x{c.value:X}" if c.hex else str(c.value)
+        out.append(f"| `{c.name}` | {value} | {c.description} |")
+    out += [
+        "",
+        "## Register map",
+        "",
+        "| offset | register | access | defined bits | description |",
+        "|---|---|---|---|---|",
+    ]
+    for r in rm.registers:
+        out.append(
+            f"| 0x{r.offset:03X} | [{r.name}](#{r.name.lower()}) | {r.access} | 0x{r.mask:08X} | {r.description} |"
+        )
+    out += ["", "Access: ro read only, rw read/write, w1c write 1 to clear, wo write only.", "", "## Bus rules", ""]
+    for n in rm.notes:
+        out += [f"- {n}"]
+    out += ["", "## Fields", ""]
+    for r in rm.registers:
+        out += [f"### {r.name}", "", f"Offset 0x{r.offset:03X}, {r.access}: {r.description}.", ""]
+        out += ["| bits | field | reset | legal writes | description |", "|---|---|---|---|---|"]
+        for f in r.fields:
+            if r.access == "ro":
+                legal = "-"
+            elif f.pulse:
+                legal = "1 pulses, 0 does nothing"
+            elif f.max is not None:
+                legal = f"0 .. {f.max}"
+            else:
+                legal = f"0 .. {(1 << f.width) - 1}"
+            desc = f.description
+            if f.values:
+                desc += "; " + ", ".join(f"{k} = {v}" for k, v in sorted(f.values.items()))
+            out.append(f"| {md_bits(f)} | `{f.name}` | {md_reset(rm, f)} | {legal} | {desc} |")
+        out.append("")
+    return "\n".join(out)
+
+
+def render_all(rm: RegMap) -> dict[str, str]:
+    return {"vhdl": render_vhdl(rm), "python": render_python(rm), "markdown": render_markdown(rm)}
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--data", type=Path, default=DATA, help="register map data (JSON)")
+    ap.add_argument("--out", type=Path, default=ROOT, help="root directory of the outputs (default: the repository)")
+    args = ap.parse_args()
+    texts = render_all(load(args.data))
+    for key, rel in OUTPUTS.items():
+        path = args.out / rel
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_bytes(texts[key].encode())
+        print(f"wrote {path}")
+
+
+if __name__ == "__main__":
+    main()

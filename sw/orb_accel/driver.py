@@ -1,0 +1,197 @@
+# SPDX-License-Identifier: MIT
+"""The accelerator's driver: configure, wait for a frame, read its bank, release it.
+
+Plain blocking Python against a `Bus` (orb_accel.bus), so the same code runs on the board and
+against the simulated RTL (every top-level cocotb test drives the accelerator through it). The
+register map is golden_model.regs, the feature-memory layout golden_model.featmem (both
+generated or defined once; docs/registers.md, docs/feature-memory.md). numpy only.
+
+    accel = OrbAccel(bus)
+    accel.configure(threshold=20, mode="orb")
+    with accel.frame(timeout_s=0.1) as frame:   # the bank is released on leaving the block
+        print(frame.number, len(frame.features))
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from contextlib import contextmanager
+from dataclasses import dataclass
+
+import numpy as np
+
+from golden_model import regs
+from golden_model.config import MODES
+from golden_model.featmem import SLOT_BYTES, SLOT_WORDS_USED, EndOfFrame, decode_features, decode_record
+from golden_model.features import Features
+
+from .bus import Bus
+
+RECORD_WORDS = 5
+COUNTERS = ("FRAME_COUNT", "DROPPED", "PROTO_ERRORS", "OVERRUN", "OVERFLOW_COUNT", "DESC_LOST", "DISCARDED")
+IRQ_SOURCES = ("frame_done", "error")
+
+
+class AccelError(RuntimeError):
+    """The device is not an ORB accelerator, or it answered inconsistently."""
+
+
+@dataclass(frozen=True)
+class HwConfig:
+    """The configuration the bitstream was built with (read back from CFG_*)."""
+
+    width: int
+    height: int
+    scales: int
+    sectors: int  # orientation sectors in all (16, 32 or 64)
+    mem_depth: int  # slots per bank (a bank holds mem_depth - 1 features and the record)
+
+
+@dataclass(frozen=True)
+class Frame:
+    """One published frame: its bank, features (canonical order) and end-of-frame record."""
+
+    bank: int
+    features: Features
+    record: EndOfFrame
+
+    @property
+    def number(self) -> int:
+        return self.record.frame
+
+
+class OrbAccel:
+    def __init__(self, bus: Bus, check_id: bool = True) -> None:
+        self.bus = bus
+        if check_id:
+            ident = self.read(regs.ID)
+            if ident != regs.ORB_ID:
+                raise AccelError(f"ID reads {ident:#010x}, not {regs.ORB_ID:#010x} ('ORB1'): not an ORB accelerator")
+        self.hw = self.read_config()
+        self.mode = "orb"
+
+    # ---- registers -----------------------------------------------------------------------------
+    def read(self, reg: regs.Register) -> int:
+        return self.bus.read32(reg.offset)
+
+    def write(self, reg: regs.Register, value: int) -> None:
+        self.bus.write32(reg.offset, value)
+
+    def read_config(self) -> HwConfig:
+        size, orb, mem = self.read(regs.CFG_SIZE), self.read(regs.CFG_ORB), self.read(regs.CFG_MEM)
+        return HwConfig(
+            width=regs.CFG_SIZE.field("width").get(size),
+            height=regs.CFG_SIZE.field("height").get(size),
+            scales=regs.CFG_ORB.field("scales").get(orb),
+            sectors=4 * regs.CFG_ORB.field("sectors").get(orb),
+            mem_depth=regs.CFG_MEM.field("depth").get(mem),
+        )
+
+    def version(self) -> tuple[int, int]:
+        v = self.read(regs.VERSION)
+        return regs.VERSION.field("major").get(v), regs.VERSION.field("minor").get(v)
+
+    def configure(self, threshold: int, mode: str = "orb", enable: bool = True,
+                  irq: tuple[str, ...] = ("frame_done",)) -> None:  # fmt: skip
+        """FAST threshold (0..255, applied from the next frame), mode ("orb" or "fast"), enable,
+        and the interrupt sources to enable (of IRQ_SOURCES). Raises ValueError on a bad value,
+        before anything is written."""
+        hi = (1 << regs.THRESHOLD.field("threshold").width) - 1
+        if isinstance(threshold, bool) or not isinstance(threshold, (int, np.integer)) or not 0 <= threshold <= hi:
+            raise ValueError(f"threshold {threshold!r} outside 0..{hi}")
+        if mode not in MODES:
+            raise ValueError(f"mode {mode!r} not one of {MODES}")
+        bad = [s for s in irq if s not in IRQ_SOURCES]
+        if bad:
+            raise ValueError(f"interrupt sources {bad} not among {IRQ_SOURCES}")
+        irq_word = 0
+        for s in irq:
+            irq_word = regs.IRQ_ENABLE.field(s).put(1, irq_word)
+        self.write(regs.THRESHOLD, int(threshold))
+        self.write(regs.IRQ_ENABLE, irq_word)
+        ctrl = regs.CTRL.field("mode").put(MODES.index(mode))
+        self.write(regs.CTRL, regs.CTRL.field("enable").put(int(enable), ctrl))
+        self.mode = mode
+
+    def soft_reset(self) -> None:
+        """Restart the data path and the counters (the registers keep their values)."""
+        ctrl = self.read(regs.CTRL)
+        self.write(regs.CTRL, regs.CTRL.field("soft_reset").put(1, ctrl))
+
+    def counters(self) -> dict[str, int]:
+        return {name.lower(): self.read(getattr(regs, name)) for name in COUNTERS}
+
+    def status_text(self) -> str:
+        """The status registers as one line (for error messages)."""
+        parts = [f"{name} = {self.read(getattr(regs, name)):#x}" for name in ("STATUS", "IRQ_STATUS", "CTRL")]
+        return ", ".join(parts + [f"{k} = {v}" for k, v in self.counters().items()])
+
+    # ---- frames --------------------------------------------------------------------------------
+    def wait_irq(self, timeout_s: float) -> int:
+        """Wait for the interrupt, acknowledge it and return the IRQ_STATUS bits that were set.
+        Raises TimeoutError (with the status registers) when none comes within timeout_s."""
+        if not self.bus.wait_irq(timeout_s):
+            raise TimeoutError(f"no interrupt within {timeout_s:g} s: {self.status_text()}")
+        status = self.read(regs.IRQ_STATUS)
+        self.write(regs.IRQ_STATUS, status)
+        return status
+
+    def wait_frame(self, timeout_s: float) -> int:
+        """Wait for a frame-done interrupt (error interrupts are acknowledged and waited past) and
+        return the bank of the newest complete frame. The caller must release it."""
+        while True:
+            if regs.IRQ_STATUS.field("frame_done").get(self.wait_irq(timeout_s)):
+                break
+        status = self.read(regs.STATUS)
+        bank = regs.STATUS.field("last_bank").get(status)
+        if not regs.STATUS.field("bank_ready").get(status) >> bank & 1:
+            raise AccelError(f"frame-done interrupt but bank {bank} is not ready: STATUS = {status:#x}")
+        return bank
+
+    def read_bank(self, bank: int) -> Frame:
+        """A ready bank's features and record (the bank stays held: see release)."""
+        if bank not in range(regs.BANKS):
+            raise ValueError(f"bank {bank} outside 0..{regs.BANKS - 1}")
+        info = self.read(regs.BANK0_INFO if bank == 0 else regs.BANK1_INFO)
+        count = regs.BANK0_INFO.field("count").get(info)
+        base = regs.MEM_BASE + bank * self.hw.mem_depth * SLOT_BYTES
+        words = np.empty((count, SLOT_WORDS_USED), dtype=np.uint32)
+        for s in range(count):
+            words[s] = self.bus.read_block(base + s * SLOT_BYTES, SLOT_WORDS_USED)
+        record = decode_record(self.bus.read_block(base + count * SLOT_BYTES, RECORD_WORDS))
+        if record.count != count:
+            raise AccelError(f"bank {bank}: record count {record.count}, BANK{bank}_INFO count {count}")
+        feats = decode_features(words, self.hw.sectors, descriptors=self.mode == "orb")
+        return Frame(bank, feats, record)
+
+    def release(self, bank: int) -> None:
+        """Give a bank back to the accelerator (after reading it)."""
+        if bank not in range(regs.BANKS):
+            raise ValueError(f"bank {bank} outside 0..{regs.BANKS - 1}")
+        self.write(regs.BANK_RELEASE, bank)
+
+    @contextmanager
+    def holding(self, bank: int) -> Iterator[int]:
+        """Hold `bank` for the block; it is released on leaving, also when the block raises."""
+        try:
+            yield bank
+        finally:
+            self.release(bank)
+
+    @contextmanager
+    def frame(self, timeout_s: float) -> Iterator[Frame]:
+        """The next published frame, its bank held for the block and released on leaving."""
+        with self.holding(self.wait_frame(timeout_s)) as bank:
+            yield self.read_bank(bank)
+
+    def next_frame(self, timeout_s: float) -> Frame:
+        """The next published frame, read and released."""
+        with self.frame(timeout_s) as f:
+            return f
+
+    def frames(self, count: int | None, timeout_s: float) -> Iterator[Frame]:
+        """`count` frames (None: forever), each read and released before it is yielded."""
+        n = 0
+        while count is None or n < count:
+            yield self.next_frame(timeout_s)
+            n += 1

@@ -1,0 +1,99 @@
+# SPDX-License-Identifier: MIT
+"""Job (not a test): one image through orb_accel_top as a CPU drives it, for `make sim` and
+`orb-accel extract --backend rtl` (orb_sim.rtl_backend.run_accel_job starts it).
+
+The shipped driver (orb_accel.OrbAccel) configures the accelerator over AXI4-Lite; the frame
+streams in; the driver waits for the frame-done interrupt, reads the newest bank and releases it.
+Unless ORB_JOB_OVERLAY is 0, the image is streamed once more with the accelerator disabled to
+capture the overlay of its features. Inputs and outputs are files in ORB_JOB_DIR: input.npy in;
+features.csv, overlay.npy, job.json and progress.txt out. ORB_JOB_THRESHOLD, ORB_JOB_MODE (orb or
+fast). It checks nothing against the model: its caller does.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import time
+from pathlib import Path
+
+import cocotb
+import numpy as np
+from cocotb.triggers import ClockCycles, RisingEdge
+
+from golden_model import write_csv
+from orb_sim.accel_bench import AccelBench
+from orb_sim.video import Gaps
+
+
+@cocotb.test()
+async def accel_job(dut) -> None:
+    out = Path(os.environ["ORB_JOB_DIR"])
+    progress = out / "progress.txt"
+    rgb = np.load(out / "input.npy")
+    t = int(os.environ["ORB_JOB_THRESHOLD"])
+    mode = os.environ.get("ORB_JOB_MODE", "orb")
+    with_overlay = os.environ.get("ORB_JOB_OVERLAY", "1") != "0"
+    b = AccelBench(dut)
+    await b.start()
+    accel = b.accel
+    await b.cpu(accel.configure, t, mode)
+    wall = time.perf_counter()
+    pixels = b.width * b.height
+    edge = {"n": 0, "done": -1}
+
+    async def clocks() -> None:
+        while True:
+            await RisingEdge(dut.clk)
+            edge["n"] += 1
+            # values read at an edge are those it samples: the pulse was set by the previous edge
+            if edge["done"] < 0 and dut.mem_frame_done.value == 1:
+                edge["done"] = edge["n"] - 1
+
+    async def report_progress() -> None:
+        while True:
+            await ClockCycles(dut.clk, 10_000)
+            done = min(b.video.cycles, pixels)
+            progress.write_text(f"frame {done} {pixels} {time.perf_counter() - wall:.1f}\n")
+
+    cocotb.start_soon(clocks())
+    reporter = cocotb.start_soon(report_progress())
+    first = edge["n"]
+    await b.send(rgb, Gaps())
+    last_pixel = edge["n"]  # the edge that accepted the frame's last pixel
+    bank = await b.cpu(accel.wait_frame, b.clocks_to_s(b.frame_timeout_clocks))
+    # from the edge that took the last pixel to the edge that wrote the end-of-frame record
+    # (orb_feat_mem's frame_done pulse); +-1 clock for the order of coroutines at one edge
+    latency = edge["done"] - last_pixel
+    sim_frame_s = time.perf_counter() - wall
+    reporter.cancel()
+    progress.write_text(f"readback 0 {pixels} {sim_frame_s:.1f}\n")
+    second = None
+    if with_overlay:
+        await b.cpu(accel.configure, t, mode, False)
+        b.start_capture()
+        second = cocotb.start_soon(b.send(rgb))
+    frame = await b.cpu(accel.read_bank, bank)
+    await b.release(bank)
+    write_csv(frame.features, out / "features.csv")
+    if second is not None:
+        await second
+        while not b.captured:
+            await RisingEdge(dut.clk)
+        np.save(out / "overlay.npy", b.captured[0])
+    counters = await b.cpu(accel.counters)
+    report = {
+        "features": len(frame.features),
+        "frame_cycles": last_pixel - first + 1,
+        "pixels": pixels,
+        "cycles_per_pixel": round((last_pixel - first + 1) / pixels, 4),
+        "latency_cycles": latency,
+        "dropped_merge": counters["dropped"],
+        "truncated": frame.record.truncated,
+        "desc_lost": counters["desc_lost"],
+        "proto_errors": counters["proto_errors"],
+        "frame_sim_wall_s": round(sim_frame_s, 2),
+        "bus_reads": b.bus.reads,
+        "bus_writes": b.bus.writes,
+    }
+    (out / "job.json").write_text(json.dumps(report, indent=2) + "\n")

@@ -1,0 +1,198 @@
+# SPDX-License-Identifier: MIT
+"""`orb-accel`: the user's entry point (extraction, comparison with OpenCV, benchmarks).
+
+Every user error (bad file, bad option value) ends with one line on stderr and exit code 2,
+never a traceback.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+
+from golden_model.config import MIN_HEIGHT, MIN_WIDTH, Config, ConfigError, sectors_to_per_quadrant
+from golden_model.features import Features, write_csv
+from golden_model.images import DEFAULT_IMAGE, ImageError, to_luma
+from orb_sim.rtl_backend import RtlUnavailable
+from orb_tools.images import load_luma, load_rgb_or_grey
+
+BACKENDS = ("model", "opencv", "rtl")
+
+
+class UsageError(Exception):
+    """A user mistake reported as one line."""
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message: str) -> None:  # one line, exit 2, as for every other user error
+        raise UsageError(message)
+
+
+def _threshold(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"threshold must be an integer 0..255, got {text!r}") from None
+    if not 0 <= value <= 255:
+        raise argparse.ArgumentTypeError(f"threshold must be 0..255, got {value}")
+    return value
+
+
+def _scales(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"scales must be an integer 1..4, got {text!r}") from None
+    if not 1 <= value <= 4:
+        raise argparse.ArgumentTypeError(f"scales must be 1..4, got {value}")
+    return value
+
+
+def _sectors(text: str) -> int:
+    try:
+        value = int(text)
+        sectors_to_per_quadrant(value)
+    except (ValueError, ConfigError):
+        raise argparse.ArgumentTypeError(f"sectors must be 16, 32 or 64, got {text!r}") from None
+    return value
+
+
+def _positive_float(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+    if not value > 0:
+        raise argparse.ArgumentTypeError(f"must be positive, got {value}")
+    return value
+
+
+def build_parser() -> argparse.ArgumentParser:
+    p = _Parser(prog="orb-accel", description="ORB feature-extraction accelerator: model, RTL and evaluation tools")
+    sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
+
+    ex = sub.add_parser("extract", help="extract features from one image into a CSV (and an overlay)")
+    src = ex.add_mutually_exclusive_group(required=True)
+    src.add_argument("image", nargs="?", type=Path, help="any image OpenCV can read")
+    src.add_argument("--default-image", action="store_true", help=f"use the bundled {DEFAULT_IMAGE.name}")
+    ex.add_argument("--backend", choices=BACKENDS, default="model")
+    ex.add_argument("--threshold", type=_threshold, default=20, help="FAST threshold 0..255 (default 20)")
+    ex.add_argument("--scales", type=_scales, default=2, help="number of scales 1..4 (default 2)")
+    ex.add_argument("--sectors", type=_sectors, default=32, help="orientation sectors 16, 32 or 64 (default 32)")
+    ex.add_argument("--fast-only", action="store_true", help="detection only (no sectors or descriptors)")
+    ex.add_argument("--out", type=Path, required=True, help="features CSV to write")
+    ex.add_argument("--overlay", type=Path, help="PNG with the features drawn on the image")
+
+    cf = sub.add_parser("compare-fast", help="our FAST + 3x3 NMS against OpenCV's FAST (thesis Fig. 5.5/5.6)")
+    cf.add_argument("images", nargs="+", type=Path)
+    cf.add_argument("--threshold", type=_threshold, nargs="+", default=[15, 20, 25, 30, 35, 40])
+    cf.add_argument("--out-dir", type=Path, default=Path("build/compare-fast"))
+
+    rb = sub.add_parser("rotation-bench", help="rotation robustness against OpenCV ORB (thesis Fig. 5.8/5.9)")
+    rb.add_argument("images", nargs="+", type=Path)
+    rb.add_argument("--sectors", type=_sectors, nargs="+", default=[16, 32, 64])
+    rb.add_argument("--step", type=_positive_float, default=1.0, help="rotation step in degrees (default 1)")
+    rb.add_argument("--threshold", type=_threshold, default=20)
+    rb.add_argument("--scales", type=_scales, default=1)
+    rb.add_argument("--out-dir", type=Path, default=Path("build/rotation-bench"))
+    return p
+
+
+def _check_size(img: np.ndarray, path: Path) -> None:
+    h, w = img.shape
+    if w < MIN_WIDTH or h < MIN_HEIGHT:
+        raise ImageError(f"{path}: {w}x{h} is smaller than the minimum {MIN_WIDTH}x{MIN_HEIGHT}")
+
+
+def run_backend(backend: str, img: np.ndarray, cfg: Config) -> Features:
+    if backend == "model":
+        from golden_model.pipeline import extract
+
+        return extract(img, cfg)
+    if backend == "rtl":
+        from orb_sim.rtl_backend import extract_rtl
+
+        feats, report = extract_rtl(img, cfg)
+        print(
+            f"RTL (orb_accel_top): {report['cycles']} clocks for {report['pixels']} pixels, end-of-frame "
+            f"record {report['latency_cycles']} clocks after the last pixel, {report['sim_wall_s']} s simulated; "
+            f"dropped features: {report['dropped']}, descriptors lost: {report['desc_lost']}"
+        )
+        return feats
+    from .opencv_backend import extract_opencv
+
+    return extract_opencv(img, cfg)
+
+
+def cmd_extract(args: argparse.Namespace) -> int:
+    path = DEFAULT_IMAGE if args.default_image else args.image
+    original = load_rgb_or_grey(path)
+    img = to_luma(original)
+    _check_size(img, path)
+    h, w = img.shape
+    cfg = Config(
+        width=w, height=h, scales=args.scales, sectors_per_quadrant=sectors_to_per_quadrant(args.sectors),
+        threshold=args.threshold, mode="fast" if args.fast_only else "orb",
+    )  # fmt: skip
+    t0 = time.perf_counter()
+    feats = run_backend(args.backend, img, cfg)
+    elapsed = time.perf_counter() - t0
+    args.out.parent.mkdir(parents=True, exist_ok=True)
+    write_csv(feats, args.out)
+    per_scale = ", ".join(f"scale {s}: {int((feats.scale == s).sum())}" for s in range(cfg.scales))
+    print(f"{path.name} {w}x{h} [{args.backend}, {cfg.mode}, t={cfg.threshold}, {cfg.sectors} sectors]: "
+          f"{len(feats)} features ({per_scale}) in {elapsed:.3f} s -> {args.out}")  # fmt: skip
+    if args.overlay is not None:
+        from orb_tools.drawing import draw_overlay
+
+        args.overlay.parent.mkdir(parents=True, exist_ok=True)
+        draw_overlay(original, feats, args.overlay)
+        print(f"overlay -> {args.overlay}")
+    return 0
+
+
+def _load_images(paths: Sequence[Path]) -> list[tuple[str, np.ndarray]]:
+    out = []
+    for path in paths:
+        img = load_luma(path)
+        _check_size(img, path)
+        out.append((path.stem, img))
+    return out
+
+
+def cmd_compare_fast(args: argparse.Namespace) -> int:
+    from .evaluate import run_compare_fast
+
+    return run_compare_fast(_load_images(args.images), args.threshold, args.out_dir)
+
+
+def cmd_rotation_bench(args: argparse.Namespace) -> int:
+    from .evaluate import run_rotation_bench
+
+    return run_rotation_bench(
+        _load_images(args.images), args.sectors, args.step, args.threshold, args.scales, args.out_dir
+    )
+
+
+COMMANDS = {"extract": cmd_extract, "compare-fast": cmd_compare_fast, "rotation-bench": cmd_rotation_bench}
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    try:
+        args = build_parser().parse_args(argv)
+        return COMMANDS[args.command](args)
+    except (UsageError, ImageError, ConfigError, OSError, RtlUnavailable) as exc:
+        print(f"orb-accel: error: {exc}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("orb-accel: interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())

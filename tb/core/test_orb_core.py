@@ -1,0 +1,151 @@
+# SPDX-License-Identifier: MIT
+"""orb_core (the accelerator's streaming core) against the golden model, bit for bit.
+
+The cocotb test streams one or more frames back to back (each with its own image, threshold and
+mode) through s_axis_video, collects m_axis_feat and compares every frame with the model's
+features: scale, x, y and score in fast mode, plus sector and descriptor in orb mode. The pytest
+runners below pick widths, heights, scales, sectors, modes, images, thresholds and input gaps.
+"""
+
+from __future__ import annotations
+
+import os
+
+import cocotb
+import pytest
+from cocotb.clock import Clock
+from cocotb.triggers import ClockCycles, RisingEdge
+
+from orb_sim.feature_stream import FeatureMonitor
+from orb_sim.video import Gaps, VideoSource
+from orbtb import images
+from orbtb.runner import run
+from orbtb.scoreboard import check_frame, expected_features
+
+EOF_TIMEOUT_CYCLES = 5000
+
+
+def _env_list(name: str, default: str) -> list[str]:
+    return [v for v in os.environ.get(name, default).split(",") if v]
+
+
+@cocotb.test()
+async def detect_frames(dut) -> None:
+    w, h = int(os.environ["ORB_WIDTH"]), int(os.environ["ORB_HEIGHT"])
+    scales = int(os.environ["ORB_SCALES"])
+    thresholds = [int(t) for t in _env_list("ORB_THRESHOLDS", "20")]
+    kinds = _env_list("ORB_IMAGES", "photo:camera")
+    names = [kinds[i % len(kinds)] for i in range(len(thresholds))]
+    frames = [images.make(k, w, h) for k in names]
+    gaps = Gaps.parse(os.environ.get("ORB_GAPS", "none"))
+    modes = _env_list("ORB_MODES", "fast")
+    modes = [modes[i % len(modes)] for i in range(len(frames))]
+    n = int(os.environ.get("ORB_SECTORS", "8"))
+
+    clk = dut.clk
+    dut.rst.value = 1
+    dut.threshold.value = thresholds[0]
+    dut.mode_orb.value = int(modes[0] == "orb")
+    dut.m_axis_feat_tready.value = 1
+    source = VideoSource(dut, clk)
+    source.idle()
+    cocotb.start_soon(Clock(clk, 10, unit="ns").start(start_high=False))
+    await ClockCycles(clk, 4)
+    dut.rst.value = 0
+    await RisingEdge(clk)
+    monitor = FeatureMonitor(dut, clk)
+    cocotb.start_soon(monitor.run())
+
+    for frame, t, mode in zip(frames, thresholds, modes, strict=True):
+        dut.threshold.value = t
+        dut.mode_orb.value = int(mode == "orb")
+        await source.send_frame(frame, gaps)
+    latency = 0
+    while len(monitor.frames) < len(frames):
+        await RisingEdge(clk)
+        latency += 1
+        if latency > EOF_TIMEOUT_CYCLES:
+            raise AssertionError(f"only {len(monitor.frames)} of {len(frames)} end-of-frame beats arrived")
+    for i, (frame, t, mode, got) in enumerate(zip(frames, thresholds, modes, monitor.frames, strict=True)):
+        assert got.number == i, f"frame {i}: end-of-frame beat numbered {got.number}"
+        assert got.drops == 0, f"frame {i}: {got.drops} features dropped"
+        orb = mode == "orb"
+        exp = expected_features(frame, scales, t, mode, n)
+        check_frame(got.features(4 * n, descriptors=orb), exp, f"frame {i} ({mode}, threshold {t})")
+        if orb:
+            assert len(exp) > 0 or names[i] == "flat", f"frame {i} ({names[i]}): no feature to compare"
+    assert int(dut.bad_pixels.value) == 0, "pixels outside the frame were counted"
+    assert int(dut.dropped.value) == 0
+    assert int(dut.desc_lost.value) == 0, "the descriptor path lost features on legal frames"
+
+
+# ------------------------------------------------------------------------------------------------
+# pytest runners
+
+
+def run_detect(width: int, height: int, scales: int, images_: str, thresholds: str, gaps: str = "none",
+               modes: str = "fast", sectors: int = 8) -> None:  # fmt: skip
+    run(
+        "orb_core",
+        "test_orb_core",
+        {"WIDTH_g": width, "HEIGHT_g": height, "SCALES_g": scales, "SECTORS_g": sectors},
+        env={"ORB_IMAGES": images_, "ORB_THRESHOLDS": thresholds, "ORB_GAPS": gaps, "ORB_MODES": modes},
+    )
+
+
+@pytest.mark.parametrize(
+    ("width", "height", "scales", "images_", "thresholds", "gaps"),
+    [
+        (64, 48, 1, "photo:camera", "20", "none"),  # smallest legal frame
+        (64, 48, 4, "photo:astronaut", "10", "random:2"),
+        (160, 64, 2, "photo:coffee,photo:chelsea,photo:astronaut", "0,20,255", "none"),  # back to back
+        (160, 64, 2, "photo:camera", "15,40", "blanking"),
+        (128, 64, 3, "photo:coffee", "25", "random:5"),
+        (96, 64, 1, "flat", "0", "none"),
+        (96, 64, 2, "dots4,checker,checker4", "20,20,0", "none"),  # maximum corner density
+        (96, 64, 1, "border,noise", "20,30", "none"),  # corners at every border distance
+    ],
+)
+def test_detect_small(width: int, height: int, scales: int, images_: str, thresholds: str, gaps: str) -> None:
+    run_detect(width, height, scales, images_, thresholds, gaps)
+
+
+@pytest.mark.parametrize(
+    ("width", "height", "scales", "sectors", "images_", "thresholds", "gaps", "modes"),
+    [
+        (96, 64, 1, 8, "photo:astronaut,photo:coffee", "10,15", "none", "orb"),
+        (160, 96, 2, 4, "photo:camera,photo:chelsea", "12,20", "random:3", "orb"),
+        (160, 96, 2, 16, "photo:coffee", "10", "blanking", "orb"),
+        (128, 80, 3, 8, "photo:astronaut,photo:astronaut,photo:camera", "15,15,20", "none", "orb,fast,orb"),
+        (96, 64, 1, 8, "dots4,noise,flat", "20,20,20", "none", "orb"),  # densest FAST dots, noise; flat
+        (64, 48, 1, 8, "photo:camera", "5", "none", "orb"),  # smallest legal frame
+        # rotated photographs, 0 to 360 degrees, at 16, 32 and 64 sectors
+        (96, 64, 1, 4, "rotated:astronaut:0,rotated:astronaut:75,rotated:astronaut:150", "10,10,10", "none", "orb"),
+        (96, 64, 1, 8, "rotated:astronaut:45,rotated:chelsea:135,rotated:astronaut:250", "10,10,10", "random:4", "orb"),
+        (96, 64, 1, 16, "rotated:chelsea:200,rotated:chelsea:290,rotated:chelsea:345", "10,10,10", "none", "orb"),
+    ],
+)
+def test_orb_small(width: int, height: int, scales: int, sectors: int, images_: str, thresholds: str, gaps: str,
+                   modes: str) -> None:  # fmt: skip
+    run_detect(width, height, scales, images_, thresholds, gaps, modes, sectors)
+
+
+@pytest.mark.parametrize(("width", "height", "scales"), [(640, 48, 2), (1920, 48, 1)])
+def test_detect_wide_strips(width: int, height: int, scales: int) -> None:
+    run_detect(width, height, scales, "photo:astronaut", "20", "none")
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(("width", "height", "scales"), [(640, 64, 2), (1920, 48, 1)])
+def test_orb_wide_strips(width: int, height: int, scales: int) -> None:
+    run_detect(width, height, scales, "photo:astronaut", "8", "none", "orb")
+
+
+@pytest.mark.slow
+def test_detect_full_vga_two_scales() -> None:
+    run_detect(640, 480, 2, "photo:coffee", "20", "none")
+
+
+@pytest.mark.slow
+def test_orb_full_vga_two_scales() -> None:
+    run_detect(640, 480, 2, "photo:coffee", "20", "none", "orb")

@@ -1,0 +1,298 @@
+# SPDX-License-Identifier: MIT
+"""orb_accel_top end to end: colour video in, a CPU model on AXI4-Lite reading the feature memory
+bank by bank, the overlay video out; everything compared with the golden model.
+
+- photo_stream: consecutive colour photographs (blanking between frames) while the CPU reads
+  frame k from one bank as frame k+1 is written into the other, with random pauses on all five
+  AXI4-Lite channels; every published frame bit-exact (features, scores, sectors, descriptors),
+  frame numbers consecutive, the end-of-frame record consistent; the overlay output of frame k+1
+  equals golden_model.overlay.render_marker_overlay(frame k+1, features of frame k).
+- faults: short line, long line, too few lines, missing start of frame, start of frame in mid-line,
+  too many lines, a soft reset and rst in mid-frame, each followed by a good frame: faulty frames
+  are never published, counted in PROTO_ERRORS / DISCARDED and raise the error interrupt; every
+  good frame is bit-exact.
+- overflow_overrun (small MEM_DEPTH): a frame with more features than a bank holds is truncated
+  to the first DEPTH - 1 in arrival order, flagged in its record and counted; frames arriving
+  while the CPU holds both banks are skipped (OVERRUN) and the frame numbers show the gap.
+- registers: identification, configuration read-back, SLVERR on an unknown address, fast mode
+  through CTRL.mode, the threshold applied from the next frame, disabled frames ignored.
+"""
+
+from __future__ import annotations
+
+import os
+import warnings
+
+import cocotb
+import numpy as np
+import pytest
+from cocotb.triggers import ClockCycles, RisingEdge
+
+from golden_model import regs
+from golden_model.features import Features
+from golden_model.luma import rgb_to_luma
+from golden_model.overlay import render_marker_overlay
+from orb_sim.accel_bench import OKAY, SLVERR, AccelBench
+from orb_sim.video import Gaps
+from orbtb.images import colour_photo
+from orbtb.runner import run
+from orbtb.scoreboard import check_frame, expected_features
+from orbtb.unit import SIM_ENV
+
+warnings.filterwarnings("ignore", category=DeprecationWarning)
+
+PHOTOS = ("astronaut", "coffee", "chelsea", "rocket")
+
+
+def expected(b: AccelBench, rgb: np.ndarray, threshold: int, mode: str = "orb") -> Features:
+    return expected_features(rgb_to_luma(rgb), b.scales, threshold, mode, b.n)
+
+
+@cocotb.test()
+async def photo_stream(dut) -> None:
+    b = AccelBench(dut)
+    await b.start(pause_prob=0.3, seed=3)
+    t = 20
+    await b.configure(threshold=t)
+    frames = [colour_photo(PHOTOS[i % len(PHOTOS)], b.width, b.height) for i in range(4)]
+    b.start_capture()
+
+    async def video() -> None:
+        for f in frames:
+            await b.send(f)
+
+    cocotb.start_soon(video())
+    prev: Features | None = None
+    for k, f in enumerate(frames):
+        feats, record = await b.read_newest()
+        exp = expected(b, f, t)
+        check_frame(feats, exp, f"frame {k}")
+        assert len(exp) > 0, f"frame {k}: no feature to compare"
+        assert (record.frame, record.dropped, record.truncated, record.truncated_flag) == (k, 0, 0, False), record
+        if k > 0:
+            # video frame k showed the features of frame k - 1 (its end-of-frame beat came in blanking)
+            while len(b.captured) < k + 1:
+                await RisingEdge(dut.clk)
+            want = render_marker_overlay(b.shown(f), prev, scales=b.scales)
+            got = b.captured[k]
+            bad = np.argwhere(np.any(got != want, axis=-1))
+            assert len(bad) == 0, f"overlay of frame {k}: first differing pixel (y, x) = {tuple(bad[0])}"
+        prev = exp
+    assert not np.any(b.captured[0] != b.shown(frames[0])), "frame 0 has no earlier features: it must pass unchanged"
+    counters = ((regs.FRAME_COUNT, len(frames)), (regs.DROPPED, 0), (regs.PROTO_ERRORS, 0), (regs.OVERRUN, 0),
+                (regs.OVERFLOW_COUNT, 0), (regs.DESC_LOST, 0), (regs.DISCARDED, 0))  # fmt: skip
+    for reg, value in counters:
+        got = await b.read_reg(reg)
+        assert got == value, f"{reg.name} = {got}, expected {value}"
+
+
+@cocotb.test()
+async def faults(dut) -> None:
+    b = AccelBench(dut)
+    await b.start(pause_prob=0.2, seed=5)
+    t = 20
+    await b.configure(threshold=t, irq=3)
+    w, h = b.width, b.height
+    good = [colour_photo(p, w, h) for p in PHOTOS]
+    gaps = Gaps("blanking")
+    published: list[tuple[int, Features]] = []
+    errors: list[int] = []  # IRQ_STATUS.error at each interrupt
+
+    async def cpu(count: int) -> None:
+        while len(published) < count:
+            await b.wait_irq(40 * w * h)
+            st = await b.read_reg(regs.IRQ_STATUS)
+            await b.write_reg(regs.IRQ_STATUS, st)
+            errors.append(regs.IRQ_STATUS.field("error").get(st))
+            if regs.IRQ_STATUS.field("frame_done").get(st):
+                status = await b.read_reg(regs.STATUS)
+                bank = regs.STATUS.field("last_bank").get(status)
+                feats, record = await b.read_bank(bank)
+                await b.release(bank)
+                published.append((record.frame, feats))
+
+    async def send_words(words: list[tuple[int, int, int]]) -> None:
+        """Raw beats (tdata, tuser, tlast), one per clock."""
+        src = b.video
+        for data, user, last in words:
+            src.tdata.value, src.tuser.value, src.tlast.value, src.tvalid.value = data, user, last, 1
+            await RisingEdge(dut.clk)
+            while not src.tready.value:
+                await RisingEdge(dut.clk)
+        src.idle()
+        await ClockCycles(dut.clk, 64)
+
+    def beats(rgb: np.ndarray, lines: int, line_len: dict[int, int] | None = None, sof: bool = True):
+        packed = b.pack(rgb)
+        out = []
+        for y in range(lines):
+            n = (line_len or {}).get(y, w)
+            for x in range(n):
+                out.append((int(packed[y % h, x % w]), int(sof and x == 0 and y == 0), int(x == n - 1)))
+        return out
+
+    cpu_task = cocotb.start_soon(cpu(7))
+    expected_frames: list[tuple[int, np.ndarray]] = []
+    await b.send(good[0], gaps)  # detector frame 0
+    expected_frames.append((0, good[0]))
+    await send_words(beats(good[1], h, {5: w - 3}))  # short line: frame 1 padded, not published
+    await b.send(good[1], gaps)  # frame 2
+    expected_frames.append((2, good[1]))
+    await send_words(beats(good[2], h, {7: w + 4}))  # long line: frame 3 bad
+    await b.send(good[2], gaps)  # frame 4
+    expected_frames.append((4, good[2]))
+    await send_words(beats(good[3], h // 2))  # too few lines: frame 5 bad when the next tuser comes
+    await b.send(good[3], gaps)  # frame 6
+    expected_frames.append((6, good[3]))
+    await send_words(beats(good[0], 3, sof=False))  # missing start of frame: discarded
+    await b.send(good[0], gaps)  # frame 7
+    expected_frames.append((7, good[0]))
+    # early start of frame: 3 lines and half a line, then the next frame's tuser in mid-line
+    await send_words(beats(good[1], 3) + [(int(b.pack(good[1])[3, x]), 0, 0) for x in range(w // 2)])  # frame 8
+    await b.send(good[1], gaps)  # frame 9
+    expected_frames.append((9, good[1]))
+    await send_words(beats(good[2], h + 2))  # too many lines: frame 10 is good, 2 lines discarded
+    expected_frames.append((10, good[2]))
+    await cpu_task
+    assert [n for n, _ in published] == [n for n, _ in expected_frames], f"published frames {published}"
+    for (n, feats), (_, rgb) in zip(published, expected_frames, strict=True):
+        check_frame(feats, expected(b, rgb, t), f"frame {n}")
+    assert await b.read_reg(regs.PROTO_ERRORS) == 4
+    assert sum(errors) == 4, f"error interrupts seen: {sum(errors)}, expected one per bad frame (4)"
+    # discarded: the rest of the short-line frame after line 5, the 4 excess pixels of the long
+    # line and the lines after it, the 3 lines without a start of frame, the 2 extra lines
+    assert await b.read_reg(regs.DISCARDED) == (h - 6) * w + 4 + (h - 8) * w + 3 * w + 2 * w
+    assert await b.read_reg(regs.FRAME_COUNT) == 11
+    # soft reset in mid-frame: the rest of that frame is discarded, counters restart, the next
+    # frame is frame 0 again and bit-exact
+    task = cocotb.start_soon(b.send(good[1], Gaps()))
+    await ClockCycles(dut.clk, w * (h // 2))
+    ctrl = await b.read_reg(regs.CTRL)
+    await b.write_reg(regs.CTRL, regs.CTRL.field("soft_reset").put(1, ctrl))
+    await task
+    assert await b.read_reg(regs.FRAME_COUNT) == 0
+    assert await b.read_reg(regs.DISCARDED) > 0
+    await b.send(good[2], gaps)
+    feats, record = await b.read_newest()
+    assert record.frame == 0, record
+    check_frame(feats, expected(b, good[2], t), "frame after the soft reset")
+    # rst in mid-frame: everything restarts (registers too), the next frame is frame 0 and exact
+    task = cocotb.start_soon(b.send(good[3], Gaps()))
+    await ClockCycles(dut.clk, w * (h // 3))
+    dut.rst.value = 1
+    await ClockCycles(dut.clk, 3)
+    dut.rst.value = 0
+    await task
+    assert await b.read_reg(regs.DISCARDED) > 0, "the rest of the frame cut by rst was not counted"
+    await b.configure(threshold=t)
+    await b.send(good[0], gaps)
+    feats, record = await b.read_newest()
+    assert record.frame == 0, record
+    check_frame(feats, expected(b, good[0], t), "frame after rst")
+
+
+@cocotb.test()
+async def overflow_overrun(dut) -> None:
+    b = AccelBench(dut)
+    await b.start(pause_prob=0.0)
+    t = 10
+    await b.configure(threshold=t)
+    w, h = b.width, b.height
+    img = colour_photo("astronaut", w, h)
+    exp = expected(b, img, t)
+    cap = b.depth - 1
+    assert len(exp) > cap, f"the test photo has {len(exp)} features, not more than {cap}"
+    # frames 0 and 1 fill both banks; the CPU holds them, so frame 2 is skipped
+    for _ in range(3):
+        await b.send(img)
+    await ClockCycles(dut.clk, 200)
+    assert await b.read_reg(regs.OVERRUN) == 1
+    status = await b.read_reg(regs.STATUS)
+    assert regs.STATUS.field("bank_ready").get(status) == 3 and regs.STATUS.field("overflow").get(status) == 1
+    for bank in (0, 1):
+        feats, record = await b.read_bank(bank)
+        got = (record.frame, record.count, record.truncated, record.truncated_flag)
+        assert got == (bank, cap, len(exp) - cap, True), f"bank {bank}: record {record}"
+        if b.scales == 1:  # one scale: arrival order is the canonical order
+            check_frame(feats, exp.take(np.arange(cap)), f"truncated frame {bank}")
+    assert await b.read_reg(regs.OVERFLOW_COUNT) == 2 * (len(exp) - cap)
+    await b.release(0)
+    await b.send(img)
+    await ClockCycles(dut.clk, 200)
+    feats, record = await b.read_bank(0)
+    assert record.frame == 3, f"the frame after the skipped one is frame 3, got {record.frame}"
+
+
+@cocotb.test()
+async def registers(dut) -> None:
+    b = AccelBench(dut)
+    await b.start(pause_prob=0.5, seed=9)
+    assert await b.read_reg(regs.ID) == regs.ORB_ID
+    size = await b.read_reg(regs.CFG_SIZE)
+    assert (regs.CFG_SIZE.field("width").get(size), regs.CFG_SIZE.field("height").get(size)) == (b.width, b.height)
+    orb = await b.read_reg(regs.CFG_ORB)
+    assert (regs.CFG_ORB.field("scales").get(orb), regs.CFG_ORB.field("sectors").get(orb)) == (b.scales, b.n)
+    assert regs.CFG_MEM.field("depth").get(await b.read_reg(regs.CFG_MEM)) == b.depth
+    resp, _ = await b.read(0x5C)
+    assert resp == SLVERR, "an unknown register must answer SLVERR"
+    assert await b.write(regs.ID.offset, 0) == SLVERR
+    img = colour_photo("coffee", b.width, b.height)
+    # fast mode at threshold 30, then orb mode at 15: each frame uses the values set before it
+    await b.configure(threshold=30, mode="fast")
+    await b.send(img)
+    feats, _ = await b.read_newest(mode="fast")
+    check_frame(feats, expected(b, img, 30, "fast"), "fast-mode frame")
+    await b.configure(threshold=15, mode="orb")
+    await b.send(img)
+    feats, _ = await b.read_newest()
+    check_frame(feats, expected(b, img, 15), "orb-mode frame")
+    # disabled: frames are taken and ignored (no interrupt), enabled again: processed
+    await b.configure(threshold=15, enable=0)
+    await b.send(img)
+    await ClockCycles(dut.clk, 500)
+    assert dut.irq.value == 0, "a disabled accelerator published a frame"
+    await b.configure(threshold=15)
+    await b.send(img)
+    feats, _ = await b.read_newest()
+    check_frame(feats, expected(b, img, 15), "frame after re-enabling")
+    assert await b.write(regs.MEM_BASE - 4, 0) == SLVERR
+    assert (await b.read(regs.MEM_BASE))[0] == OKAY
+
+
+# ------------------------------------------------------------------------------------------------
+# pytest runners
+
+CONFIGS = {
+    # name: (W, H, scales, sectors per quadrant, memory depth, input packing)
+    "rgb_2scales": (128, 96, 2, 8, 256, "RGB"),
+    "rbg_1scale_small_mem": (96, 64, 1, 4, 16, "RBG"),
+    "luma_1scale": (96, 64, 1, 16, 256, "LUMA"),
+    "rgb_4scales": (192, 160, 4, 8, 1024, "RGB"),
+}
+
+
+def run_accel(config: str, testcase: list[str] | None = None, env: dict[str, str] | None = None) -> None:
+    w, h, s, n, depth, packing = CONFIGS[config]
+    generics = {"WIDTH_g": w, "HEIGHT_g": h, "SCALES_g": s, "SECTORS_g": n, "MEM_DEPTH_g": depth, "INPUT_g": packing}
+    run("orb_accel_top", "test_orb_accel_top", generics, env={**SIM_ENV, **(env or {})}, testcase=testcase)
+
+
+@pytest.mark.parametrize("config", ["rgb_2scales", "luma_1scale"])
+def test_accel_stream_faults_registers(config: str) -> None:
+    run_accel(config, testcase=["photo_stream", "faults", "registers"])
+
+
+def test_accel_four_scales() -> None:
+    run_accel("rgb_4scales", testcase=["photo_stream"])
+
+
+def test_accel_overflow_overrun() -> None:
+    run_accel("rbg_1scale_small_mem", testcase=["overflow_overrun"])
+
+
+if os.environ.get("ORB_ACCEL_ALL"):  # every test in every configuration (slow)
+
+    @pytest.mark.slow
+    @pytest.mark.parametrize("config", list(CONFIGS))
+    def test_accel_all(config: str) -> None:
+        run_accel(config)
