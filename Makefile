@@ -9,7 +9,7 @@ SECTORS ?= 32
 THRESHOLD ?= 20
 JOBS   ?= 2
 
-.PHONY: setup test test-all sim bench bench-sim eval lint synth netlist-sim tools pattern clean help
+.PHONY: setup test test-all sim bench bench-sim eval figures lint synth netlist-sim tools pattern clean help
 
 help:
 	@echo "make setup   create .venv and install the project with test extras (idempotent)"
@@ -19,7 +19,8 @@ help:
 	@echo "make bench   model speed benchmark (scripts/bench/bench_model.py)"
 	@echo "make bench-sim  RTL simulation speed, one 640x480 frame (scripts/bench/bench_sim.py)"
 	@echo "make eval    compare-fast and rotation-bench against OpenCV on the evaluation photos (STEP=1: ~6 min)"
-	@echo "make lint    ruff over the Python sources; GHDL synth check and vsg style check of hdl/"
+	@echo "make figures make eval, then copy its figures into docs/img (docs/img/README.md)"
+	@echo "make lint    ruff, the import-layer contracts (lint-imports); GHDL synth check and vsg style of hdl/"
 	@echo "make synth   LUT/FF/BRAM/DSP and logic-delay estimate of orb_core (GHDL + yosys; ~10 min)"
 	@echo "make netlist-sim  unit tests on GHDL's synthesised netlists (~15 min; K=entity, QUICK=1; docs/netlist-sim.md)"
 	@echo "make tools   which of ghdl, yosys, python3 are installed, and how to install the rest"
@@ -59,9 +60,14 @@ eval: $(STAMP)
 	$(BIN)/orb-accel rotation-bench $(EVAL_PHOTOS)/*.png --sectors 16 32 64 --step $(STEP) --threshold 20 \
 		--scales 1 --out-dir build/eval/rotation-bench
 
+# the figures of docs/img (docs/img/README.md): the evaluation, copied
+figures: eval
+	cp build/eval/compare-fast/compare_fast.png build/eval/rotation-bench/rotation_bench.png docs/img/
+
 lint: $(STAMP)
 	$(BIN)/ruff check golden_model sw tb scripts
 	$(BIN)/ruff format --check golden_model sw tb scripts
+	PYTHONPATH=tb $(BIN)/lint-imports
 	@sh scripts/flow/check_tools.sh ghdl
 	$(BIN)/python scripts/flow/lint_hdl.py
 

@@ -47,36 +47,29 @@ class Case:
 
 # Small and fast configurations first; the entity is the toplevel the test simulates.
 CASES = (
-    Case("orb_feat_mem", "test_orb_feat_mem.py::test_feat_mem[16]"),
-    Case("orb_axil_regs", "test_orb_axil_regs.py::test_orb_axil_regs[lat1]"),
-    Case("orb_axil_regs", "test_orb_axil_regs.py::test_orb_axil_regs[lat2]"),
-    Case("orb_axil_regs", "test_orb_axil_regs.py::test_orb_axil_regs[lat5]"),
-    Case("orb_video_check", "test_orb_video_check.py::test_video_check_16x6"),
-    Case("orb_video_check", "test_orb_video_check.py::test_video_check_33x5"),
-    Case("orb_rgb_luma", "test_orb_rgb_luma.py::test_rgb_luma_rgb"),
-    Case("orb_rgb_luma", "test_orb_rgb_luma.py::test_rgb_luma_rbg"),
-    Case("orb_rgb_luma", "test_orb_rgb_luma.py::test_rgb_luma_luma"),
-    Case("orb_smooth", "test_orb_smooth.py::test_smooth"),
-    Case("orb_fast_score", "test_orb_fast_score.py::test_fast_score"),
-    Case("orb_fast_nms", "test_orb_fast_nms.py::test_nms[8-8-all8x8,ties:1]"),
-    Case("orb_orient_moments", "test_orb_orient_moments.py::test_orient_moments"),
-    Case("orb_orient_sector", "test_orb_orient_sector.py::test_orient_sector[4]"),
-    Case("orb_overlay", "test_orb_overlay.py::test_overlay_photos[64-48-1-3-env0]"),
-    Case("orb_desc_path", "test_orb_desc_path.py::test_desc_path[4]", slow=True),
-    Case("orb_core", "test_orb_core.py::test_orb_small[64-48-1-8-photo:camera-5-none-orb]"),
-    Case("orb_accel_top", "test_orb_accel_top.py::test_accel_overflow_overrun", slow=True),
+    Case("orb_feat_mem", "host/test_orb_feat_mem.py::test_feat_mem[16]"),
+    Case("orb_axil_regs", "host/test_orb_axil_regs.py::test_orb_axil_regs[lat1]"),
+    Case("orb_axil_regs", "host/test_orb_axil_regs.py::test_orb_axil_regs[lat2]"),
+    Case("orb_axil_regs", "host/test_orb_axil_regs.py::test_orb_axil_regs[lat5]"),
+    Case("orb_video_check", "input/test_orb_video_check.py::test_video_check_16x6"),
+    Case("orb_video_check", "input/test_orb_video_check.py::test_video_check_33x5"),
+    Case("orb_rgb_luma", "input/test_orb_rgb_luma.py::test_rgb_luma_rgb"),
+    Case("orb_rgb_luma", "input/test_orb_rgb_luma.py::test_rgb_luma_rbg"),
+    Case("orb_rgb_luma", "input/test_orb_rgb_luma.py::test_rgb_luma_luma"),
+    Case("orb_smooth", "describe/test_orb_smooth.py::test_smooth"),
+    Case("orb_fast_score", "detect/test_orb_fast_score.py::test_fast_score"),
+    Case("orb_fast_nms", "detect/test_orb_fast_nms.py::test_nms[8-8-all8x8,ties:1]"),
+    Case("orb_orient_moments", "describe/test_orb_orient_moments.py::test_orient_moments"),
+    Case("orb_orient_sector", "describe/test_orb_orient_sector.py::test_orient_sector[4]"),
+    Case("orb_overlay", "output/test_orb_overlay.py::test_overlay_photos[64-48-1-3-env0]"),
+    Case("orb_desc_path", "describe/test_orb_desc_path.py::test_desc_path[4]", slow=True),
+    Case("orb_core", "core/test_orb_core.py::test_orb_small[64-48-1-8-photo:camera-5-none-orb]"),
+    Case("orb_accel_top", "top/test_orb_accel_top.py::test_accel_overflow_overrun", slow=True),
 )
 
-# (entity, test, reason): never run on a netlist, always printed.
-SKIPPED = (
-    (
-        "orb_accel_top",
-        "test_orb_accel_top.py::job",
-        "reads the internal signal dut.mem_frame_done: not a port, in a netlist only while it happens to "
-        "name a net between two instances; and a cocotb test of scripts/flow/sim_accel.py (ORB_JOB_DIR, a whole "
-        "frame), not a pytest test",
-    ),
-)
+# (entity, test, reason): never run on a netlist, always printed. None today: the jobs of
+# orb_sim.jobs (make sim) are not tests.
+SKIPPED: tuple[tuple[str, str, str], ...] = ()
 
 
 @dataclass

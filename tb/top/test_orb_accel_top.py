@@ -32,6 +32,7 @@ from golden_model import regs
 from golden_model.features import Features
 from golden_model.luma import rgb_to_luma
 from golden_model.overlay import render_marker_overlay
+from orb_accel.bus import BusError
 from orb_sim.accel_bench import OKAY, SLVERR, AccelBench
 from orb_sim.video import Gaps
 from orbtb.images import colour_photo
@@ -259,6 +260,70 @@ async def registers(dut) -> None:
     assert (await b.read(regs.MEM_BASE))[0] == OKAY
 
 
+@cocotb.test()
+async def driver_errors(dut) -> None:
+    """The shipped driver's error behaviour against the RTL: bad arguments raise ValueError naming
+    the range before anything is written; an error response raises BusError; a frame that never
+    comes raises TimeoutError with the status registers; a bank held in a `with` block is released
+    even when the block raises."""
+    b = AccelBench(dut)
+    await b.start()
+    accel = b.accel
+    await b.cpu(accel.configure, 20)
+    for bad, words in (({"threshold": 300}, "0..255"), ({"threshold": -1}, "0..255"), ({"mode": "brief"}, "mode"),
+                       ({"irq": ("vsync",)}, "interrupt")):  # fmt: skip
+        try:
+            await b.cpu(accel.configure, **{"threshold": 20, **bad})
+        except ValueError as exc:
+            assert words in str(exc), f"{bad}: message {exc!s} does not name {words}"
+        else:
+            raise AssertionError(f"configure({bad}) did not raise ValueError")
+    assert await b.read_reg(regs.THRESHOLD) == 20, "a refused configure wrote THRESHOLD"
+    for op, args in ((b.bus.read32, (0x5C,)), (b.bus.write32, (regs.ID.offset, 0)),
+                     (b.bus.write32, (regs.CTRL.offset, regs.CTRL.field("mode").put(3))),
+                     (b.bus.write32, (regs.BANK_RELEASE.offset, 2)), (accel.release, (5,))):  # fmt: skip
+        try:
+            await b.cpu(op, *args)
+        except BusError as exc:
+            assert exc.resp == SLVERR and "SLVERR" in str(exc), str(exc)
+        except ValueError as exc:  # caught by the driver before the bus (bank 5)
+            assert "bank" in str(exc), str(exc)
+        else:
+            raise AssertionError(f"{op.__name__}{args} raised nothing")
+    try:
+        await b.cpu(accel.next_frame, b.clocks_to_s(2000))  # no video: no frame
+    except TimeoutError as exc:
+        assert "STATUS" in str(exc) and "frame_count = 0" in str(exc), str(exc)
+    else:
+        raise AssertionError("next_frame without video did not time out")
+    img = colour_photo("coffee", b.width, b.height)
+    await b.send(img)
+
+    def read_then_fail() -> None:
+        with accel.frame(timeout_s=b.clocks_to_s(b.frame_timeout_clocks)) as frame:
+            assert len(frame.features) > 0
+            raise KeyError("the caller's code fails while it holds the bank")
+
+    try:
+        await b.cpu(read_then_fail)
+    except KeyError:
+        pass
+    else:
+        raise AssertionError("the caller's exception was swallowed")
+    status = await b.read_reg(regs.STATUS)
+    assert regs.STATUS.field("bank_ready").get(status) == 0, f"the bank was not released: STATUS = {status:#x}"
+    # both banks free again: the next two frames are published (truncated to a bank's capacity in
+    # arrival order, which is the canonical order with one scale)
+    assert b.scales == 1, "driver_errors runs in a one-scale configuration"
+    exp = expected(b, img, 20)
+    want = exp.take(np.arange(min(len(exp), b.depth - 1)))
+    for k in (1, 2):
+        await b.send(img)
+        feats, record = await b.read_newest()
+        assert record.frame == k, record
+        check_frame(feats, want, f"frame {k} after the released bank")
+
+
 # ------------------------------------------------------------------------------------------------
 # pytest runners
 
@@ -287,7 +352,7 @@ def test_accel_four_scales() -> None:
 
 
 def test_accel_overflow_overrun() -> None:
-    run_accel("rbg_1scale_small_mem", testcase=["overflow_overrun"])
+    run_accel("rbg_1scale_small_mem", testcase=["overflow_overrun", "driver_errors"])
 
 
 if os.environ.get("ORB_ACCEL_ALL"):  # every test in every configuration (slow)

@@ -1,0 +1,34 @@
+# SPDX-License-Identifier: MIT
+"""Python layers import one way (docs/conventions.md): golden_model <- orb_accel <- orb_sim <-
+orb_tools <- orbtb and the tests. The import-linter contracts of pyproject.toml hold, and nothing
+outside tb/ imports the testbench package or puts tb/ on its path."""
+
+from __future__ import annotations
+
+import os
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+from orb_sim.hdl import ROOT
+
+LINT_IMPORTS = Path(sys.executable).with_name("lint-imports")
+
+
+def test_import_contracts_hold() -> None:
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(ROOT / "tb"), os.environ.get("PYTHONPATH", "")])}
+    r = subprocess.run([str(LINT_IMPORTS), "--no-cache"], cwd=ROOT, env=env, capture_output=True, text=True,
+                       check=False)  # fmt: skip
+    assert r.returncode == 0, f"lint-imports:\n{r.stdout[-4000:]}\n{r.stderr[-2000:]}"
+    assert "broken" in r.stdout and " 0 broken" in r.stdout, r.stdout[-2000:]
+
+
+def test_nothing_outside_tb_reaches_into_tb() -> None:
+    bad = []
+    for folder in ("golden_model", "sw", "scripts"):
+        for f in sorted((ROOT / folder).rglob("*.py")):
+            text = f.read_text()
+            if re.search(r"(?m)^\s*(from|import)\s+orbtb\b", text) or re.search(r"""["']tb["']\s*\)""", text):
+                bad.append(str(f.relative_to(ROOT)))
+    assert not bad, f"files outside tb/ that import orbtb or put tb/ on the path: {bad}"
