@@ -44,4 +44,6 @@ def test_every_figure_names_its_command() -> None:
     table = (img / "README.md").read_text()
     listed = set(re.findall(r"(?m)^\| (\S+\.(?:png|svg|jpg)) \| `[^`]+`", table))
     present = {p.name for p in img.iterdir() if p.suffix in (".png", ".svg", ".jpg")}
-    assert listed == present, f"figures without a command: {sorted(present - listed)}; rows of no file: {sorted(listed - present)}"
+    assert listed == present, (
+        f"figures without a command: {sorted(present - listed)}; rows of no file: {sorted(listed - present)}"
+    )

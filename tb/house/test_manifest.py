@@ -20,9 +20,8 @@ AREAS = ("common", "input", "detect", "describe", "core", "host", "output", "top
 def test_manifest_names_every_vhdl_file_once() -> None:
     listed = sorted(s.path for s in read_manifest())
     on_disk = sorted(HDL.rglob("*.vhd")) + sorted(HDL.rglob("*.vhdl"))
-    assert listed == sorted(on_disk), (
-        f"not in the manifest: {sorted(set(on_disk) - set(listed))}; listed but absent: {sorted(set(listed) - set(on_disk))}"
-    )
+    missing, absent = sorted(set(on_disk) - set(listed)), sorted(set(listed) - set(on_disk))
+    assert listed == sorted(on_disk), f"not in the manifest: {missing}; listed but absent: {absent}"
 
 
 def test_one_unit_per_file_named_after_it() -> None:

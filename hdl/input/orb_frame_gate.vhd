@@ -1,0 +1,67 @@
+-- SPDX-License-Identifier: MIT
+-- orb_frame_gate: passes or drops whole video frames of an AXI4-Stream (tuser = start of frame,
+-- tlast = end of line) by `enable`, sampled with each start of frame: a frame whose tuser beat is
+-- taken while enable is 1 passes whole (enable falling later does not cut it), a frame whose
+-- tuser beat is taken while enable is 0 is taken and ignored whole (s_axis_video_tready 1, nothing
+-- on m_axis_video; enable rising later does not open it). Out of reset the gate is open, so the
+-- rest of a frame cut by a reset passes (orb_video_check discards it as pixels without a start
+-- of frame). Latency 0: data, tuser, tlast and tvalid pass combinationally, tready comes back
+-- combinationally; the only state is the open/closed bit. See docs/frame-gate.md.
+
+library ieee;
+use ieee.std_logic_1164.all;
+
+entity orb_frame_gate is
+  generic (
+    DATA_WIDTH_g : positive := 8  -- tdata bits (any width: the data only passes through)
+  );
+  port (
+    clk                 : in    std_logic;
+    rst                 : in    std_logic;
+    enable              : in    std_logic;
+    s_axis_video_tdata  : in    std_logic_vector(DATA_WIDTH_g - 1 downto 0);
+    s_axis_video_tvalid : in    std_logic;
+    s_axis_video_tready : out   std_logic;
+    s_axis_video_tuser  : in    std_logic;
+    s_axis_video_tlast  : in    std_logic;
+    m_axis_video_tdata  : out   std_logic_vector(DATA_WIDTH_g - 1 downto 0);
+    m_axis_video_tvalid : out   std_logic;
+    m_axis_video_tready : in    std_logic;
+    m_axis_video_tuser  : out   std_logic;
+    m_axis_video_tlast  : out   std_logic
+  );
+end entity orb_frame_gate;
+
+architecture rtl of orb_frame_gate is
+
+  signal gate_open : std_logic := '1';  -- the frame under way passes (its tuser beat saw enable)
+  signal gate_pass : std_logic;         -- the beat on s_axis_video passes
+  signal ready     : std_logic;
+
+begin
+
+  gate : process (clk) is
+  begin
+    if rising_edge(clk) then
+      if s_axis_video_tvalid = '1' and ready = '1' and s_axis_video_tuser = '1' then
+        gate_open <= enable;
+      end if;
+      if rst = '1' then
+        gate_open <= '1';
+      end if;
+    end if;
+  end process gate;
+
+  -- a start-of-frame beat passes by enable itself, every other beat by the state of its frame
+  gate_pass <= enable when s_axis_video_tuser = '1' else
+               gate_open;
+  ready     <= m_axis_video_tready when gate_pass = '1' else
+               '1';
+
+  s_axis_video_tready <= ready;
+  m_axis_video_tvalid <= s_axis_video_tvalid and gate_pass;
+  m_axis_video_tdata  <= s_axis_video_tdata;
+  m_axis_video_tuser  <= s_axis_video_tuser;
+  m_axis_video_tlast  <= s_axis_video_tlast;
+
+end architecture rtl;
