@@ -10,7 +10,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 
 ORB_ID = 0x4F524231  # magic identification word, ASCII "ORB1"
-VERSION_MAJOR = 1  # register map major version (incompatible changes)
+VERSION_MAJOR = 2  # register map major version (incompatible changes)
 VERSION_MINOR = 0  # register map minor version (compatible additions)
 MEM_BASE = 0x10000  # byte address of the feature-memory window; register offsets lie below it
 BANKS = 2  # feature-memory banks (double buffering)
@@ -175,7 +175,7 @@ CFG_ORB = Register(
             width=8,
             reset=None,
             generic="SECTORS_g",
-            description="orientation sectors per quadrant N, 4, 8 or 16; 4N sectors in all (generic SECTORS_g)",
+            description="orientation sectors in all, 16, 32 or 64 (generic SECTORS_g); N = sectors / 4 per quadrant",
         ),
         Field(
             name="banks",

@@ -18,15 +18,16 @@ use ieee.numeric_std.all;
 
 use work.orb_util_pkg.all;
 use work.orb_feat_pkg.all;
+use work.orb_limits_pkg.all;
 
 entity orb_core is
   generic (
-    WIDTH_g      : positive range 64 to 1920 := 640;
-    HEIGHT_g     : positive range 48 to 1080 := 480;
-    SCALES_g     : positive range 1 to 4     := 1;
-    FIFO_DEPTH_g : positive range 2 to 512   := 32;
-    SECTORS_g    : positive range 4 to 16    := 8;   -- sectors per quadrant: 4, 8 or 16
-    DESC_g       : boolean                   := true
+    WIDTH_g      : width_t                 := 640;
+    HEIGHT_g     : height_t                := 480;
+    SCALES_g     : scales_t                := 1;
+    FIFO_DEPTH_g : positive range 2 to 512 := 32;
+    SECTORS_g    : sectors_t               := 32;  -- orientation sectors in all (orb_limits_pkg)
+    DESC_g       : boolean                 := true
   );
   port (
     clk                 : in    std_logic;
@@ -82,8 +83,12 @@ architecture rtl of orb_core is
 
 begin
 
-  assert (WIDTH_g / 2 ** (SCALES_g - 1)) >= 8
-    report "orb_core: the smallest scale must be at least 8 pixels wide"
+  assert scale_width_legal(WIDTH_g / 2 ** (SCALES_g - 1))
+    report "orb_core: the smallest scale, WIDTH_g / 2 ** (SCALES_g - 1) pixels wide, must be " & SCALE_WIDTH_TEXT_c
+    severity failure;
+
+  assert sectors_legal(SECTORS_g)
+    report "orb_core: SECTORS_g (sectors in all) must be " & SECTORS_TEXT_c
     severity failure;
 
   s_axis_video_tready <= ready;

@@ -25,10 +25,11 @@ use ieee.numeric_std.all;
 
 use work.orb_util_pkg.all;
 use work.orb_feat_pkg.all;
+use work.orb_limits_pkg.all;
 
 entity orb_feat_merge is
   generic (
-    SCALES_g     : positive range 1 to 4   := 1;
+    SCALES_g     : scales_t                := 1;
     FIFO_DEPTH_g : positive range 2 to 512 := 32;
     DESC_g       : boolean                 := true
   );
@@ -105,7 +106,7 @@ architecture rtl of orb_feat_merge is
   signal o_data    : std_logic_vector(FEAT_SECTOR_LO_c - 1 downto 0) := (others => '0');
   -- sector (low bits) and descriptor of the output word
   signal o_pay     : std_logic_vector(FEAT_SECTOR_BITS_c + DESC_BITS_c - 1 downto 0) := (others => '0');
-  signal frame_no  : unsigned(15 downto 0) := (others => '0');
+  signal frame_no  : unsigned(EOF_FRAME_BITS_c - 1 downto 0) := (others => '0');
   signal total_drp : unsigned(31 downto 0) := (others => '0');
 
   function sat_add (a : drops_t; b : natural) return drops_t is
@@ -222,7 +223,8 @@ begin
           entry(SCORE_BITS_c + COORD_BITS_c - 1 downto SCORE_BITS_c);
         o_data(FEAT_Y_LO_c + COORD_BITS_c - 1 downto FEAT_Y_LO_c) <=
           entry(SCORE_BITS_c + 2 * COORD_BITS_c - 1 downto SCORE_BITS_c + COORD_BITS_c);
-        o_data(FEAT_SCALE_LO_c + 1 downto FEAT_SCALE_LO_c) <= std_logic_vector(to_unsigned(p, 2));
+        o_data(FEAT_SCALE_LO_c + FEAT_SCALE_BITS_c - 1 downto FEAT_SCALE_LO_c) <=
+          std_logic_vector(to_unsigned(p, FEAT_SCALE_BITS_c));
         if mk(p) >= 1 then
           a0(p) := a0(p) - 1;
         end if;
@@ -235,8 +237,9 @@ begin
         o_last  <= '1';
         o_data  <= (others => '0');
         o_data(FEAT_EOF_BIT_c) <= '1';
-        o_data(EOF_FRAME_LO_c + 15 downto EOF_FRAME_LO_c) <= std_logic_vector(frame_no);
-        o_data(EOF_DROPS_LO_c + 15 downto EOF_DROPS_LO_c) <= std_logic_vector(to_unsigned(fd(0), 16));
+        o_data(EOF_FRAME_LO_c + EOF_FRAME_BITS_c - 1 downto EOF_FRAME_LO_c) <= std_logic_vector(frame_no);
+        o_data(EOF_DROPS_LO_c + EOF_DROPS_BITS_c - 1 downto EOF_DROPS_LO_c) <=
+          std_logic_vector(to_unsigned(fd(0), EOF_DROPS_BITS_c));
         frame_no <= frame_no + 1;
         fd       := (fd(1), fd(2), 0);
         for k in 0 to SCALES_g - 1 loop

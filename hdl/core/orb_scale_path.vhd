@@ -14,12 +14,13 @@ use ieee.std_logic_1164.all;
 use ieee.numeric_std.all;
 
 use work.orb_util_pkg.all;
+use work.orb_limits_pkg.all;
 
 entity orb_scale_path is
   generic (
     LINE_WIDTH_g   : positive range 8 to 4095 := 640;
     FRAME_HEIGHT_g : positive range 1 to 4095 := 480;
-    SECTORS_g      : positive range 4 to 16   := 8;
+    SECTORS_g      : sectors_t                := 32;  -- orientation sectors in all
     DESC_g         : boolean                  := true
   );
   port (

@@ -20,12 +20,13 @@ use ieee.numeric_std.all;
 
 use work.orb_util_pkg.all;
 use work.orb_pattern_pkg.all;
+use work.orb_limits_pkg.all;
 
 entity orb_desc_path is
   generic (
     LINE_WIDTH_g   : positive range 37 to 4095 := 640;
     FRAME_HEIGHT_g : positive range 37 to 4095 := 480;
-    SECTORS_g      : positive range 4 to 16    := 8
+    SECTORS_g      : sectors_t                 := 32   -- orientation sectors in all
   );
   port (
     clk : in    std_logic;
@@ -57,8 +58,9 @@ architecture rtl of orb_desc_path is
   constant BORDER_c   : natural  := 18;   -- descriptor border, and the window's tag offset
   constant WIN_c      : positive := 31;
   constant COL_BITS_c : positive := WIN_c * PIXEL_BITS_c;
-  constant ORBIT_c    : positive := 4 * SECTORS_g;
-  constant PAT_c      : pattern_t := base_pattern(SECTORS_g);
+  constant N_c        : positive := SECTORS_g / 4;  -- sectors per quadrant (the thesis's N)
+  constant ORBIT_c    : positive := SECTORS_g;      -- an orbit: one member per sector
+  constant PAT_c      : pattern_t := base_pattern(N_c);
   -- Densest legal NMS output: one feature per 2x2 block, so ceil((W - 36) / 2) per line and
   -- per pair of lines. A feature waits from its detection (about 4 lines after its own) to its
   -- window (18 lines after): at most 16 lines, 8 pairs, plus pipeline slack.
@@ -165,12 +167,12 @@ architecture rtl of orb_desc_path is
 
 begin
 
-  assert SECTORS_g = 4 or SECTORS_g = 8 or SECTORS_g = 16
-    report "orb_desc_path: SECTORS_g (sectors per quadrant) must be 4, 8 or 16"
+  assert sectors_legal(SECTORS_g)
+    report "orb_desc_path: SECTORS_g (sectors in all) must be " & SECTORS_TEXT_c
     severity failure;
 
   assert 256 mod ORBIT_c = 0
-    report "orb_desc_path: 256 tests must split into orbits of 4 * SECTORS_g"
+    report "orb_desc_path: 256 tests must split into orbits of SECTORS_g"
     severity failure;
 
   lines : entity work.orb_line_buffer

@@ -1,12 +1,13 @@
 -- SPDX-License-Identifier: MIT
 -- orb_orient_sector: quantises the intensity-centroid moments (m10, m01) into one of
--- 4 * SECTORS_g orientation sectors exactly as golden_model.orientation.quantise (docs/spec.md
--- section 9): the quadrant q and the magnitudes (a, b) along its two axes come from the signs,
--- then the local sector j counts the boundaries beta_k = (k - 1/2) * 90 / SECTORS_g degrees the
--- angle has reached, each tested without division as b * 2^16 >= a * TAN_k (beta_k < 45) or
--- b * COT_k >= a * 2^16 (beta_k > 45), one constant multiplication per boundary (a DSP48 or LUT
--- adders). The 16-bit constants are computed at elaboration with ieee.math_real, rounded half
--- up like the model. sector = (q * SECTORS_g + j) mod 4 * SECTORS_g, and 0 when m10 = m01 = 0.
+-- SECTORS_g orientation sectors (the total; N_c = SECTORS_g / 4 per quadrant) exactly as
+-- golden_model.orientation.quantise (docs/spec.md section 9): the quadrant q and the magnitudes
+-- (a, b) along its two axes come from the signs, then the local sector j counts the boundaries
+-- beta_k = (k - 1/2) * 90 / N_c degrees the angle has reached, each tested without division as
+-- b * 2^16 >= a * TAN_k (beta_k < 45) or b * COT_k >= a * 2^16 (beta_k > 45), one constant
+-- multiplication per boundary (a DSP48 or LUT adders). The 16-bit constants are computed at
+-- elaboration with ieee.math_real, rounded half up like the model. sector = (q * N_c + j) mod
+-- SECTORS_g, and 0 when m10 = m01 = 0.
 -- Four pipeline stages (signs and magnitudes, products, comparisons, count): fixed latency
 -- LATENCY_c = 4 clocks, input gaps allowed; (x, y) tags pass through unchanged.
 
@@ -16,10 +17,11 @@ use ieee.numeric_std.all;
 use ieee.math_real.all;
 
 use work.orb_util_pkg.all;
+use work.orb_limits_pkg.all;
 
 entity orb_orient_sector is
   generic (
-    SECTORS_g : positive range 4 to 16 := 8
+    SECTORS_g : sectors_t := 32  -- orientation sectors in all (orb_limits_pkg: 16, 32 or 64)
   );
   port (
     clk        : in    std_logic;
@@ -38,6 +40,8 @@ end entity orb_orient_sector;
 
 architecture rtl of orb_orient_sector is
 
+  -- The sectors per quadrant (the thesis's N).
+  constant N_c : positive := SECTORS_g / 4;
   -- Latency in clocks from in_valid to out_valid (documentation; the stages below define it).
   constant LATENCY_c  : positive := 4;
   constant TAN_BITS_c : positive := 16;
@@ -45,14 +49,14 @@ architecture rtl of orb_orient_sector is
   constant K_BITS_c   : positive := TAN_BITS_c + 1;             -- constants < 2^16, signed
   constant P_BITS_c   : positive := MAG_BITS_c + TAN_BITS_c;    -- products < 2^40
 
-  type const_array_t is array (1 to SECTORS_g) of natural;
-  type prod_array_t is array (1 to SECTORS_g) of unsigned(P_BITS_c - 1 downto 0);
+  type const_array_t is array (1 to N_c) of natural;
+  type prod_array_t is array (1 to N_c) of unsigned(P_BITS_c - 1 downto 0);
   type tag_t is array (1 to LATENCY_c) of std_logic_vector(2 * COORD_BITS_c - 1 downto 0);
 
   -- Boundary k uses the cotangent form when beta_k > 45 degrees.
   function uses_cot (k : positive) return boolean is
   begin
-    return (real(k) - 0.5) * 90.0 / real(SECTORS_g) > 45.0;
+    return (real(k) - 0.5) * 90.0 / real(N_c) > 45.0;
   end function uses_cot;
 
   -- tan(x) for 0 <= x < pi/4 from Taylor series of sin and cos (relative error far below 1e-12;
@@ -78,8 +82,8 @@ architecture rtl of orb_orient_sector is
     variable r    : const_array_t;
     variable beta : real;
   begin
-    for k in 1 to SECTORS_g loop
-      beta := (real(k) - 0.5) * 90.0 / real(SECTORS_g);
+    for k in 1 to N_c loop
+      beta := (real(k) - 0.5) * 90.0 / real(N_c);
       if uses_cot(k) then
         beta := 90.0 - beta;
       end if;
@@ -124,14 +128,14 @@ architecture rtl of orb_orient_sector is
   -- stage 3: boundaries reached
   signal quad3    : unsigned(1 downto 0)                := (others => '0');
   signal zero3    : std_logic                           := '0';
-  signal reached3 : std_logic_vector(1 to SECTORS_g)    := (others => '0');
+  signal reached3 : std_logic_vector(1 to N_c)          := (others => '0');
   -- stage 4: sector
   signal sector4 : unsigned(5 downto 0)                := (others => '0');
 
 begin
 
-  assert SECTORS_g = 4 or SECTORS_g = 8 or SECTORS_g = 16
-    report "orb_orient_sector: SECTORS_g must be 4, 8 or 16"
+  assert sectors_legal(SECTORS_g)
+    report "orb_orient_sector: SECTORS_g (sectors in all) must be " & SECTORS_TEXT_c
     severity failure;
 
   control : process (clk) is
@@ -185,7 +189,7 @@ begin
         zero2 <= zero1;
         a2    <= a1;
         b2    <= b1;
-        for k in 1 to SECTORS_g loop
+        for k in 1 to N_c loop
           if uses_cot(k) then
             prod2(k) <= resize(b1 * to_unsigned(CONST_c(k), K_BITS_c), P_BITS_c);
           else
@@ -199,7 +203,7 @@ begin
       if valid(2) = '1' then
         quad3 <= quad2;
         zero3 <= zero2;
-        for k in 1 to SECTORS_g loop
+        for k in 1 to N_c loop
           prod_hi := prod2(k)(P_BITS_c - 1 downto TAN_BITS_c);
           if uses_cot(k) then
             reached3(k) <= '1' when prod_hi >= a2 else '0';
@@ -212,11 +216,11 @@ begin
       end if;
       -- stage 4: j = boundaries reached; sector = (q * N + j) mod 4N
       if valid(3) = '1' then
-        j := popcount(reached3) + resize(quad3 * to_unsigned(SECTORS_g, 5), 6);
+        j := popcount(reached3) + resize(quad3 * to_unsigned(N_c, 5), 6);
         if zero3 = '1' then
           sector4 <= (others => '0');
         else
-          sector4 <= j and to_unsigned(4 * SECTORS_g - 1, 6);
+          sector4 <= j and to_unsigned(SECTORS_g - 1, 6);
         end if;
       end if;
     end if;

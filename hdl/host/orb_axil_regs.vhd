@@ -20,19 +20,24 @@
 -- field above its maximum (CTRL.mode 2 or 3, BANK_RELEASE.bank >= BANKS_c); byte strobes are
 -- honoured (merged into the current value before that check). rst resets the control state and
 -- every register to its documented reset value.
+-- The decode is data: a register file driven by orb_regs_pkg's tables REGS_c (offset, access,
+-- defined bits, reset value, live and pulse bits per register) and REG_LIMITS_c (field maxima),
+-- generated from the map. Per-register code is only wiring: the `wiring` process (ro fields that
+-- follow a generic or an input port, w1c set inputs) and the output assignments at the end.
 
 library ieee;
 use ieee.std_logic_1164.all;
 use ieee.numeric_std.all;
 
 use work.orb_regs_pkg.all;
+use work.orb_limits_pkg.all;
 
 entity orb_axil_regs is
   generic (
-    WIDTH_g       : positive range 64 to 1920    := 640;
-    HEIGHT_g      : positive range 48 to 1080    := 480;
-    SCALES_g      : positive range 1 to 4        := 1;
-    SECTORS_g     : positive range 4 to 16       := 8;    -- sectors per quadrant: 4, 8 or 16
+    WIDTH_g       : width_t                      := 640;
+    HEIGHT_g      : height_t                     := 480;
+    SCALES_g      : scales_t                     := 1;
+    SECTORS_g     : sectors_t                    := 32;   -- orientation sectors in all (orb_limits_pkg)
     MEM_DEPTH_g   : positive range 1 to 16777215 := 4096; -- read back only (CFG_MEM.depth)
     MEM_LATENCY_g : positive range 1 to 8        := 2;    -- mem_rd_en to mem_rd_data, clocks
     ADDR_BITS_g   : positive range 18 to 20      := 18
@@ -97,6 +102,10 @@ architecture rtl of orb_axil_regs is
 
   subtype word_t is std_logic_vector(31 downto 0);
 
+  type word_array_t is array (natural range <>) of word_t;
+
+  subtype reg_words_t is word_array_t(REGS_c'range);
+
   constant OKAY_c   : std_logic_vector(1 downto 0) := "00";
   constant SLVERR_c : std_logic_vector(1 downto 0) := "10";
   constant ZERO_c   : word_t := (others => '0');
@@ -135,19 +144,38 @@ architecture rtl of orb_axil_regs is
     return m;
   end function byte_mask;
 
-  constant CFG_SIZE_WORD_c : word_t :=
-                                       put(put(ZERO_c, WIDTH_g, CFG_SIZE_WIDTH_MSB_c, CFG_SIZE_WIDTH_LSB_c),
-                                            HEIGHT_g, CFG_SIZE_HEIGHT_MSB_c, CFG_SIZE_HEIGHT_LSB_c);
-  constant CFG_ORB_WORD_c  : word_t :=
-                                       put(put(put(ZERO_c, SCALES_g, CFG_ORB_SCALES_MSB_c, CFG_ORB_SCALES_LSB_c),
-                                                SECTORS_g, CFG_ORB_SECTORS_MSB_c, CFG_ORB_SECTORS_LSB_c),
-                                            CFG_ORB_BANKS_RESET_c, CFG_ORB_BANKS_MSB_c, CFG_ORB_BANKS_LSB_c);
-  constant CFG_MEM_WORD_c  : word_t :=
-                                       put(put(ZERO_c, MEM_DEPTH_g, CFG_MEM_DEPTH_MSB_c, CFG_MEM_DEPTH_LSB_c),
-                                            MEM_LATENCY_g, CFG_MEM_LATENCY_MSB_c, CFG_MEM_LATENCY_LSB_c);
+  -- log2(MEM_BASE_c), a power of two: address bits LOW_BITS_c - 1 .. 2 select a register
+  function low_bits return positive is
+  begin
+    for n in 2 to 30 loop
+      if 2 ** n >= MEM_BASE_c then
+        return n;
+      end if;
+    end loop;
+    return 30;
+  end function low_bits;
 
-  subtype mode_t is std_logic_vector(CTRL_MODE_MSB_c - CTRL_MODE_LSB_c downto 0);
-  subtype irq_t is std_logic_vector(IRQ_STATUS_ERROR_MSB_c downto IRQ_STATUS_FRAME_DONE_LSB_c);
+  constant LOW_BITS_c : positive := low_bits;
+
+  -- the bits of a register held in flip-flops: the fields of rw, w1c and wo registers except pulses
+  function stored (d : reg_desc_t) return word_t is
+  begin
+    if d.acc = access_ro then
+      return ZERO_c;
+    end if;
+    return d.mask and not d.pulse;
+  end function stored;
+
+  -- the word a read returns (reserved bits and pulse fields 0; wo registers are not readable)
+  function read_value (d : reg_desc_t; held, live : word_t) return word_t is
+  begin
+    if d.acc = access_ro then
+      return (d.reset and not d.live) or (live and d.live);
+    elsif d.acc = access_wo then
+      return ZERO_c;
+    end if;
+    return held and stored(d);
+  end function read_value;
 
   -- write channel
   signal aw_full  : std_logic := '0';
@@ -167,31 +195,22 @@ architecture rtl of orb_axil_regs is
   signal mem_addr : std_logic_vector(ADDR_BITS_g - 1 downto 0) := (others => '0');
   signal mem_pipe : std_logic_vector(MEM_LATENCY_g - 1 downto 0) := (others => '0');
 
-  -- registers
-  signal ctrl_enable : std_logic := '0';
-  signal ctrl_mode   : mode_t := (others => '0');
-  signal thr         : std_logic_vector(THRESHOLD_THRESHOLD_MSB_c downto THRESHOLD_THRESHOLD_LSB_c) :=
-        (others => '0');
-  signal irq_en      : irq_t := (others => '0');
-  signal irq_st      : irq_t := (others => '0');
-  signal irq_r       : std_logic := '0';
-  signal soft_rst_r  : std_logic := '0';
-  signal rel_valid   : std_logic := '0';
-  signal rel_bank    : std_logic_vector(release_bank'range) := (others => '0');
+  -- the register file, indexed as REGS_c: stored bits (only stored(REGS_c(i)) ever leave 0; power-up
+  -- value 0, rst loads the reset values), pulse fields for one clock after a write, wo registers'
+  -- one-clock write strobe
+  signal held    : reg_words_t := (others => ZERO_c);
+  signal pulses  : reg_words_t := (others => ZERO_c);
+  signal written : std_logic_vector(REGS_c'range) := (others => '0');
+  signal irq_r   : std_logic := '0';
 
-  -- register words as read (reserved bits 0, pulse fields 0)
-  signal ctrl_word  : word_t;
-  signal thr_word   : word_t;
-  signal ien_word   : word_t;
-  signal ist_word   : word_t;
-  signal stat_word  : word_t;
-  signal bank0_word : word_t;
-  signal bank1_word : word_t;
+  -- wired inputs: values of the live (generic or port) ro fields, set pulses of w1c bits
+  signal live_in : reg_words_t;
+  signal w1c_set : reg_words_t;
 
 begin
 
-  assert SECTORS_g = 4 or SECTORS_g = 8 or SECTORS_g = 16
-    report "orb_axil_regs: SECTORS_g (sectors per quadrant) must be 4, 8 or 16"
+  assert sectors_legal(SECTORS_g)
+    report "orb_axil_regs: SECTORS_g (sectors in all) must be " & SECTORS_TEXT_c
     severity failure;
   assert 2 ** ADDR_BITS_g > MEM_BASE_c
     report "orb_axil_regs: ADDR_BITS_g leaves no feature-memory window above MEM_BASE_c"
@@ -199,38 +218,63 @@ begin
   assert STATUS_BANK_READY_MSB_c - STATUS_BANK_READY_LSB_c + 1 = BANKS_c and BANK_RELEASE_BANK_MAX_c = BANKS_c - 1
     report "orb_axil_regs: orb_regs_pkg's bank fields do not match BANKS_c"
     severity failure;
-  assert IRQ_STATUS_FRAME_DONE_LSB_c = IRQ_ENABLE_FRAME_DONE_LSB_c and IRQ_STATUS_ERROR_LSB_c = IRQ_ENABLE_ERROR_LSB_c
-         and IRQ_STATUS_FRAME_DONE_LSB_c = 0 and IRQ_STATUS_ERROR_LSB_c = IRQ_STATUS_ERROR_MSB_c
-         and IRQ_STATUS_ERROR_LSB_c = 1
-    report "orb_axil_regs: IRQ_ENABLE and IRQ_STATUS must hold frame_done at bit 0 and error at bit 1"
+  assert REG_IRQ_STATUS_MASK_c = REG_IRQ_ENABLE_MASK_c and REGS_c(REG_IRQ_STATUS_IDX_c).acc = access_w1c
+         and IRQ_STATUS_FRAME_DONE_LSB_c = IRQ_ENABLE_FRAME_DONE_LSB_c
+         and IRQ_STATUS_ERROR_LSB_c = IRQ_ENABLE_ERROR_LSB_c
+    report "orb_axil_regs: IRQ_STATUS (w1c) and IRQ_ENABLE must have their fields at the same bits"
     severity failure;
 
-  ctrl_word  <= put(put(ZERO_c, (0 => ctrl_enable), CTRL_ENABLE_MSB_c, CTRL_ENABLE_LSB_c),
-                   ctrl_mode, CTRL_MODE_MSB_c, CTRL_MODE_LSB_c);
-  thr_word   <= put(ZERO_c, thr, THRESHOLD_THRESHOLD_MSB_c, THRESHOLD_THRESHOLD_LSB_c);
-  ien_word   <= put(ZERO_c, irq_en, IRQ_ENABLE_ERROR_MSB_c, IRQ_ENABLE_FRAME_DONE_LSB_c);
-  ist_word   <= put(ZERO_c, irq_st, IRQ_STATUS_ERROR_MSB_c, IRQ_STATUS_FRAME_DONE_LSB_c);
-  stat_word  <= put(put(put(ZERO_c, bank_ready, STATUS_BANK_READY_MSB_c, STATUS_BANK_READY_LSB_c),
-                       (0 => last_bank), STATUS_LAST_BANK_MSB_c, STATUS_LAST_BANK_LSB_c),
-                   (0     => overflow), STATUS_OVERFLOW_MSB_c, STATUS_OVERFLOW_LSB_c);
-  bank0_word <= put(put(ZERO_c, bank0_count, BANK0_INFO_COUNT_MSB_c, BANK0_INFO_COUNT_LSB_c),
-                    bank0_frame, BANK0_INFO_FRAME_MSB_c, BANK0_INFO_FRAME_LSB_c);
-  bank1_word <= put(put(ZERO_c, bank1_count, BANK1_INFO_COUNT_MSB_c, BANK1_INFO_COUNT_LSB_c),
-                    bank1_frame, BANK1_INFO_FRAME_MSB_c, BANK1_INFO_FRAME_LSB_c);
+  -- Wiring, the only per-register code: the ro fields that follow a generic or an input port
+  -- (REGS_c(i).live) and the inputs that set w1c bits. Bits outside those fields are ignored.
+  wiring : process (all) is
+    variable li : reg_words_t;
+    variable ws : reg_words_t;
+  begin
+    li                            := (others => ZERO_c);
+    ws                            := (others => ZERO_c);
+    li(REG_CFG_SIZE_IDX_c)        := put(put(ZERO_c, WIDTH_g, CFG_SIZE_WIDTH_MSB_c, CFG_SIZE_WIDTH_LSB_c),
+                                         HEIGHT_g, CFG_SIZE_HEIGHT_MSB_c, CFG_SIZE_HEIGHT_LSB_c);
+    li(REG_CFG_ORB_IDX_c)         := put(put(ZERO_c, SCALES_g, CFG_ORB_SCALES_MSB_c, CFG_ORB_SCALES_LSB_c),
+                                         SECTORS_g, CFG_ORB_SECTORS_MSB_c, CFG_ORB_SECTORS_LSB_c);
+    li(REG_CFG_MEM_IDX_c)         := put(put(ZERO_c, MEM_DEPTH_g, CFG_MEM_DEPTH_MSB_c, CFG_MEM_DEPTH_LSB_c),
+                                         MEM_LATENCY_g, CFG_MEM_LATENCY_MSB_c, CFG_MEM_LATENCY_LSB_c);
+    li(REG_STATUS_IDX_c)          := put(put(put(ZERO_c, bank_ready, STATUS_BANK_READY_MSB_c, STATUS_BANK_READY_LSB_c),
+                                             (0 => last_bank), STATUS_LAST_BANK_MSB_c, STATUS_LAST_BANK_LSB_c),
+                                         (0 => overflow), STATUS_OVERFLOW_MSB_c, STATUS_OVERFLOW_LSB_c);
+    li(REG_FRAME_COUNT_IDX_c)     := frame_count;
+    li(REG_DROPPED_IDX_c)         := dropped;
+    li(REG_PROTO_ERRORS_IDX_c)    := proto_errors;
+    li(REG_BANK0_INFO_IDX_c)      := put(put(ZERO_c, bank0_count, BANK0_INFO_COUNT_MSB_c, BANK0_INFO_COUNT_LSB_c),
+                                         bank0_frame, BANK0_INFO_FRAME_MSB_c, BANK0_INFO_FRAME_LSB_c);
+    li(REG_BANK1_INFO_IDX_c)      := put(put(ZERO_c, bank1_count, BANK1_INFO_COUNT_MSB_c, BANK1_INFO_COUNT_LSB_c),
+                                         bank1_frame, BANK1_INFO_FRAME_MSB_c, BANK1_INFO_FRAME_LSB_c);
+    li(REG_OVERRUN_IDX_c)         := overrun;
+    li(REG_OVERFLOW_COUNT_IDX_c)  := overflow_count;
+    li(REG_DESC_LOST_IDX_c)       := desc_lost;
+    li(REG_DISCARDED_IDX_c)       := discarded;
+    ws(REG_IRQ_STATUS_IDX_c)      := put(put(ZERO_c, (0 => frame_done_pulse), IRQ_STATUS_FRAME_DONE_MSB_c,
+                                             IRQ_STATUS_FRAME_DONE_LSB_c),
+                                         (0 => error_pulse), IRQ_STATUS_ERROR_MSB_c, IRQ_STATUS_ERROR_LSB_c);
+    live_in <= li;
+    w1c_set <= ws;
+  end process wiring;
 
-  -- AW and W buffers, write execution, the writable registers and the interrupt logic.
+  -- AW and W buffers, write execution over the register file, w1c bits and the interrupt.
   wr : process (clk) is
-    variable addr   : natural;
     variable bm     : word_t;
+    variable hit    : std_logic_vector(REGS_c'range);
     variable cur    : word_t;
     variable merged : word_t;
     variable ok     : boolean;
-    variable clr    : irq_t;
+    variable clr    : reg_words_t;
+    variable widx   : natural;
+    variable low    : boolean;
   begin
     if rising_edge(clk) then
-      soft_rst_r <= '0';
-      rel_valid  <= '0';
-      clr        := (others => '0');
+      pulses  <= (others => ZERO_c);
+      written <= (others => '0');
+      hit     := (others => '0');
+      clr     := (others => ZERO_c);
       if s_axil_awvalid = '1' and aw_full = '0' then
         aw_addr <= s_axil_awaddr;
         aw_full <= '1';
@@ -247,93 +291,89 @@ begin
         aw_full  <= '0';
         w_full   <= '0';
         bvalid_r <= '1';
-        addr     := to_integer(unsigned(aw_addr));
+        widx     := to_integer(unsigned(aw_addr(LOW_BITS_c - 1 downto 2)));
+        low      := aw_addr(1 downto 0) = "00" and unsigned(aw_addr(ADDR_BITS_g - 1 downto LOW_BITS_c)) = 0;
         bm       := byte_mask(w_strb);
-        ok       := aw_addr(1 downto 0) = "00" and addr < MEM_BASE_c;
-        -- if/elsif rather than case: GHDL 2.0's Verilog output drops a case's `others` (latches)
-        if addr = REG_CTRL_c then
-          cur := ctrl_word;
-        elsif addr = REG_THRESHOLD_c then
-          cur := thr_word;
-        elsif addr = REG_IRQ_ENABLE_c then
-          cur := ien_word;
-        else
-          -- w1c and wo registers merge into zero
-          cur := ZERO_c;
-        end if;
+        -- decode: an aligned address below MEM_BASE_c naming a writable register; the current
+        -- value of a rw register, zero for w1c and wo registers
+        ok  := false;
+        cur := ZERO_c;
+        for i in REGS_c'range loop
+          if low and widx = REGS_c(i).offset / 4 and REGS_c(i).acc /= access_ro then
+            hit(i) := '1';
+            ok     := true;
+          end if;
+          if REGS_c(i).acc = access_rw then
+            cur := cur or sel(hit(i) = '1', read_value(REGS_c(i), held(i), live_in(i)));
+          end if;
+        end loop;
         merged := (cur and not bm) or (w_data and bm);
-        if ok then
-          if addr = REG_CTRL_c then
-            ok := (merged and not REG_CTRL_MASK_c) = ZERO_c
-                  and unsigned(merged(CTRL_MODE_MSB_c downto CTRL_MODE_LSB_c)) <= CTRL_MODE_MAX_c;
-            if ok then
-              ctrl_enable <= merged(CTRL_ENABLE_LSB_c);
-              ctrl_mode   <= merged(CTRL_MODE_MSB_c downto CTRL_MODE_LSB_c);
-              soft_rst_r  <= merged(CTRL_SOFT_RESET_LSB_c);
-            end if;
-          elsif addr = REG_THRESHOLD_c then
-            ok := (merged and not REG_THRESHOLD_MASK_c) = ZERO_c;
-            if ok then
-              thr <= merged(THRESHOLD_THRESHOLD_MSB_c downto THRESHOLD_THRESHOLD_LSB_c);
-            end if;
-          elsif addr = REG_IRQ_ENABLE_c then
-            ok := (merged and not REG_IRQ_ENABLE_MASK_c) = ZERO_c;
-            if ok then
-              irq_en <= merged(irq_t'range);
-            end if;
-          elsif addr = REG_IRQ_STATUS_c then
-            -- reserved bits ignored
-            clr := merged(irq_t'range);
-          elsif addr = REG_BANK_RELEASE_c then
-            ok := (merged and not REG_BANK_RELEASE_MASK_c) = ZERO_c
-                  and unsigned(merged(BANK_RELEASE_BANK_MSB_c downto BANK_RELEASE_BANK_LSB_c))
-                  <= BANK_RELEASE_BANK_MAX_c;
-            if ok and w_strb(BANK_RELEASE_BANK_LSB_c / 8) = '1' then
-              rel_valid <= '1';
-              rel_bank  <= merged(BANK_RELEASE_BANK_MSB_c downto BANK_RELEASE_BANK_LSB_c);
-            end if;
-          else
-            -- ro registers and unknown offsets
+        -- legality: no reserved bit set (w1c registers ignore them), no field above its maximum
+        for i in REGS_c'range loop
+          if hit(i) = '1' and REGS_c(i).acc /= access_w1c and (merged and not REGS_c(i).mask) /= ZERO_c then
             ok := false;
           end if;
-        end if;
+        end loop;
+        for k in REG_LIMITS_c'range loop
+          if hit(REG_LIMITS_c(k).reg) = '1'
+             and unsigned(merged and REG_LIMITS_c(k).mask) > unsigned(REG_LIMITS_c(k).max) then
+            ok := false;
+          end if;
+        end loop;
         if ok then
+          for i in REGS_c'range loop
+            if hit(i) = '1' then
+              if REGS_c(i).acc = access_w1c then
+                clr(i) := merged;
+              elsif REGS_c(i).acc = access_rw or (bm and REGS_c(i).mask) /= ZERO_c then
+                -- rw, or wo with a strobed byte holding a defined bit
+                held(i)   <= merged and stored(REGS_c(i));
+                pulses(i) <= merged and REGS_c(i).pulse;
+                if REGS_c(i).acc = access_wo then
+                  written(i) <= '1';
+                end if;
+              end if;
+            end if;
+          end loop;
           bresp_r <= OKAY_c;
         else
           bresp_r <= SLVERR_c;
         end if;
       end if;
-      -- a pulse in the clock of a clearing write wins
-      irq_st <= (irq_st and not clr) or (error_pulse & frame_done_pulse);
-      if (irq_st and irq_en) /= (irq_t'range => '0') then
+      -- w1c bits: a set pulse in the clock of a clearing write wins
+      for i in REGS_c'range loop
+        if REGS_c(i).acc = access_w1c then
+          held(i) <= ((held(i) and not clr(i)) or w1c_set(i)) and stored(REGS_c(i));
+        end if;
+      end loop;
+      if (held(REG_IRQ_STATUS_IDX_c) and held(REG_IRQ_ENABLE_IDX_c)) /= ZERO_c then
         irq_r <= '1';
       else
         irq_r <= '0';
       end if;
       if rst = '1' then
-        aw_full     <= '0';
-        w_full      <= '0';
-        bvalid_r    <= '0';
-        soft_rst_r  <= '0';
-        rel_valid   <= '0';
-        ctrl_enable <= REG_CTRL_RESET_c(CTRL_ENABLE_LSB_c);
-        ctrl_mode   <= REG_CTRL_RESET_c(CTRL_MODE_MSB_c downto CTRL_MODE_LSB_c);
-        thr         <= REG_THRESHOLD_RESET_c(thr'range);
-        irq_en      <= REG_IRQ_ENABLE_RESET_c(irq_t'range);
-        irq_st      <= REG_IRQ_STATUS_RESET_c(irq_t'range);
-        irq_r       <= '0';
+        aw_full  <= '0';
+        w_full   <= '0';
+        bvalid_r <= '0';
+        for i in REGS_c'range loop
+          held(i) <= REGS_c(i).reset and stored(REGS_c(i));
+        end loop;
+        pulses   <= (others => ZERO_c);
+        written  <= (others => '0');
+        irq_r    <= '0';
       end if;
     end if;
   end process wr;
 
-  -- AR handshake, register read mux, memory forwarding.
+  -- AR handshake, register read multiplexer, memory forwarding.
   rd : process (clk) is
     variable addr  : natural;
     variable rword : word_t;
     variable known : boolean;
+    variable widx  : natural;
   begin
     if rising_edge(clk) then
-      mem_en_r <= '0';
+      mem_en_r    <= '0';
       mem_pipe    <= std_logic_vector(shift_left(unsigned(mem_pipe), 1));
       mem_pipe(0) <= mem_en_r;
       if rvalid_r = '1' and s_axil_rready = '1' then
@@ -343,6 +383,7 @@ begin
       if s_axil_arvalid = '1' and ar_busy = '0' then
         ar_busy <= '1';
         addr    := to_integer(unsigned(s_axil_araddr));
+        widx    := to_integer(unsigned(s_axil_araddr(LOW_BITS_c - 1 downto 2)));
         if s_axil_araddr(1 downto 0) /= "00" then
           rdata_r  <= ZERO_c;
           rresp_r  <= SLVERR_c;
@@ -351,32 +392,15 @@ begin
           mem_en_r <= '1';
           mem_addr <= std_logic_vector(to_unsigned(addr - MEM_BASE_c, ADDR_BITS_g));
         else
-          -- an AND-OR multiplexer over the readable registers (BANK_RELEASE is wo)
-          rword := sel(addr = REG_ID_c, REG_ID_RESET_c)
-                   or sel(addr = REG_VERSION_c, REG_VERSION_RESET_c)
-                   or sel(addr = REG_CFG_SIZE_c, CFG_SIZE_WORD_c)
-                   or sel(addr = REG_CFG_ORB_c, CFG_ORB_WORD_c)
-                   or sel(addr = REG_CFG_MEM_c, CFG_MEM_WORD_c)
-                   or sel(addr = REG_CTRL_c, ctrl_word)
-                   or sel(addr = REG_THRESHOLD_c, thr_word)
-                   or sel(addr = REG_STATUS_c, stat_word)
-                   or sel(addr = REG_FRAME_COUNT_c, frame_count)
-                   or sel(addr = REG_DROPPED_c, dropped)
-                   or sel(addr = REG_PROTO_ERRORS_c, proto_errors)
-                   or sel(addr = REG_IRQ_ENABLE_c, ien_word)
-                   or sel(addr = REG_IRQ_STATUS_c, ist_word)
-                   or sel(addr = REG_BANK0_INFO_c, bank0_word)
-                   or sel(addr = REG_BANK1_INFO_c, bank1_word)
-                   or sel(addr = REG_OVERRUN_c, overrun)
-                   or sel(addr = REG_OVERFLOW_COUNT_c, overflow_count)
-                   or sel(addr = REG_DESC_LOST_c, desc_lost)
-                   or sel(addr = REG_DISCARDED_c, discarded);
-          known := addr = REG_ID_c or addr = REG_VERSION_c or addr = REG_CFG_SIZE_c or addr = REG_CFG_ORB_c
-                   or addr = REG_CFG_MEM_c or addr = REG_CTRL_c or addr = REG_THRESHOLD_c
-                   or addr = REG_STATUS_c or addr = REG_FRAME_COUNT_c or addr = REG_DROPPED_c
-                   or addr = REG_PROTO_ERRORS_c or addr = REG_IRQ_ENABLE_c or addr = REG_IRQ_STATUS_c
-                   or addr = REG_BANK0_INFO_c or addr = REG_BANK1_INFO_c or addr = REG_OVERRUN_c
-                   or addr = REG_OVERFLOW_COUNT_c or addr = REG_DESC_LOST_c or addr = REG_DISCARDED_c;
+          -- an AND-OR multiplexer over the readable registers (aligned and below MEM_BASE_c here)
+          rword := ZERO_c;
+          known := false;
+          for i in REGS_c'range loop
+            if REGS_c(i).acc /= access_wo then
+              rword := rword or sel(widx = REGS_c(i).offset / 4, read_value(REGS_c(i), held(i), live_in(i)));
+              known := known or widx = REGS_c(i).offset / 4;
+            end if;
+          end loop;
           rdata_r  <= rword;
           rvalid_r <= '1';
           if known then
@@ -409,14 +433,15 @@ begin
   s_axil_rresp   <= rresp_r;
   s_axil_rvalid  <= rvalid_r;
 
-  enable        <= ctrl_enable;
-  soft_reset    <= soft_rst_r;
-  mode_orb      <= '1' when unsigned(ctrl_mode) = 0 else
+  -- outputs (wiring)
+  enable        <= held(REG_CTRL_IDX_c)(CTRL_ENABLE_LSB_c);
+  soft_reset    <= pulses(REG_CTRL_IDX_c)(CTRL_SOFT_RESET_LSB_c);
+  mode_orb      <= '1' when unsigned(held(REG_CTRL_IDX_c)(CTRL_MODE_MSB_c downto CTRL_MODE_LSB_c)) = 0 else
                    '0';
-  threshold     <= thr;
+  threshold     <= held(REG_THRESHOLD_IDX_c)(THRESHOLD_THRESHOLD_MSB_c downto THRESHOLD_THRESHOLD_LSB_c);
   irq           <= irq_r;
-  release_valid <= rel_valid;
-  release_bank  <= rel_bank;
+  release_valid <= written(REG_BANK_RELEASE_IDX_c);
+  release_bank  <= held(REG_BANK_RELEASE_IDX_c)(BANK_RELEASE_BANK_MSB_c downto BANK_RELEASE_BANK_LSB_c);
   mem_rd_en     <= mem_en_r;
   mem_rd_addr   <= mem_addr;
 

@@ -26,10 +26,11 @@ use ieee.numeric_std.all;
 
 use work.orb_util_pkg.all;
 use work.orb_feat_pkg.all;
+use work.orb_limits_pkg.all;
 
 entity orb_feat_mem is
   generic (
-    DEPTH_g : positive range 16 to 4096 := 1024
+    DEPTH_g : mem_depth_t := 1024  -- slots per bank (MEM_DEPTH_g of orb_accel_top)
   );
   port (
     clk : in    std_logic;
@@ -67,13 +68,11 @@ end entity orb_feat_mem;
 
 architecture rtl of orb_feat_mem is
 
-  constant SLOT_BITS_c   : positive := clog2(DEPTH_g);
-  constant WORDS_c       : positive := 10;         -- CPU words 0..9 of a slot are stored
-  constant WORD_BITS_c   : positive := 32 * WORDS_c;
-  constant LAST_SLOT_c   : natural  := DEPTH_g - 1; -- the slot only an end-of-frame record may use
-  constant BANK_c        : std_logic_vector(0 to 1) := "01";
-  constant SECTOR_BITS_c : positive := FEAT_SECTOR_BITS_c;
-  constant SECTOR_LO_c   : natural  := FEAT_SECTOR_LO_c;
+  constant SLOT_BITS_c : positive := clog2(DEPTH_g);
+  constant WORDS_c     : positive := SLOT_WORDS_USED_c; -- CPU words 0..9 of a slot are stored
+  constant WORD_BITS_c : positive := 32 * WORDS_c;
+  constant LAST_SLOT_c : natural  := DEPTH_g - 1; -- the slot only an end-of-frame record may use
+  constant BANK_c      : std_logic_vector(0 to 1) := "01";
 
   type mem_t is array (0 to 2 * DEPTH_g - 1) of std_logic_vector(WORD_BITS_c - 1 downto 0);
   type u16_pair_t is array (0 to 1) of unsigned(15 downto 0);
@@ -114,6 +113,18 @@ architecture rtl of orb_feat_mem is
   signal rd_pend : std_logic := '0';
   signal rd_word : std_logic_vector(31 downto 0) := (others => '0');
 
+  -- word(dst + bits - 1 downto dst) := data(src + bits - 1 downto src): a stream field into the slot
+  procedure copy_field (
+    variable word : inout std_logic_vector;
+    dst           : in    natural;
+    data          : in    std_logic_vector;
+    src           : in    natural;
+    bits          : in    positive
+  ) is
+  begin
+    word(dst + bits - 1 downto dst) := data(src + bits - 1 downto src);
+  end procedure copy_field;
+
   function bank_index (b : std_logic) return natural is
   begin
     if b = '1' then
@@ -124,8 +135,8 @@ architecture rtl of orb_feat_mem is
 
 begin
 
-  assert DEPTH_g = 2 ** SLOT_BITS_c
-    report "orb_feat_mem: DEPTH_g must be a power of two"
+  assert mem_depth_legal(DEPTH_g)
+    report "orb_feat_mem: DEPTH_g must be " & MEM_DEPTH_TEXT_c
     severity failure;
 
   beat <= s_axis_feat_tvalid;
@@ -152,29 +163,31 @@ begin
   wr_en    <= beat and store_nw and not abort_nw and (s_axis_feat_tlast or not full);
   wr_addr  <= wbank & cnt;
 
-  -- The RAM word: CPU words 0..9 of the slot (word k at bits 32 * k + 31 downto 32 * k).
+  -- The RAM word: CPU words 0..9 of the slot (word k at bits 32 * k + 31 downto 32 * k), fields at
+  -- orb_feat_pkg's SLOT_/REC_ positions (docs/feature-word.md); a field of the stream word is
+  -- copied whole (its orb_feat_pkg width), the rest of its slot field stays 0.
   pack : process (all) is
     variable w : std_logic_vector(WORD_BITS_c - 1 downto 0);
   begin
     w := (others => '0');
     if s_axis_feat_tlast = '1' then
-      -- end-of-frame record: 0 count, 1 flags, 2 frame number, 3 dropped upstream, 4 truncated
-      w(SLOT_BITS_c - 1 downto 0) := std_logic_vector(cnt);
-      w(63)                       := '1';
+      -- end-of-frame record: count, flags, frame number, dropped upstream, truncated count
+      w(REC_COUNT_LO_c + SLOT_BITS_c - 1 downto REC_COUNT_LO_c) := std_logic_vector(cnt);
+      w(SLOT_RECORD_BIT_c)                                      := '1';
       if trunc /= 0 then
-        w(62) := '1';
+        w(REC_TRUNCATED_BIT_c) := '1';
       end if;
-      w(64 + 15 downto 64)   := s_axis_feat_tdata(EOF_FRAME_LO_c + 15 downto EOF_FRAME_LO_c);
-      w(96 + 15 downto 96)   := s_axis_feat_tdata(EOF_DROPS_LO_c + 15 downto EOF_DROPS_LO_c);
-      w(128 + 31 downto 128) := std_logic_vector(trunc);
+      copy_field(w, REC_FRAME_LO_c, s_axis_feat_tdata, EOF_FRAME_LO_c, EOF_FRAME_BITS_c);
+      copy_field(w, REC_DROPPED_LO_c, s_axis_feat_tdata, EOF_DROPS_LO_c, EOF_DROPS_BITS_c);
+      w(REC_TRUNC_LO_c + trunc'length - 1 downto REC_TRUNC_LO_c) := std_logic_vector(trunc);
     else
-      -- feature: 0 x | y << 16, 1 score | scale << 16 | sector << 24, 2..9 descriptor
-      w(COORD_BITS_c - 1 downto 0)       := s_axis_feat_tdata(FEAT_X_LO_c + COORD_BITS_c - 1 downto FEAT_X_LO_c);
-      w(16 + COORD_BITS_c - 1 downto 16) := s_axis_feat_tdata(FEAT_Y_LO_c + COORD_BITS_c - 1 downto FEAT_Y_LO_c);
-      w(32 + SCORE_BITS_c - 1 downto 32) := s_axis_feat_tdata(FEAT_SCORE_LO_c + SCORE_BITS_c - 1 downto 0);
-      w(48 + 1 downto 48) := s_axis_feat_tdata(FEAT_SCALE_LO_c + 1 downto FEAT_SCALE_LO_c);
-      w(56 + SECTOR_BITS_c - 1 downto 56) := s_axis_feat_tdata(SECTOR_LO_c + SECTOR_BITS_c - 1 downto SECTOR_LO_c);
-      w(WORD_BITS_c - 1 downto 64) := s_axis_feat_tdata(FEAT_DESC_LO_c + DESC_BITS_c - 1 downto FEAT_DESC_LO_c);
+      -- feature: x, y, score, scale, sector, descriptor (record flag 0)
+      copy_field(w, SLOT_X_LO_c, s_axis_feat_tdata, FEAT_X_LO_c, FEAT_X_BITS_c);
+      copy_field(w, SLOT_Y_LO_c, s_axis_feat_tdata, FEAT_Y_LO_c, FEAT_Y_BITS_c);
+      copy_field(w, SLOT_SCORE_LO_c, s_axis_feat_tdata, FEAT_SCORE_LO_c, FEAT_SCORE_BITS_c);
+      copy_field(w, SLOT_SCALE_LO_c, s_axis_feat_tdata, FEAT_SCALE_LO_c, FEAT_SCALE_BITS_c);
+      copy_field(w, SLOT_SECTOR_LO_c, s_axis_feat_tdata, FEAT_SECTOR_LO_c, FEAT_SECTOR_BITS_c);
+      copy_field(w, SLOT_DESC_LO_c, s_axis_feat_tdata, FEAT_DESC_LO_c, FEAT_DESC_BITS_c);
     end if;
     wr_data <= w;
   end process pack;

@@ -22,13 +22,14 @@ use ieee.numeric_std.all;
 
 use work.orb_util_pkg.all;
 use work.orb_feat_pkg.all;
+use work.orb_limits_pkg.all;
 
 entity orb_overlay is
   generic (
-    WIDTH_g      : positive range 64 to 1920 := 640;
-    HEIGHT_g     : positive range 48 to 1080 := 480;
-    SCALES_g     : positive range 1 to 4     := 4;
-    BLOCK_LOG2_g : positive range 2 to 5     := 3
+    WIDTH_g      : width_t      := 640;
+    HEIGHT_g     : height_t     := 480;
+    SCALES_g     : scales_t     := 4;
+    BLOCK_LOG2_g : block_log2_t := 3
   );
   port (
     clk                 : in    std_logic;
@@ -214,7 +215,7 @@ begin
   -- ---- feature side: block, bitmap address, frame bookkeeping - -----------------------------------
   s_axis_feat_tready <= '1';
 
-  f_scale <= unsigned(s_axis_feat_tdata(FEAT_SCALE_LO_c + 1 downto FEAT_SCALE_LO_c));
+  f_scale <= unsigned(s_axis_feat_tdata(FEAT_SCALE_LO_c + FEAT_SCALE_BITS_c - 1 downto FEAT_SCALE_LO_c));
 
   -- Block of a feature: (x >> (b - s), y >> (b - s)), b = BLOCK_LOG2_g (2^s <= 2^b: the scale pixel's
   -- whole footprint lies in that block). Scales >= SCALES_g are ignored.

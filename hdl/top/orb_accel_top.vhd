@@ -1,9 +1,9 @@
 -- SPDX-License-Identifier: MIT
 -- orb_accel_top: the complete accelerator (docs/accelerator.md). Video in (AXI4-Stream, 24-bit
 -- RGB, dvi2rgb's RBG packing or 8-bit luma, INPUT_g) is broadcast to the overlay and to the
--- feature path: orb_rgb_luma -> a frame gate (CTRL.enable, sampled at each start of frame) ->
+-- feature path: orb_rgb_luma -> orb_frame_gate (CTRL.enable, sampled at each start of frame) ->
 -- orb_video_check (the detector only ever sees complete frames; faulty ones are padded and
--- flagged) -> orb_core (SCALES_g scales, 4 * SECTORS_g sectors, orb or fast mode) ->
+-- flagged) -> orb_core (SCALES_g scales, SECTORS_g orientation sectors, orb or fast mode) ->
 -- orb_feat_mem (two banks the CPU reads over AXI4-Lite; a frame flagged bad by the checker is
 -- aborted there, never published) and orb_overlay (the previous frame's features drawn on the
 -- passing video, m_axis_video, in the input's packing). orb_axil_regs holds the registers
@@ -17,16 +17,17 @@ use ieee.numeric_std.all;
 use work.orb_util_pkg.all;
 use work.orb_feat_pkg.all;
 use work.orb_regs_pkg.all;
+use work.orb_limits_pkg.all;
 
 entity orb_accel_top is
   generic (
-    WIDTH_g      : positive range 64 to 1920 := 640;
-    HEIGHT_g     : positive range 48 to 1080 := 480;
-    SCALES_g     : positive range 1 to 4     := 2;
-    SECTORS_g    : positive range 4 to 16    := 8;     -- sectors per quadrant: 4, 8 or 16
-    MEM_DEPTH_g  : positive range 16 to 4096 := 1024;  -- feature slots per bank (power of two)
-    INPUT_g      : string                    := "RGB"; -- "RGB", "RBG" (dvi2rgb) or "LUMA"
-    BLOCK_LOG2_g : positive range 2 to 5     := 3      -- overlay block size 2^BLOCK_LOG2_g
+    WIDTH_g      : width_t      := 640;   -- legal values: orb_limits_pkg (docs/limits.md)
+    HEIGHT_g     : height_t     := 480;
+    SCALES_g     : scales_t     := 2;
+    SECTORS_g    : sectors_t    := 32;    -- orientation sectors in all
+    MEM_DEPTH_g  : mem_depth_t  := 1024;  -- feature slots per bank
+    INPUT_g      : string       := "RGB"; -- "RGB", "RBG" (dvi2rgb) or "LUMA"
+    BLOCK_LOG2_g : block_log2_t := 3      -- overlay block size 2^BLOCK_LOG2_g
   );
   port (
     clk : in    std_logic;
@@ -96,8 +97,6 @@ architecture rtl of orb_accel_top is
   signal l_ready         : std_logic;
   signal l_user          : std_logic;
   signal l_last          : std_logic;
-  signal gate_open       : std_logic := '1';
-  signal gate_pass       : std_logic;
   signal g_valid         : std_logic;
   signal g_ready         : std_logic;
   signal c_data          : std_logic_vector(7 downto 0);
@@ -145,8 +144,12 @@ begin
     report "orb_accel_top: INPUT_g must be ""RGB"", ""RBG"" or ""LUMA"""
     severity failure;
 
-  assert 2 ** clog2(MEM_DEPTH_g) = MEM_DEPTH_g
-    report "orb_accel_top: MEM_DEPTH_g must be a power of two"
+  assert sectors_legal(SECTORS_g)
+    report "orb_accel_top: SECTORS_g (sectors in all) must be " & SECTORS_TEXT_c
+    severity failure;
+
+  assert mem_depth_legal(MEM_DEPTH_g)
+    report "orb_accel_top: MEM_DEPTH_g must be " & MEM_DEPTH_TEXT_c
     severity failure;
 
   -- The soft reset (a register pulse) resets the video and feature path for one clock after it.
@@ -243,24 +246,27 @@ begin
   -- Frame gate: CTRL.enable is sampled with each start of frame; the frames of a disabled
   -- accelerator are taken and ignored (the overlay still passes them). Out of reset the gate is
   -- open, so pixels of a frame cut by a (soft) reset reach orb_video_check and are counted there
-  -- as pixels without a start of frame.
-  gate : process (clk) is
-  begin
-    if rising_edge(clk) then
-      if l_valid = '1' and l_ready = '1' and l_user = '1' then
-        gate_open <= enable;
-      end if;
-      if core_rst = '1' then
-        gate_open <= '1';
-      end if;
-    end if;
-  end process gate;
-
-  gate_pass <= '1' when (l_user = '1' and enable = '1') or (l_user = '0' and gate_open = '1') else
-               '0';
-  g_valid   <= l_valid and gate_pass;
-  l_ready   <= g_ready when gate_pass = '1' else
-               '1';
+  -- as pixels without a start of frame (docs/frame-gate.md). Data, tuser and tlast pass through
+  -- the gate unchanged, so the checker takes them straight from the luma stream.
+  gate : entity work.orb_frame_gate
+    generic map (
+      DATA_WIDTH_g => 8
+    )
+    port map (
+      clk                 => clk,
+      rst                 => core_rst,
+      enable              => enable,
+      s_axis_video_tdata  => l_data,
+      s_axis_video_tvalid => l_valid,
+      s_axis_video_tready => l_ready,
+      s_axis_video_tuser  => l_user,
+      s_axis_video_tlast  => l_last,
+      m_axis_video_tdata  => open,
+      m_axis_video_tvalid => g_valid,
+      m_axis_video_tready => g_ready,
+      m_axis_video_tuser  => open,
+      m_axis_video_tlast  => open
+    );
 
   check : entity work.orb_video_check
     generic map (

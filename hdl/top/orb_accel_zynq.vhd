@@ -17,17 +17,18 @@
 library ieee;
 use ieee.std_logic_1164.all;
 
+-- Legal generic values: docs/limits.md (orb_accel_top's generics have the orb_limits_pkg subtypes).
 -- C_S_AXI_CTRL_ADDR_WIDTH: Xilinx's name for an AXI4-Lite address width, not the NAME_g style
 -- vsg_off generic_600
 entity orb_accel_zynq is
   generic (
-    WIDTH_g                 : integer := 640;   -- frame width, 64 to 1920
-    HEIGHT_g                : integer := 480;   -- frame height, 48 to 1080
-    SCALES_g                : integer := 2;     -- scales, 1 to 4
-    SECTORS_g               : integer := 8;     -- sectors per quadrant: 4, 8 or 16
-    MEM_DEPTH_g             : integer := 1024;  -- feature slots per bank, power of two 16 to 4096
+    WIDTH_g                 : integer := 640;   -- frame width
+    HEIGHT_g                : integer := 480;   -- frame height
+    SCALES_g                : integer := 2;     -- scales
+    SECTORS_g               : integer := 32;    -- orientation sectors in all
+    MEM_DEPTH_g             : integer := 1024;  -- feature slots per bank
     INPUT_g                 : string  := "RBG"; -- "RGB", "RBG" (Digilent dvi2rgb) or "LUMA"
-    BLOCK_LOG2_g            : integer := 3;     -- overlay block size 2^BLOCK_LOG2_g, 2 to 5
+    BLOCK_LOG2_g            : integer := 3;     -- overlay block size 2^BLOCK_LOG2_g
     C_S_AXI_CTRL_ADDR_WIDTH : integer := 20     -- s_axi_ctrl address bits (at least 18)
   );
   -- vsg_on generic_600

@@ -2,16 +2,22 @@
 # SPDX-License-Identifier: MIT
 """Learn rotation-closed ("orbit") rBRIEF seeds, one set per sector count (docs/pattern.md).
 
-Used by ``scripts/gen_pattern.py --method orbit-dprime`` (and ``orbit-random``); moved here from the
-experiment of 2026-11-22 (scripts/experiments/orbit_pattern/), same code path and defaults, so it
-reproduces that run's ``orbit-dprime`` seeds.
+Writes the seed data golden_model/data/orbit_seeds.json, from which scripts/gen/gen_pattern.py
+(``make pattern``) generates golden_model/pattern_data.py. Research code: nothing in the model, the
+tools or the tests imports it. Same code path and defaults as the experiment of 2026-11-22
+(research/pattern/, README.md there), so ``--method orbit-dprime`` reproduces that run's
+``orbit-dprime`` seeds. Run from the repository with the project's venv (golden_model installed):
+
+    .venv/bin/python research/pattern/orbit_learn.py                  # orbit-dprime, about 3 min
+    .venv/bin/python research/pattern/orbit_learn.py --method orbit-random --out /tmp/seeds.json
+    make pattern                                                     # or gen_pattern.py --seeds ...
 
 A pattern for 4N sectors is M = 256 / 4N orbits; orbit j has a real-valued seed test q_j = (p1, p2)
 and member k of orbit j in sector s is round(R(((k + s) mod 4N) * 360 / 4N) q_j) (both points
 rotated, y downwards, rounded half away from zero: golden_model.pattern.orbit_patterns). The
 hardware evaluates the 256 sector-0 tests and rotates the bits of each orbit by s.
 
-Training keypoints: exactly those of scripts/pattern_learn.py (same images, same seeded sampling,
+Training keypoints: exactly those of pattern_learn.py (this directory) (same images, same seeded sampling,
 20,000 keypoints). Each keypoint's bits are what the accelerator computes: the model's sector s of
 the keypoint (quantise(m10, m01, N)) selects the member tables, i.e. the sector-0 bits of member
 (k + s) mod 4N. With ``twins`` > 0 every keypoint also has a rotated twin: the same keypoint in a
@@ -34,6 +40,8 @@ baseline takes the first M candidates of another seeded draw from the same distr
 
 from __future__ import annotations
 
+import argparse
+import json
 import sys
 import time
 from dataclasses import dataclass
@@ -59,6 +67,9 @@ R = 15
 W = 2 * R + 1
 GRID = 16
 ALL_SECTORS = 64
+SECTOR_COUNTS = (16, 32, 64)
+ROOT = Path(__file__).resolve().parents[2]
+SEEDS_JSON = ROOT / "golden_model" / "data" / "orbit_seeds.json"
 
 
 # ---------------------------------------------------------------------------------------------
@@ -355,3 +366,59 @@ def random_seeds(sector_counts: tuple[int, ...], seed: int = 1001) -> tuple[dict
     """Baseline: the first 256 / 4N random candidates (the experiment's orbit-random)."""
     rnd = real_candidates(TESTS // 16, GreedyParams().min_dist, seed)  # as the experiment: 16 drawn
     return {s: rnd[: TESTS // s] for s in sector_counts}, f"first 256/4N of real_candidates(seed {seed})"
+
+
+# ---------------------------------------------------------------------------------------------
+# the seed data file (read by scripts/gen/gen_pattern.py)
+# ---------------------------------------------------------------------------------------------
+
+
+def seeds_json(method: str, source: str, seeds: dict[int, np.ndarray]) -> str:
+    """golden_model/data/orbit_seeds.json's text: one seed test (x1, y1, x2, y2) per line."""
+
+    def num(v: float) -> str:
+        if v * GRID != round(v * GRID):
+            raise ValueError(f"seed coordinate {v!r} is not on the 1/{GRID} grid")
+        return json.dumps(float(v))
+
+    lines = [
+        "{",
+        f'  "description": {json.dumps(DESCRIPTION)},',
+        f'  "method": {json.dumps(method)},',
+        f'  "source": {json.dumps(source)},',
+        '  "seeds": {',
+    ]
+    for i, sectors in enumerate(sorted(seeds)):
+        rows = np.asarray(seeds[sectors], dtype=np.float64).tolist()
+        lines.append(f'    "{sectors}": [')
+        lines += [
+            f"      [{', '.join(num(v) for v in t)}]" + ("," if j < len(rows) - 1 else "") for j, t in enumerate(rows)
+        ]
+        lines.append("    ]" + ("," if i < len(seeds) - 1 else ""))
+    lines += ["  }", "}", ""]
+    return "\n".join(lines)
+
+
+DESCRIPTION = (
+    "rBRIEF orbit seeds (docs/pattern.md, spec section 10): seeds[4N] holds the 256 / 4N seed tests "
+    "[x1, y1, x2, y2] (multiples of 1/16, both points inside radius 15) for 4N = 16, 32, 64 sectors. "
+    "Written by research/pattern/orbit_learn.py; scripts/gen/gen_pattern.py (make pattern) generates "
+    "golden_model/pattern_data.py from it."
+)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--method", choices=["orbit-dprime", "orbit-random"], default="orbit-dprime")
+    ap.add_argument("--out", type=Path, default=SEEDS_JSON, help=f"seed data to write (default: {SEEDS_JSON})")
+    args = ap.parse_args()
+    if args.method == "orbit-dprime":
+        seeds, source = learn(OrbitParams(), SECTOR_COUNTS)
+    else:
+        seeds, source = random_seeds(SECTOR_COUNTS)
+    args.out.write_text(seeds_json(args.method, source, seeds))
+    print(f"wrote {args.out}; now run `make pattern` (or scripts/gen/gen_pattern.py --seeds {args.out} --out ...)")
+
+
+if __name__ == "__main__":
+    main()

@@ -19,7 +19,7 @@ import pattern_learn as pl
 
 from golden_model.images import to_luma
 
-LIVE = Path(__file__).resolve().parents[1] / "golden_model" / "pattern_data.py"
+LIVE = Path(__file__).resolve().parents[2] / "golden_model" / "pattern_data.py"
 
 
 def load_pattern(path: Path) -> np.ndarray:

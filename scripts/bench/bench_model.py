@@ -55,7 +55,7 @@ def main() -> None:
     print(f"{'size':>10} {'scales':>6} {'sectors':>7} {'features':>8} {'median s':>9}")
     for w, h, scales, n in CONFIGS:
         img = cv2.resize(base, (w, h), interpolation=cv2.INTER_CUBIC)
-        cfg = Config(w, h, scales=scales, sectors_per_quadrant=n, threshold=args.threshold)
+        cfg = Config(w, h, scales=scales, sectors=4 * n, threshold=args.threshold)
         seconds, count = bench(img, cfg, args.repeat)
         rows.append({"width": w, "height": h, "scales": scales, "sectors": 4 * n, "threshold": args.threshold,
                      "features": count, "median_s": round(seconds, 4)})  # fmt: skip

@@ -37,7 +37,7 @@ def main() -> None:
     rows = []
     for w, h, scales in sizes:
         img = cv2.resize(base, (w, h), interpolation=cv2.INTER_CUBIC)
-        cfg = Config(w, h, scales=scales, sectors_per_quadrant=args.sectors // 4, threshold=20, mode=args.mode)
+        cfg = Config(w, h, scales=scales, sectors=args.sectors, threshold=20, mode=args.mode)
         feats, report = extract_rtl(img, cfg, top="core")
         diff = first_difference(feats, extract(img, cfg))
         row = {"width": w, "height": h, "scales": scales, "mode": args.mode, "sectors": args.sectors,

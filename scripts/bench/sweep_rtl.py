@@ -51,7 +51,7 @@ def main() -> int:
     for name, img, thresholds in photos(args.quick):
         h, w = img.shape
         for scales in args.scales:
-            cfg = Config(w, h, scales=scales, sectors_per_quadrant=args.sectors // 4, mode="orb")
+            cfg = Config(w, h, scales=scales, sectors=args.sectors, mode="orb")
             print(f"{name} {w}x{h}, {scales} scale(s), thresholds {thresholds} ...", flush=True)
             t0 = time.perf_counter()
             try:
@@ -64,7 +64,7 @@ def main() -> int:
                 print(f"FAILED: {report['frames_out']} of {len(thresholds)} frames came out; see {log}")
                 return 1
             for t, feats, drops in zip(thresholds, got, report["drops"], strict=True):
-                diff = first_difference(feats, extract(img, Config(w, h, scales, cfg.sectors_per_quadrant, t)))
+                diff = first_difference(feats, extract(img, Config(w, h, scales, cfg.sectors, t)))
                 if diff is not None:
                     print(f"FAILED: {name}, {scales} scale(s), threshold {t}: not bit-exact: {diff}")
                     return 1

@@ -25,7 +25,7 @@ import cv2
 import numpy as np
 
 from golden_model import Config, extract, first_difference
-from golden_model.config import ConfigError, sectors_to_per_quadrant
+from golden_model.config import ConfigError
 from golden_model.features import read_csv
 from golden_model.images import DEFAULT_IMAGE, ImageError
 from golden_model.luma import rgb_to_luma
@@ -69,7 +69,7 @@ def main() -> int:
         rgb = original if original.ndim == 3 else np.repeat(original[..., None], 3, axis=2)
         rgb = np.ascontiguousarray(rgb[..., :3], dtype=np.uint8)
         h, w = rgb.shape[:2]
-        cfg = Config(width=w, height=h, scales=args.scales, sectors_per_quadrant=sectors_to_per_quadrant(args.sectors),
+        cfg = Config(width=w, height=h, scales=args.scales, sectors=args.sectors,
                      threshold=args.threshold, mode="orb")  # fmt: skip
     except (ImageError, ConfigError, ValueError, OSError) as exc:
         print(f"error: {exc}", file=sys.stderr)
@@ -79,7 +79,7 @@ def main() -> int:
     shutil.rmtree(job, ignore_errors=True)
     job.mkdir(parents=True)
     log = out / "sim.log"
-    print(f"make sim: {path.name} {w}x{h}, {cfg.scales} scale(s), {4 * cfg.sectors_per_quadrant} sectors, "
+    print(f"make sim: {path.name} {w}x{h}, {cfg.scales} scale(s), {cfg.sectors} sectors, "
           f"threshold {cfg.threshold}: orb_accel_top in GHDL (log: {log})", flush=True)  # fmt: skip
     stop = threading.Event()
     watcher = threading.Thread(target=progress_loop, args=(job / "progress.txt", stop), daemon=True)

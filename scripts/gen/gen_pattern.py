@@ -1,26 +1,24 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: MIT
-"""Generate the rBRIEF orbit seeds into golden_model/pattern_data.py (docs/pattern.md).
+"""Generate golden_model/pattern_data.py from the rBRIEF orbit seed data (docs/pattern.md).
 
 The pattern for 4N sectors is M = 256 / 4N rotation-closed orbits of 4N members, one real-valued
-seed test per orbit (golden_model/pattern.py, spec section 10); this script writes the seeds for
-16, 32 and 64 sectors. Methods:
+seed test per orbit (golden_model/pattern.py, spec section 10). The seeds for 16, 32 and 64 sectors
+are data, golden_model/data/orbit_seeds.json (the `orbit-dprime` seeds learned by the experiment of
+2026-11-22); this script checks them (1/16 grid, radius 15, 256 / 4N tests, no rounding tie) and
+writes them as Python. Deterministic: the same data gives a byte-identical file.
 
-  orbit-dprime-stored  (default, what `make pattern` runs) the seeds learned by the experiment of
-                       2026-11-22, read from research/pattern/orbit_pattern_data.py
-                       (ORBIT_SEEDS["orbit-dprime"]); instant.
-  orbit-dprime         learn them again (research/pattern/orbit_learn.py: greedy d' with rotated twins, 3
-                       angles per image, 2,000 candidates, pool 300); deterministic, about 3 minutes
-                       on an idle 2-core machine; writes the same file as orbit-dprime-stored.
-  orbit-random         baseline: the first 256/4N seeded random candidates (seed 1001).
-
-Use --out to write a candidate elsewhere without replacing the live pattern. The VHDL package
-hdl/describe/orb_pattern_pkg.vhd is generated from the live pattern by scripts/gen/gen_pattern_vhdl.py.
+Re-learning is research, not part of the build: research/pattern/orbit_learn.py (greedy d' with
+rotated twins, about 3 minutes; or the orbit-random baseline) writes the JSON, then `make pattern`.
+Use --seeds to generate from another seed file and --out to write a candidate elsewhere without
+replacing the live pattern. The VHDL package hdl/describe/orb_pattern_pkg.vhd is generated from the
+live pattern by scripts/gen/gen_pattern_vhdl.py.
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 from pathlib import Path
 
 import numpy as np
@@ -29,16 +27,18 @@ from golden_model.pattern import orbit_patterns
 
 ROOT = Path(__file__).resolve().parents[2]
 OUT = ROOT / "golden_model" / "pattern_data.py"
-STORED = ROOT / "research" / "pattern" / "orbit_pattern_data.py"
+SEEDS = ROOT / "golden_model" / "data" / "orbit_seeds.json"
 SECTORS = (16, 32, 64)
 TESTS = 256
 
 
-def stored_seeds(kind: str = "orbit-dprime") -> tuple[dict[int, np.ndarray], str]:
-    ns: dict = {}
-    exec(STORED.read_text(), ns)
-    seeds = {s: np.array(ns["ORBIT_SEEDS"][kind][s], dtype=np.float64) for s in SECTORS}
-    return seeds, ns["ORBIT_SOURCE"][kind]
+def load_seeds(path: Path = SEEDS) -> tuple[dict[int, np.ndarray], str]:
+    """The seeds per sector count and the pattern's provenance ("<method>: <source>")."""
+    raw = json.loads(path.read_text())
+    if sorted(raw["seeds"]) != sorted(str(s) for s in SECTORS):
+        raise ValueError(f"{path}: seeds for {sorted(raw['seeds'])} sectors, expected {list(SECTORS)}")
+    seeds = {s: np.array(raw["seeds"][str(s)], dtype=np.float64) for s in SECTORS}
+    return seeds, f"{raw['method']}: {raw['source']}"
 
 
 def fmt(v: float) -> str:
@@ -75,25 +75,15 @@ def write_pattern(seeds: dict[int, np.ndarray], source: str, path: Path = OUT) -
 
 def parse_args() -> argparse.Namespace:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument(
-        "--method", choices=["orbit-dprime-stored", "orbit-dprime", "orbit-random"], default="orbit-dprime-stored"
-    )
+    ap.add_argument("--seeds", type=Path, default=SEEDS, help="seed data (JSON)")
     ap.add_argument("--out", type=Path, default=OUT)
     return ap.parse_args()
 
 
 def main() -> None:
     args = parse_args()
-    if args.method == "orbit-dprime-stored":
-        seeds, source = stored_seeds()
-    else:
-        import orbit_learn
-
-        if args.method == "orbit-dprime":
-            seeds, source = orbit_learn.learn(orbit_learn.OrbitParams(), SECTORS)
-        else:
-            seeds, source = orbit_learn.random_seeds(SECTORS)
-    write_pattern(seeds, f"{args.method.removesuffix('-stored')}: {source}", args.out)
+    seeds, source = load_seeds(args.seeds)
+    write_pattern(seeds, source, args.out)
     print(f"wrote {args.out}")
 
 

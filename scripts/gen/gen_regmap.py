@@ -3,7 +3,8 @@
 """Generate the register map's three views from golden_model/data/regmap.json, the one definition.
 
 Writes hdl/host/orb_regs_pkg.vhd (offsets, field positions, write masks, reset values, ID and version
-constants for orb_axil_regs), golden_model/regs.py (the same as Python dataclasses for the
+constants, and the register-file tables REGS_c and REG_LIMITS_c that orb_axil_regs decodes with),
+golden_model/regs.py (the same as Python dataclasses for the
 on-target driver and the testbenches) and docs/registers.md (the table). Deterministic: the same
 data gives byte-identical files. The data is checked first (aligned unique offsets below MEM_BASE,
 fields inside 32 bits and not overlapping, resets and maxima that fit their fields, known reset
@@ -205,14 +206,105 @@ def reset_word(rm: RegMap, r: Reg) -> int | None:
     return word
 
 
+def fixed_word(rm: RegMap, r: Reg) -> int:
+    """The reset (or, for ro registers, constant) value of the fields that follow no generic and no port."""
+    word = 0
+    for f in r.fields:
+        if f.port is None and not (isinstance(f.reset, str) and GENERIC_RE.match(f.reset)):
+            word |= (rm.const(f.reset) if isinstance(f.reset, str) else f.reset) << f.lsb
+    return word
+
+
+def live_mask(r: Reg) -> int:
+    """The bits of the fields that follow a generic or an input port (wired in orb_axil_regs)."""
+    m = 0
+    for f in r.fields:
+        if f.port is not None or (isinstance(f.reset, str) and GENERIC_RE.match(f.reset)):
+            m |= f.mask
+    return m
+
+
+def pulse_mask(r: Reg) -> int:
+    m = 0
+    for f in r.fields:
+        if f.pulse:
+            m |= f.mask
+    return m
+
+
+VHDL_TYPES = """\
+  -- The register file orb_axil_regs decodes: REGS_c(REG_<NAME>_IDX_c) describes register <NAME>:
+  -- offset, access, defined bits (mask), reset value of its stored bits or, for a ro register, the
+  -- constant value of its fields (reset; 0 in live fields), the bits that follow a generic or an
+  -- input port, wired by hand in orb_axil_regs (live), and the pulse fields, which read 0 (pulse).
+  -- REG_LIMITS_c lists the fields with a maximum: a write of a larger value answers SLVERR (mask:
+  -- the field's bits; max: the largest legal value in place; a map without such fields gets one
+  -- entry with mask 0, which never refuses).
+  type reg_access_t is (access_ro, access_rw, access_w1c, access_wo);
+
+  type reg_desc_t is record
+    offset : natural;
+    acc    : reg_access_t;
+    mask   : std_logic_vector(31 downto 0);
+    reset  : std_logic_vector(31 downto 0);
+    live   : std_logic_vector(31 downto 0);
+    pulse  : std_logic_vector(31 downto 0);
+  end record reg_desc_t;
+
+  type reg_desc_array_t is array (natural range <>) of reg_desc_t;
+
+  type reg_limit_t is record
+    reg  : natural;
+    mask : std_logic_vector(31 downto 0);
+    max  : std_logic_vector(31 downto 0);
+  end record reg_limit_t;
+
+  type reg_limit_array_t is array (natural range <>) of reg_limit_t;
+"""
+
+
+def render_vhdl_tables(rm: RegMap) -> list[str]:
+    out = VHDL_TYPES.rstrip("\n").split("\n")
+    out += ["", f"  constant REG_COUNT_c : positive := {len(rm.registers)};", ""]
+    out.append("  constant REGS_c : reg_desc_array_t(0 to REG_COUNT_c - 1) :=")
+    out.append("  (")
+    width = max(len(f"REG_{r.name}_IDX_c") for r in rm.registers)
+    out.append(f"    -- {'register'.ljust(width - 3)} => (offset, access, mask, reset, live, pulse)")
+    for i, r in enumerate(rm.registers):
+        acc = f"access_{r.access}"
+        words = ", ".join(vhex(w) for w in (r.mask, fixed_word(rm, r), live_mask(r), pulse_mask(r)))
+        sep = "," if i < len(rm.registers) - 1 else ""
+        out.append(f"    {f'REG_{r.name}_IDX_c'.ljust(width)} => (REG_{r.name}_c, {acc}, {words}){sep}")
+    out.append("  );")
+    limits = [(r, f) for r in rm.registers for f in r.fields if f.max is not None]
+    out.append("")
+    out.append(f"  constant REG_LIMITS_c : reg_limit_array_t(0 to {max(len(limits), 1) - 1}) :=")
+    out.append("  (")
+    out.append("    -- field => (register, mask, max)")
+    if not limits:
+        out.append(f"    0 => (0, {vhex(0)}, {vhex(0)})")
+    rows = [
+        f"    {k} => (REG_{r.name}_IDX_c, {vhex(f.mask)}, {vhex(f.max << f.lsb)})"
+        + ("," if k < len(limits) - 1 else "")
+        for k, (r, f) in enumerate(limits)
+    ]
+    width = max((len(row) for row in rows), default=0)
+    out += [f"{row.ljust(width)} -- {r.name}.{f.name}" for row, (r, f) in zip(rows, limits, strict=True)]
+    out.append("  );")
+    out.append("")
+    return out
+
+
 def render_vhdl(rm: RegMap) -> str:
     out = [
         "-- SPDX-License-Identifier: MIT",
         "-- orb_regs_pkg: the register map of orb_axil_regs (docs/registers.md): identification and",
         "-- version constants, the feature-memory window base MEM_BASE_c, and per register its byte",
-        "-- offset REG_<NAME>_c, its defined-bits mask REG_<NAME>_MASK_c and, when no field follows a",
-        "-- generic or an input port, its reset value REG_<NAME>_RESET_c; per field <REG>_<FIELD>_LSB_c,",
-        "-- _MSB_c, _RESET_c (integer or constant resets) and _MAX_c (largest legal written value).",
+        "-- offset REG_<NAME>_c, its index REG_<NAME>_IDX_c in the register file REGS_c, its",
+        "-- defined-bits mask REG_<NAME>_MASK_c and, when no field follows a generic or an input port,",
+        "-- its reset value REG_<NAME>_RESET_c; per field <REG>_<FIELD>_LSB_c, _MSB_c, _RESET_c (integer",
+        "-- or constant resets) and _MAX_c (largest legal written value). REGS_c and REG_LIMITS_c are",
+        "-- the tables orb_axil_regs decodes with, so a new register needs no decode code there.",
         f"-- Generated by scripts/gen/gen_regmap.py from {SOURCE}: do not edit.",
         "",
         "library ieee;",
@@ -228,9 +320,10 @@ def render_vhdl(rm: RegMap) -> str:
         else:
             out.append(f"  constant {c.name}_c : natural := {vnat(c.value, c.hex)};")
     out.append("")
-    for r in rm.registers:
+    for i, r in enumerate(rm.registers):
         out.append(f"  -- {r.name} ({r.access}): {r.description}")
         out.append(f"  constant REG_{r.name}_c : natural := 16#{r.offset:03X}#;")
+        out.append(f"  constant REG_{r.name}_IDX_c : natural := {i};")
         out.append(f"  constant REG_{r.name}_MASK_c : std_logic_vector(31 downto 0) := {vhex(r.mask)};")
         word = reset_word(rm, r)
         if word is not None:
@@ -248,6 +341,7 @@ def render_vhdl(rm: RegMap) -> str:
             if f.max is not None:
                 out.append(f"  constant {p}_MAX_c : natural := {f.max};")
         out.append("")
+    out += render_vhdl_tables(rm)
     out.append("end package orb_regs_pkg;")
     return "\n".join(align_colons(out)) + "\n"
 

@@ -22,12 +22,18 @@ import numpy as np
 
 from golden_model import regs
 from golden_model.config import MODES
-from golden_model.featmem import SLOT_BYTES, SLOT_WORDS_USED, EndOfFrame, decode_features, decode_record
+from golden_model.featmem import (
+    SLOT_BYTES,
+    SLOT_RECORD_WORDS,
+    SLOT_WORDS_USED,
+    EndOfFrame,
+    decode_features,
+    decode_record,
+)
 from golden_model.features import Features
 
 from .bus import Bus
 
-RECORD_WORDS = 5
 COUNTERS = ("FRAME_COUNT", "DROPPED", "PROTO_ERRORS", "OVERRUN", "OVERFLOW_COUNT", "DESC_LOST", "DISCARDED")
 IRQ_SOURCES = ("frame_done", "error")
 
@@ -67,6 +73,10 @@ class OrbAccel:
             ident = self.read(regs.ID)
             if ident != regs.ORB_ID:
                 raise AccelError(f"ID reads {ident:#010x}, not {regs.ORB_ID:#010x} ('ORB1'): not an ORB accelerator")
+            major, minor = self.version()
+            if major != regs.VERSION_MAJOR:
+                raise AccelError(f"register map version {major}.{minor}: this driver reads version "
+                                 f"{regs.VERSION_MAJOR}.x (docs/registers.md)")  # fmt: skip
         self.hw = self.read_config()
         self.mode = "orb"
 
@@ -83,7 +93,7 @@ class OrbAccel:
             width=regs.CFG_SIZE.field("width").get(size),
             height=regs.CFG_SIZE.field("height").get(size),
             scales=regs.CFG_ORB.field("scales").get(orb),
-            sectors=4 * regs.CFG_ORB.field("sectors").get(orb),
+            sectors=regs.CFG_ORB.field("sectors").get(orb),
             mem_depth=regs.CFG_MEM.field("depth").get(mem),
         )
 
@@ -158,7 +168,7 @@ class OrbAccel:
         words = np.empty((count, SLOT_WORDS_USED), dtype=np.uint32)
         for s in range(count):
             words[s] = self.bus.read_block(base + s * SLOT_BYTES, SLOT_WORDS_USED)
-        record = decode_record(self.bus.read_block(base + count * SLOT_BYTES, RECORD_WORDS))
+        record = decode_record(self.bus.read_block(base + count * SLOT_BYTES, SLOT_RECORD_WORDS))
         if record.count != count:
             raise AccelError(f"bank {bank}: record count {record.count}, BANK{bank}_INFO count {count}")
         feats = decode_features(words, self.hw.sectors, descriptors=self.mode == "orb")

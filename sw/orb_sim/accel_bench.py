@@ -50,7 +50,7 @@ class AccelBench:
         self.width = int(os.environ["ORB_WIDTH"])
         self.height = int(os.environ["ORB_HEIGHT"])
         self.scales = int(os.environ["ORB_SCALES"])
-        self.n = int(os.environ["ORB_SECTORS"])
+        self.sectors = int(os.environ["ORB_SECTORS"])  # in all (16, 32 or 64), as SECTORS_g
         self.depth = int(os.environ["ORB_MEM_DEPTH"])
         self.input = os.environ.get("ORB_INPUT", "RGB")
         self.video = VideoSource(dut, self.clk)
@@ -73,7 +73,7 @@ class AccelBench:
         self.reset.value = 1 - self.reset_active
         await RisingEdge(self.clk)
         self.accel = await self.cpu(OrbAccel, self.bus)  # checks the ID, reads the configuration
-        assert self.accel.hw == HwConfig(self.width, self.height, self.scales, 4 * self.n, self.depth), (
+        assert self.accel.hw == HwConfig(self.width, self.height, self.scales, self.sectors, self.depth), (
             f"configuration read back {self.accel.hw}"
         )
 

@@ -55,7 +55,7 @@ def run_accel_job(img: np.ndarray, cfg: Config, job: Path, log: Path, overlay: b
     job.mkdir(parents=True, exist_ok=True)
     np.save(job / "input.npy", np.ascontiguousarray(img, dtype=np.uint8))
     generics = {"WIDTH_g": cfg.width, "HEIGHT_g": cfg.height, "SCALES_g": cfg.scales,
-                "SECTORS_g": cfg.sectors_per_quadrant, "MEM_DEPTH_g": ACCEL_MEM_DEPTH,
+                "SECTORS_g": cfg.sectors, "MEM_DEPTH_g": ACCEL_MEM_DEPTH,
                 "INPUT_g": "LUMA" if img.ndim == 2 else "RGB"}  # fmt: skip
     env = {"ORB_JOB_DIR": str(job), "ORB_JOB_THRESHOLD": str(cfg.threshold), "ORB_JOB_MODE": cfg.mode,
            "ORB_JOB_OVERLAY": "1" if overlay else "0"}  # fmt: skip
@@ -72,7 +72,7 @@ def run_core_job(frames: list[np.ndarray], cfg: Config, thresholds: list[int], m
     job.mkdir(parents=True, exist_ok=True)
     np.save(job / "frames.npy", np.stack([np.ascontiguousarray(f, dtype=np.uint8) for f in frames]))
     generics = {"WIDTH_g": cfg.width, "HEIGHT_g": cfg.height, "SCALES_g": cfg.scales,
-                "SECTORS_g": cfg.sectors_per_quadrant}  # fmt: skip
+                "SECTORS_g": cfg.sectors}  # fmt: skip
     env = {"ORB_JOB_DIR": str(job), "ORB_JOB_THRESHOLDS": ",".join(map(str, thresholds)),
            "ORB_JOB_MODES": ",".join(modes)}  # fmt: skip
     _simulate("orb_core", "orb_sim.jobs.core_job", generics, env, log)

@@ -15,7 +15,8 @@ from pathlib import Path
 
 import numpy as np
 
-from golden_model.config import MIN_HEIGHT, MIN_WIDTH, Config, ConfigError, sectors_to_per_quadrant
+from golden_model import limits
+from golden_model.config import Config, ConfigError
 from golden_model.features import Features, write_csv
 from golden_model.images import DEFAULT_IMAGE, ImageError, to_luma
 from orb_sim.rtl_backend import RtlUnavailable
@@ -33,33 +34,27 @@ class _Parser(argparse.ArgumentParser):
         raise UsageError(message)
 
 
-def _threshold(text: str) -> int:
+def _limited(lim: limits.Limit, text: str) -> int:
+    """An option value checked against its limit (golden_model.limits, as Config and the HDL check it)."""
     try:
         value = int(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"threshold must be an integer 0..255, got {text!r}") from None
-    if not 0 <= value <= 255:
-        raise argparse.ArgumentTypeError(f"threshold must be 0..255, got {value}")
+        raise argparse.ArgumentTypeError(f"{lim.name} must be an integer ({lim.text}), got {text!r}") from None
+    if not lim.legal(value):
+        raise argparse.ArgumentTypeError(f"{lim.name} must be {lim.text}, got {value}")
     return value
+
+
+def _threshold(text: str) -> int:
+    return _limited(limits.THRESHOLD, text)
 
 
 def _scales(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"scales must be an integer 1..4, got {text!r}") from None
-    if not 1 <= value <= 4:
-        raise argparse.ArgumentTypeError(f"scales must be 1..4, got {value}")
-    return value
+    return _limited(limits.SCALES, text)
 
 
 def _sectors(text: str) -> int:
-    try:
-        value = int(text)
-        sectors_to_per_quadrant(value)
-    except (ValueError, ConfigError):
-        raise argparse.ArgumentTypeError(f"sectors must be 16, 32 or 64, got {text!r}") from None
-    return value
+    return _limited(limits.SECTORS, text)
 
 
 def _positive_float(text: str) -> float:
@@ -81,9 +76,12 @@ def build_parser() -> argparse.ArgumentParser:
     src.add_argument("image", nargs="?", type=Path, help="any image OpenCV can read")
     src.add_argument("--default-image", action="store_true", help=f"use the bundled {DEFAULT_IMAGE.name}")
     ex.add_argument("--backend", choices=BACKENDS, default="model")
-    ex.add_argument("--threshold", type=_threshold, default=20, help="FAST threshold 0..255 (default 20)")
-    ex.add_argument("--scales", type=_scales, default=2, help="number of scales 1..4 (default 2)")
-    ex.add_argument("--sectors", type=_sectors, default=32, help="orientation sectors 16, 32 or 64 (default 32)")
+    ex.add_argument(
+        "--threshold", type=_threshold, default=20, help=f"FAST threshold {limits.THRESHOLD.text} (default 20)"
+    )
+    ex.add_argument("--scales", type=_scales, default=2, help=f"number of scales {limits.SCALES.text} (default 2)")
+    ex.add_argument("--sectors", type=_sectors, default=32,
+                    help=f"orientation sectors in all, {limits.SECTORS.text} (default 32)")  # fmt: skip
     ex.add_argument("--fast-only", action="store_true", help="detection only (no sectors or descriptors)")
     ex.add_argument("--out", type=Path, required=True, help="features CSV to write")
     ex.add_argument("--overlay", type=Path, help="PNG with the features drawn on the image")
@@ -105,8 +103,8 @@ def build_parser() -> argparse.ArgumentParser:
 
 def _check_size(img: np.ndarray, path: Path) -> None:
     h, w = img.shape
-    if w < MIN_WIDTH or h < MIN_HEIGHT:
-        raise ImageError(f"{path}: {w}x{h} is smaller than the minimum {MIN_WIDTH}x{MIN_HEIGHT}")
+    if w < limits.WIDTH_MIN or h < limits.HEIGHT_MIN:
+        raise ImageError(f"{path}: {w}x{h} is smaller than the minimum {limits.WIDTH_MIN}x{limits.HEIGHT_MIN}")
 
 
 def run_backend(backend: str, img: np.ndarray, cfg: Config) -> Features:
@@ -136,7 +134,7 @@ def cmd_extract(args: argparse.Namespace) -> int:
     _check_size(img, path)
     h, w = img.shape
     cfg = Config(
-        width=w, height=h, scales=args.scales, sectors_per_quadrant=sectors_to_per_quadrant(args.sectors),
+        width=w, height=h, scales=args.scales, sectors=args.sectors,
         threshold=args.threshold, mode="fast" if args.fast_only else "orb",
     )  # fmt: skip
     t0 = time.perf_counter()

@@ -161,7 +161,7 @@ def run_compare_fast(images: Sequence[Image], thresholds: Sequence[int], out_dir
 def extract_orb_multi(img: np.ndarray, threshold: int, scales: int, ns: Sequence[int]) -> dict[int, Features]:
     """The model's orb-mode features for several sectors-per-quadrant N at once.
 
-    Equal to ``extract(img, Config(w, h, scales, n, threshold, "orb"))`` for each n in ``ns``:
+    Equal to ``extract(img, Config(w, h, scales, 4 * n, threshold, "orb"))`` for each n in ``ns``:
     detection, smoothing and moments do not depend on N and are computed once.
     """
     levels = [orb_level(level, s, threshold) for s, level in enumerate(pyramid(img, scales))]
@@ -284,7 +284,7 @@ def _extract_all(img: np.ndarray, sectors: Sequence[int], threshold: int, scales
     ns = [sectors_to_per_quadrant(s) for s in sectors]
     model = extract_orb_multi(img, threshold, scales, ns)
     h, w = img.shape
-    cv_feats = extract_opencv(img, Config(w, h, scales, 8, threshold, "orb"))
+    cv_feats = extract_opencv(img, Config(w, h, scales, 32, threshold, "orb"))
     return [model[n] for n in ns] + [cv_feats]
 
 

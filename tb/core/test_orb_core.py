@@ -40,7 +40,7 @@ async def detect_frames(dut) -> None:
     gaps = Gaps.parse(os.environ.get("ORB_GAPS", "none"))
     modes = _env_list("ORB_MODES", "fast")
     modes = [modes[i % len(modes)] for i in range(len(frames))]
-    n = int(os.environ.get("ORB_SECTORS", "8"))
+    sectors = int(os.environ.get("ORB_SECTORS", "32"))
 
     clk = dut.clk
     dut.rst.value = 1
@@ -70,8 +70,8 @@ async def detect_frames(dut) -> None:
         assert got.number == i, f"frame {i}: end-of-frame beat numbered {got.number}"
         assert got.drops == 0, f"frame {i}: {got.drops} features dropped"
         orb = mode == "orb"
-        exp = expected_features(frame, scales, t, mode, n)
-        check_frame(got.features(4 * n, descriptors=orb), exp, f"frame {i} ({mode}, threshold {t})")
+        exp = expected_features(frame, scales, t, mode, sectors)
+        check_frame(got.features(sectors, descriptors=orb), exp, f"frame {i} ({mode}, threshold {t})")
         if orb:
             assert len(exp) > 0 or names[i] == "flat", f"frame {i} ({names[i]}): no feature to compare"
     assert int(dut.bad_pixels.value) == 0, "pixels outside the frame were counted"
@@ -84,7 +84,7 @@ async def detect_frames(dut) -> None:
 
 
 def run_detect(width: int, height: int, scales: int, images_: str, thresholds: str, gaps: str = "none",
-               modes: str = "fast", sectors: int = 8) -> None:  # fmt: skip
+               modes: str = "fast", sectors: int = 32) -> None:  # fmt: skip
     run(
         "orb_core",
         "test_orb_core",
@@ -113,18 +113,19 @@ def test_detect_small(width: int, height: int, scales: int, images_: str, thresh
 @pytest.mark.parametrize(
     ("width", "height", "scales", "sectors", "images_", "thresholds", "gaps", "modes"),
     [
-        (96, 64, 1, 8, "photo:astronaut,photo:coffee", "10,15", "none", "orb"),
-        (160, 96, 2, 4, "photo:camera,photo:chelsea", "12,20", "random:3", "orb"),
-        (160, 96, 2, 16, "photo:coffee", "10", "blanking", "orb"),
-        (128, 80, 3, 8, "photo:astronaut,photo:astronaut,photo:camera", "15,15,20", "none", "orb,fast,orb"),
-        (96, 64, 1, 8, "dots4,noise,flat", "20,20,20", "none", "orb"),  # densest FAST dots, noise; flat
-        (64, 48, 1, 8, "photo:camera", "5", "none", "orb"),  # smallest legal frame
+        (96, 64, 1, 32, "photo:astronaut,photo:coffee", "10,15", "none", "orb"),
+        (160, 96, 2, 16, "photo:camera,photo:chelsea", "12,20", "random:3", "orb"),
+        (160, 96, 2, 64, "photo:coffee", "10", "blanking", "orb"),
+        (128, 80, 3, 32, "photo:astronaut,photo:astronaut,photo:camera", "15,15,20", "none", "orb,fast,orb"),
+        (96, 64, 1, 32, "dots4,noise,flat", "20,20,20", "none", "orb"),  # densest FAST dots, noise; flat
+        (64, 48, 1, 32, "photo:camera", "5", "none", "orb"),  # smallest legal frame
         # rotated photographs, 0 to 360 degrees, at 16, 32 and 64 sectors
-        (96, 64, 1, 4, "rotated:astronaut:0,rotated:astronaut:75,rotated:astronaut:150", "10,10,10", "none", "orb"),
-        (96, 64, 1, 8, "rotated:astronaut:45,rotated:chelsea:135,rotated:astronaut:250", "10,10,10", "random:4", "orb"),
-        (96, 64, 1, 16, "rotated:chelsea:200,rotated:chelsea:290,rotated:chelsea:345", "10,10,10", "none", "orb"),
+        (96, 64, 1, 16, "rotated:astronaut:0,rotated:astronaut:75,rotated:astronaut:150", "10,10,10", "none", "orb"),
+        (96, 64, 1, 32, "rotated:astronaut:45,rotated:chelsea:135,rotated:astronaut:250", "10,10,10", "random:4",
+         "orb"),
+        (96, 64, 1, 64, "rotated:chelsea:200,rotated:chelsea:290,rotated:chelsea:345", "10,10,10", "none", "orb"),
     ],
-)
+)  # fmt: skip
 def test_orb_small(width: int, height: int, scales: int, sectors: int, images_: str, thresholds: str, gaps: str,
                    modes: str) -> None:  # fmt: skip
     run_detect(width, height, scales, images_, thresholds, gaps, modes, sectors)

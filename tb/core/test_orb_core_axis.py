@@ -20,7 +20,9 @@ import numpy as np
 from cocotb.clock import Clock
 from cocotb.triggers import ClockCycles, Event, with_timeout
 
-from orb_sim.feature_stream import FEAT_BITS, Frame
+from golden_model.featcodec import decode_eof, is_eof
+from golden_model.featword import FEAT_BITS
+from orb_sim.feature_stream import Frame
 from orbtb import images
 from orbtb.runner import run
 from orbtb.scoreboard import check_frame, expected_features
@@ -88,9 +90,10 @@ class Bench:
         words = list(rx.tdata)
         assert words, f"{what}: empty AXI frame"
         eof = words[-1]
-        assert (eof >> 39) & 1, f"{what}: the tlast beat {eof:#x} is not an end-of-frame beat"
-        frame = Frame(beats=words[:-1], number=eof & 0xFFFF, drops=(eof >> 16) & 0xFFFF)
-        assert not [w for w in frame.beats if (w >> 39) & 1], f"{what}: end-of-frame flag without tlast"
+        assert is_eof(eof), f"{what}: the tlast beat {eof:#x} is not an end-of-frame beat"
+        e = decode_eof(eof)
+        frame = Frame(beats=words[:-1], number=e.frame, drops=e.drops)
+        assert not [w for w in frame.beats if is_eof(w)], f"{what}: end-of-frame flag without tlast"
         assert frame.number == self.frames_seen, f"{what}: end-of-frame beat numbered {frame.number}"
         assert frame.drops == 0, f"{what}: {frame.drops} features dropped"
         check_frame(frame.features(), expected_features(img, self.scales, threshold), f"{what} (threshold {threshold})")

@@ -27,11 +27,16 @@ import numpy as np
 import pytest
 from cocotb.triggers import ClockCycles, RisingEdge
 
-from orb_sim.feature_stream import DESC_BITS, EOF_ZERO_MASK, FEATURE_ZERO_MASK, SECTOR_BITS, decode_feature
+from golden_model.featcodec import decode_eof, decode_feature, eof_error, feature_error, is_eof
+from golden_model.featword import EOF_BEAT, FEATURE_BEAT
 from orbtb.runner import run
 from orbtb.unit import SIM_ENV, env_int, env_str, reset
 
-COORD, SCORE = 12, 12
+# per-scale input widths: those of the stream fields (tb/common/test_orb_feat_pkg.py checks that they
+# equal orb_util_pkg's COORD_BITS_c and SCORE_BITS_c)
+COORD, SCORE = FEATURE_BEAT.field("x").width, FEATURE_BEAT.field("score").width
+SECTOR_BITS, DESC_BITS = FEATURE_BEAT.field("sector").width, FEATURE_BEAT.field("descriptor").width
+DROPS_MAX = (1 << EOF_BEAT.field("drops").width) - 1  # the end-of-frame beat's count saturates here
 Feat = tuple[int, int, int, int, int]  # (x, y, score, sector, descriptor) as pushed into one scale
 
 
@@ -128,19 +133,20 @@ class MergeBench:
             self._stalled = (data, last)
             return
         self._stalled = None
-        eof = (data >> 39) & 1
+        eof = int(is_eof(data))
         assert eof == last, f"edge {self.edge}: tlast {last} with end-of-frame flag {eof} ({data:#x})"
         if last:
-            assert data & EOF_ZERO_MASK == 0, f"edge {self.edge}: reserved end-of-frame bits set ({data:#x})"
-            self.current.number = data & 0xFFFF
-            self.current.drops = (data >> 16) & 0xFFFF
+            assert eof_error(data) is None, f"edge {self.edge}: {eof_error(data)}"
+            e = decode_eof(data)
+            self.current.number = e.frame
+            self.current.drops = e.drops
             self.current.eof_edge = self.edge
             self.frames.append(self.current)
             self.done_edges.append(self._pending_done)
             self._pending_done = []
             self.current = FrameOut()
         else:
-            assert data & FEATURE_ZERO_MASK == 0, f"edge {self.edge}: reserved bits set in a feature beat ({data:#x})"
+            assert feature_error(data) is None, f"edge {self.edge}: {feature_error(data)}"
             f = decode_feature(data)
             self.current.beats.append((f.scale, (f.x, f.y, f.score, f.sector, f.descriptor)))
 
@@ -407,7 +413,7 @@ async def drop_count_saturates(dut) -> None:
     d = b.depth
     b.expect_frame(0)
     await b.plug_output()
-    clocks = (1 << 16) // b.scales + 50
+    clocks = (DROPS_MAX + 1) // b.scales + 50
     feats = {s: b.feature(s, 0) for s in range(b.scales)}  # the same feature over and over
     for s, feat in feats.items():
         for _ in range(d):
@@ -417,7 +423,7 @@ async def drop_count_saturates(dut) -> None:
     b.edge += clocks - 1
     await b.cycle(ready=0)
     total = clocks * b.scales - d * b.scales
-    b.expected_drops[0] = min(total, 0xFFFF)
+    b.expected_drops[0] = min(total, DROPS_MAX)
     await b.cycle(done=tuple(range(b.scales)), ready=0)
     await b.drain(1)
     b.check(total_dropped=total)

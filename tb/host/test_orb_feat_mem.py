@@ -25,14 +25,18 @@ import pytest
 from cocotb.clock import Clock
 from cocotb.triggers import ClockCycles, RisingEdge
 
+from golden_model.featcodec import decode_eof, encode_eof, encode_feature, feature_slot, is_record, record_slot
+from golden_model.featword import EOF_BEAT, FEATURE_BEAT, SLOT_BYTES, SLOT_WORD_BITS, SLOT_WORDS, SLOT_WORDS_USED
 from orbtb.runner import run
 from orbtb.unit import SIM_ENV, env_int
 
-WORDS = 16  # 32-bit words per 64-byte slot
-EOF_BIT = 39
-REC_FLAG = 1 << 31
-TRUNC_FLAG = 1 << 30
+WORDS = SLOT_WORDS  # 32-bit words per 64-byte slot
+STORED = SLOT_WORDS_USED  # words 0 .. STORED - 1 of a slot are stored, the others read 0
+WORD_SHIFT = (SLOT_WORD_BITS // 8).bit_length() - 1  # mem_rd_addr: [1:0] byte in the word,
+SLOT_SHIFT = SLOT_BYTES.bit_length() - 1  # [5:2] word in the slot, then the slot, then the bank
 M32 = (1 << 32) - 1
+FRAME_MASK = (1 << EOF_BEAT.field("frame").width) - 1  # frame numbers count mod 2^16
+DROPS_LIMIT = 1 << EOF_BEAT.field("drops").width
 
 Beat = tuple[int, int]  # (tdata, tlast)
 
@@ -42,28 +46,26 @@ Beat = tuple[int, int]  # (tdata, tlast)
 
 
 def feature_beat(rng: np.random.Generator) -> int:
-    """A feature beat (tlast = 0) with random fields, layout of orb_feat_pkg."""
-    score, x, y = (int(v) for v in rng.integers(0, 1 << 12, 3))
-    scale, sector = int(rng.integers(0, 4)), int(rng.integers(0, 64))
-    desc = int.from_bytes(rng.bytes(32), "little")
-    return score | x << 12 | y << 24 | scale << 36 | sector << 40 | desc << 64
+    """A feature beat (tlast = 0) with every field random (layout: docs/feature-word.md)."""
+    width = {f.name: f.width for f in FEATURE_BEAT.fields}
+    score, x, y = (int(v) for v in rng.integers(0, [1 << width["score"], 1 << width["x"], 1 << width["y"]]))
+    scale, sector = int(rng.integers(0, 1 << width["scale"])), int(rng.integers(0, 1 << width["sector"]))
+    desc = rng.bytes(width["descriptor"] // 8)
+    return encode_feature(scale=scale, x=x, y=y, score=score, sector=sector, descriptor=desc)
 
 
 def eof_beat(number: int, dropped: int) -> int:
-    return (number & 0xFFFF) | (dropped & 0xFFFF) << 16 | 1 << EOF_BIT
+    return encode_eof(number, dropped)
 
 
 def feature_words(tdata: int) -> list[int]:
-    """The 16 words of a feature slot as the CPU reads them (docs/feature-memory.md)."""
-    score, x, y = tdata & 0xFFF, (tdata >> 12) & 0xFFF, (tdata >> 24) & 0xFFF
-    scale, sector = (tdata >> 36) & 3, (tdata >> 40) & 63
-    desc = (tdata >> 64) & ((1 << 256) - 1)
-    return [x | y << 16, score | scale << 16 | sector << 24] + [(desc >> (32 * k)) & M32 for k in range(8)] + [0] * 6
+    """The 16 words of a feature slot as the CPU reads them (docs/feature-word.md)."""
+    return feature_slot(tdata)
 
 
 def record_words(count: int, number: int, dropped: int, truncated: int) -> list[int]:
-    flags = REC_FLAG | (TRUNC_FLAG if truncated else 0)
-    return [count, flags, number & 0xFFFF, dropped & 0xFFFF, truncated & M32] + [0] * 11
+    """The 16 words of the end-of-frame record as the CPU reads them."""
+    return record_slot(encode_eof(number, dropped), count, truncated & M32)
 
 
 @dataclass
@@ -91,7 +93,7 @@ def decode_bank(words: list[int], depth: int) -> CpuFrame:
     feats = []
     for s in range(depth):
         slot = words[s * WORDS : (s + 1) * WORDS]
-        if slot[1] & REC_FLAG:
+        if is_record(slot):
             return CpuFrame(feats, slot)
         feats.append(slot)
     raise AssertionError("no end-of-frame record in the bank")
@@ -115,7 +117,7 @@ class MemModel:
     """The documented behaviour of orb_feat_mem, one clock per `step`."""
 
     depth: int
-    mem: list[list[int]] = field(default_factory=list)  # 2 * depth slots of 10 stored words
+    mem: list[list[int]] = field(default_factory=list)  # 2 * depth slots of STORED stored words
     ready: list[int] = field(default_factory=lambda: [0, 0])
     wbank: int = 0
     in_frame: bool = False
@@ -134,13 +136,13 @@ class MemModel:
     published: list[Published] = field(default_factory=list)
 
     def __post_init__(self) -> None:
-        self.mem = [[0] * 10 for _ in range(2 * self.depth)]
+        self.mem = [[0] * STORED for _ in range(2 * self.depth)]
 
     def word(self, addr: int) -> int:
-        bank = (addr >> (self.depth.bit_length() - 1 + 6)) & 1
-        slot = (addr >> 6) & (self.depth - 1)
-        w = (addr >> 2) & 15
-        return self.mem[bank * self.depth + slot][w] if w < 10 else 0
+        bank = (addr >> (self.depth.bit_length() - 1 + SLOT_SHIFT)) & 1
+        slot = (addr >> SLOT_SHIFT) & (self.depth - 1)
+        w = (addr >> WORD_SHIFT) & (WORDS - 1)
+        return self.mem[bank * self.depth + slot][w] if w < STORED else 0
 
     def reset(self) -> None:
         self.ready = [0, 0]
@@ -172,14 +174,15 @@ class MemModel:
             self.in_frame, self.storing = True, store
             if store and not abort_now:
                 if self.cnt < self.depth - 1:
-                    self.mem[base + self.cnt] = feature_words(data)[:10]
+                    self.mem[base + self.cnt] = feature_words(data)[:STORED]
                     self.cnt += 1
                 else:
                     self.trunc += 1
             return
-        number, dropped = data & 0xFFFF, (data >> 16) & 0xFFFF
+        eof = decode_eof(data)
+        number, dropped = eof.frame, eof.drops
         if store and not abort_now:
-            self.mem[base + self.cnt] = record_words(self.cnt, number, dropped, self.trunc)[:10]
+            self.mem[base + self.cnt] = record_words(self.cnt, number, dropped, self.trunc)[:STORED]
         if abort_now:
             self.aborted += 1
         elif not store:
@@ -213,7 +216,7 @@ class MemBench:
     def __init__(self, dut) -> None:
         self.dut = dut
         self.depth = env_int("ORB_DEPTH")
-        self.bank_shift = self.depth.bit_length() - 1 + 6
+        self.bank_shift = self.depth.bit_length() - 1 + SLOT_SHIFT
         self.rng = np.random.default_rng(self.depth)
         self.model = MemModel(self.depth)
         self.edge = 0
@@ -249,12 +252,12 @@ class MemBench:
             [int(getattr(self.dut, f"bank{k}_{n}").value) for n in ("count", "frame", "dropped", "trunc")]
             for k in range(2)
         ]
-        addrs = [a for a in self.bank_reads(0) + self.bank_reads(1) if (a >> 2) & 15 < 10]
+        addrs = [a for a in self.bank_reads(0) + self.bank_reads(1) if (a >> WORD_SHIFT) & (WORDS - 1) < STORED]
         self.learning = True
         await self.run([], reads=addrs)
         self.learning = False
         for addr, data in self.read_data.items():
-            m.mem[addr >> 6][(addr >> 2) & 15] = data
+            m.mem[addr >> SLOT_SHIFT][(addr >> WORD_SHIFT) & (WORDS - 1)] = data
         m.rd_data = int(self.dut.mem_rd_data.value)
         self.clear_reads()
 
@@ -308,7 +311,7 @@ class MemBench:
         # right after edge e + 2 (latency 2), which is now for the read of two clocks ago.
         done = self._pipe.popleft()
         if done is not None:
-            self.read_data[done & ~3] = int(self.dut.mem_rd_data.value)
+            self.read_data[done >> WORD_SHIFT << WORD_SHIFT] = int(self.dut.mem_rd_data.value)
         self._pipe.append(read)
         self.model.step(beat, abort, release, read)
         if rst:
@@ -327,17 +330,17 @@ class MemBench:
     def frame(self, n: int, dropped: int | None = None) -> TxFrame:
         """The next frame of the stream (numbers count up like the merge's), with n features."""
         if dropped is None:
-            dropped = int(self.rng.integers(0, 1 << 16))
+            dropped = int(self.rng.integers(0, DROPS_LIMIT))
         f = TxFrame(self.frame_no, [feature_beat(self.rng) for _ in range(n)], dropped)
-        self.frame_no = (self.frame_no + 1) & 0xFFFF
+        self.frame_no = (self.frame_no + 1) & FRAME_MASK
         return f
 
     def bank_reads(self, bank: int, slots: int | None = None) -> list[int]:
         """Byte addresses of every word of `slots` slots (default: the whole bank) of `bank`,
         with random (ignored) low address bits."""
         n = self.depth if slots is None else slots
-        low = self.rng.integers(0, 4, n * WORDS)
-        return [bank << self.bank_shift | i << 2 | int(low[i]) for i in range(n * WORDS)]
+        low = self.rng.integers(0, 1 << WORD_SHIFT, n * WORDS)
+        return [bank << self.bank_shift | i << WORD_SHIFT | int(low[i]) for i in range(n * WORDS)]
 
     async def run(
         self,
@@ -383,7 +386,7 @@ class MemBench:
         base = bank << self.bank_shift
         words = []
         for i in range(n * WORDS):
-            data = self.read_data.get(base | i << 2)
+            data = self.read_data.get(base | i << WORD_SHIFT)
             assert data is not None, f"bank {bank} word {i} was not read"
             words.append(data)
         return words

@@ -1,11 +1,13 @@
 # SPDX-License-Identifier: MIT
 """The register map's generated views against their one definition, golden_model/data/regmap.json.
 
-No simulator: scripts/gen/gen_regmap.py regenerated into a temporary directory must give the committed
+No cocotb: scripts/gen/gen_regmap.py regenerated into a temporary directory must give the committed
 hdl/host/orb_regs_pkg.vhd, golden_model/regs.py and docs/registers.md byte for byte (a stale view
-fails); the generator must refuse inconsistent data; the VHDL constants, parsed from the text, must
-equal golden_model.regs; GHDL must synthesise orb_axil_regs with the package for extreme generics
-and refuse an illegal SECTORS_g with a message naming the entity.
+fails); the generator must refuse inconsistent data; the VHDL constants and the register-file tables
+REGS_c and REG_LIMITS_c, parsed from the text, must equal golden_model.regs; GHDL must synthesise
+orb_axil_regs with the package for extreme generics and refuse an illegal SECTORS_g with a message
+naming the entity; and a map with two registers added must work in orb_axil_regs unchanged (a small
+VHDL testbench run by GHDL).
 """
 
 from __future__ import annotations
@@ -29,6 +31,7 @@ ROOT = Path(__file__).resolve().parents[2]
 SCRIPT = ROOT / "scripts" / "gen" / "gen_regmap.py"
 DATA = ROOT / "golden_model" / "data" / "regmap.json"
 VIEWS = (Path("hdl") / "host" / "orb_regs_pkg.vhd", Path("golden_model") / "regs.py", Path("docs") / "registers.md")
+GHDL_FILES = ("common/orb_limits_pkg.vhd", "host/orb_regs_pkg.vhd", "host/orb_axil_regs.vhd")  # hdl/, in order
 
 
 def gen_module() -> ModuleType:
@@ -144,6 +147,40 @@ def test_vhdl_constants_equal_the_python_view() -> None:
                 assert c[f"{p}_MAX"] == f.max, p
 
 
+def parse_vhdl_tables(text: str) -> tuple[list[tuple], list[tuple[str, int, int]]]:
+    """REGS_c's rows (index name, offset name, access, mask, reset, live, pulse) and REG_LIMITS_c's
+    rows (register index name, mask, max), parsed from the package text."""
+    regs_rows = re.findall(
+        r"(REG_\w+_IDX)_c\s*=>\s*\((REG_\w+)_c, access_(\w+), "
+        r'x"([0-9A-F]{8})", x"([0-9A-F]{8})", x"([0-9A-F]{8})", x"([0-9A-F]{8})"\)',
+        text,
+    )
+    limit_rows = re.findall(r'\d+\s*=>\s*\((REG_\w+_IDX)_c, x"([0-9A-F]{8})", x"([0-9A-F]{8})"\)', text)
+    return (
+        [(i, o, a, *(int(w, 16) for w in ws)) for i, o, a, *ws in regs_rows],
+        [(r, int(m, 16), int(x, 16)) for r, m, x in limit_rows],
+    )
+
+
+def test_vhdl_register_file_tables_equal_the_python_view() -> None:
+    """REGS_c and REG_LIMITS_c, which orb_axil_regs decodes with, describe exactly golden_model.regs."""
+    text = (ROOT / VIEWS[0]).read_text()
+    c = parse_vhdl_constants(text)
+    rows, limits = parse_vhdl_tables(text)
+    assert c["REG_COUNT"] == len(regs.REGISTERS) == len(rows)
+    for i, (r, row) in enumerate(zip(regs.REGISTERS, rows, strict=True)):
+        assert c[f"REG_{r.name}_IDX"] == i, r.name
+        live = sum(f.mask for f in r.fields if f.generic is not None or f.port is not None)
+        pulse = sum(f.mask for f in r.fields if f.pulse)
+        fixed = sum((f.reset or 0) << f.lsb for f in r.fields if f.generic is None and f.port is None)
+        assert row == (f"REG_{r.name}_IDX", f"REG_{r.name}", r.access, r.mask, fixed, live, pulse), r.name
+    # (a map without maxima gets one entry `0 => (0, ...)` with mask 0, which the pattern skips)
+    expected = [
+        (f"REG_{r.name}_IDX", f.mask, f.max << f.lsb) for r in regs.REGISTERS for f in r.fields if f.max is not None
+    ]
+    assert limits == expected
+
+
 def test_docs_list_every_register() -> None:
     text = (ROOT / VIEWS[2]).read_text()
     for r in regs.REGISTERS:
@@ -161,11 +198,11 @@ def _ghdl(args: list[str], cwd: Path, check: bool = True) -> subprocess.Complete
 
 @pytest.mark.parametrize(
     "generics",
-    [{}, {"MEM_LATENCY_g": 1, "ADDR_BITS_g": 20, "SCALES_g": 4, "SECTORS_g": 16, "MEM_DEPTH_g": 16777215}],
+    [{}, {"MEM_LATENCY_g": 1, "ADDR_BITS_g": 20, "SCALES_g": 4, "SECTORS_g": 64, "MEM_DEPTH_g": 16777215}],
     ids=["defaults", "extremes"],
 )
 def test_ghdl_synth_of_the_register_bank(tmp_path: Path, generics: dict[str, int]) -> None:
-    files = [str(ROOT / "hdl" / "host" / f) for f in ("orb_regs_pkg.vhd", "orb_axil_regs.vhd")]
+    files = [str(ROOT / "hdl" / f) for f in GHDL_FILES]
     _ghdl(["-a", "--std=08", *files], tmp_path)
     gargs = [f"-g{k}={v}" for k, v in generics.items()]
     proc = _ghdl(["synth", "--std=08", *gargs, "--out=none", "orb_axil_regs"], tmp_path)
@@ -173,8 +210,112 @@ def test_ghdl_synth_of_the_register_bank(tmp_path: Path, generics: dict[str, int
 
 
 def test_illegal_sectors_generic_is_refused(tmp_path: Path) -> None:
-    files = [str(ROOT / "hdl" / "host" / f) for f in ("orb_regs_pkg.vhd", "orb_axil_regs.vhd")]
+    files = [str(ROOT / "hdl" / f) for f in GHDL_FILES]
     _ghdl(["-a", "--std=08", *files], tmp_path)
-    proc = _ghdl(["synth", "--std=08", "-gSECTORS_g=5", "--out=none", "orb_axil_regs"], tmp_path, check=False)
+    proc = _ghdl(["synth", "--std=08", "-gSECTORS_g=24", "--out=none", "orb_axil_regs"], tmp_path, check=False)
     out = proc.stdout + proc.stderr
     assert proc.returncode != 0 and "orb_axil_regs: SECTORS_g" in out, out
+
+
+# A testbench for a map with two registers added (SCRATCH rw with a maximum and a pulse field,
+# MAGIC2 ro constant): orb_axil_regs, unchanged, must decode them from the generated tables.
+ADDED_TB = """
+library ieee;
+use ieee.std_logic_1164.all;
+use ieee.numeric_std.all;
+use work.orb_regs_pkg.all;
+
+entity tb is
+end entity tb;
+
+architecture sim of tb is
+  signal clk, done, awvalid, wvalid, arvalid : std_logic := '0';
+  signal rst                                 : std_logic := '1';
+  signal awready, wready, bvalid, arready, rvalid : std_logic;
+  signal awaddr, araddr : std_logic_vector(17 downto 0) := (others => '0');
+  signal wdata, rdata   : std_logic_vector(31 downto 0) := (others => '0');
+  signal bresp, rresp   : std_logic_vector(1 downto 0);
+  constant Z_c : std_logic_vector(31 downto 0) := (others => '0');
+begin
+  clk <= not clk after 5 ns when done = '0';
+  dut : entity work.orb_axil_regs
+    port map (clk => clk, rst => rst, s_axil_awaddr => awaddr, s_axil_awprot => "000", s_axil_awvalid => awvalid,
+      s_axil_awready => awready, s_axil_wdata => wdata, s_axil_wstrb => "1111", s_axil_wvalid => wvalid,
+      s_axil_wready => wready, s_axil_bresp => bresp, s_axil_bvalid => bvalid, s_axil_bready => '1',
+      s_axil_araddr => araddr, s_axil_arprot => "000", s_axil_arvalid => arvalid, s_axil_arready => arready,
+      s_axil_rdata => rdata, s_axil_rresp => rresp, s_axil_rvalid => rvalid, s_axil_rready => '1',
+      frame_count => Z_c, dropped => Z_c, proto_errors => Z_c, bank_ready => "00", last_bank => '0',
+      overflow => '0', bank0_count => x"0000", bank0_frame => x"0000", bank1_count => x"0000",
+      bank1_frame => x"0000", overrun => Z_c, overflow_count => Z_c, desc_lost => Z_c, discarded => Z_c,
+      frame_done_pulse => '0', error_pulse => '0', mem_rd_data => Z_c);
+  stim : process is
+    procedure wr (a : natural; d : std_logic_vector(31 downto 0); resp : std_logic_vector(1 downto 0)) is
+    begin
+      awaddr <= std_logic_vector(to_unsigned(a, 18)); wdata <= d; awvalid <= '1'; wvalid <= '1';
+      wait until rising_edge(clk);
+      awvalid <= '0'; wvalid <= '0';
+      wait until rising_edge(clk) and bvalid = '1';
+      assert bresp = resp report "write " & integer'image(a) & ": bresp " & to_string(bresp) severity failure;
+    end procedure;
+    procedure rd (a : natural; d : std_logic_vector(31 downto 0); resp : std_logic_vector(1 downto 0)) is
+    begin
+      araddr <= std_logic_vector(to_unsigned(a, 18)); arvalid <= '1';
+      wait until rising_edge(clk);
+      arvalid <= '0';
+      wait until rising_edge(clk) and rvalid = '1';
+      assert rresp = resp and rdata = d
+        report "read " & integer'image(a) & ": " & to_hstring(rdata) & " " & to_string(rresp) severity failure;
+    end procedure;
+  begin
+    wait until rising_edge(clk);
+    rst <= '0';
+    wait until rising_edge(clk);
+    rd(REG_SCRATCH_c, x"000002A5", "00");
+    rd(REG_MAGIC2_c, x"BEEF0000", "00");
+    wr(REG_SCRATCH_c, x"0000153C", "00");
+    rd(REG_SCRATCH_c, x"0000053C", "00");
+    wr(REG_SCRATCH_c, x"00000600", "10");
+    wr(REG_SCRATCH_c, x"00010000", "10");
+    wr(REG_MAGIC2_c, x"00000000", "10");
+    rd(REG_SCRATCH_c, x"0000053C", "00");
+    rd(REG_THRESHOLD_c, x"00000014", "00");
+    report "added registers: passed";
+    done <= '1';
+    wait;
+  end process;
+end architecture sim;
+"""
+
+
+def test_a_register_added_to_the_map_needs_no_decode_code(tmp_path: Path) -> None:
+    raw = json.loads(DATA.read_text())
+    top = max(r["offset"] for r in raw["registers"])
+    raw["registers"] += [
+        {
+            "name": "SCRATCH",
+            "offset": top + 4,
+            "access": "rw",
+            "description": "test",
+            "fields": [
+                {"name": "lo", "bits": [7, 0], "reset": 0xA5, "description": "byte"},
+                {"name": "sel", "bits": [10, 8], "reset": 2, "max": 5, "description": "limited"},
+                {"name": "go", "bits": [12, 12], "reset": 0, "pulse": True, "description": "pulse"},
+            ],
+        },
+        {
+            "name": "MAGIC2",
+            "offset": top + 8,
+            "access": "ro",
+            "description": "test",
+            "fields": [{"name": "value", "bits": [31, 16], "reset": 0xBEEF, "description": "constant"}],
+        },
+    ]
+    (tmp_path / "map.json").write_text(json.dumps(raw))
+    gen = [sys.executable, str(SCRIPT), "--data", str(tmp_path / "map.json"), "--out", str(tmp_path / "gen")]
+    subprocess.run(gen, check=True, capture_output=True)
+    files = [str(tmp_path / "gen" / "hdl" / f if f.endswith("regs_pkg.vhd") else ROOT / "hdl" / f) for f in GHDL_FILES]
+    (tmp_path / "tb.vhd").write_text(ADDED_TB)
+    _ghdl(["-a", "--std=08", *files, "tb.vhd"], tmp_path)
+    proc = _ghdl(["--elab-run", "--std=08", "tb"], tmp_path, check=False)
+    out = proc.stdout + proc.stderr
+    assert proc.returncode == 0 and "added registers: passed" in out, out

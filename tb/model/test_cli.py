@@ -38,7 +38,7 @@ def test_extract_model_writes_csv_and_overlay(tmp_path: Path, extra: list[str], 
     assert rows, "no features written"
     assert list(rows[0])[:6] == ["scale", "x", "y", "score", "sector", "descriptor"]
     img = load_luma(png)
-    cfg = Config(img.shape[1], img.shape[0], scales=2, sectors_per_quadrant=16, threshold=25, mode=mode)
+    cfg = Config(img.shape[1], img.shape[0], scales=2, sectors=64, threshold=25, mode=mode)
     expected = extract(img, cfg)
     got = read_csv(out, sectors_total=64)
     assert got == expected

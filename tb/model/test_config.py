@@ -10,7 +10,7 @@ import pytest
 
 from golden_model.config import Config, ConfigError, sectors_to_per_quadrant
 
-LEGAL: dict[str, Any] = {"width": 640, "height": 480, "scales": 2, "sectors_per_quadrant": 8, "threshold": 20,
+LEGAL: dict[str, Any] = {"width": 640, "height": 480, "scales": 2, "sectors": 32, "threshold": 20,
                          "mode": "orb"}  # fmt: skip
 
 
@@ -26,9 +26,10 @@ LEGAL: dict[str, Any] = {"width": 640, "height": 480, "scales": 2, "sectors_per_
         ("scales", 0),
         ("scales", 5),
         ("scales", -1),
-        ("sectors_per_quadrant", 5),
-        ("sectors_per_quadrant", 0),
-        ("sectors_per_quadrant", 32),  # a total, not N
+        ("sectors", 24),
+        ("sectors", 0),
+        ("sectors", 8),  # N, not the total
+        ("sectors", 128),
         ("threshold", -1),
         ("threshold", 256),
         ("mode", "x"),
@@ -40,8 +41,8 @@ LEGAL: dict[str, Any] = {"width": 640, "height": 480, "scales": 2, "sectors_per_
         ("height", "480"),
         ("scales", True),
         ("scales", 2.0),
-        ("sectors_per_quadrant", 8.0),
-        ("sectors_per_quadrant", False),
+        ("sectors", 32.0),
+        ("sectors", False),
         ("threshold", 20.0),
         ("threshold", False),
         ("threshold", None),
@@ -57,7 +58,7 @@ def test_illegal_values_raise_config_error(field: str, value: Any) -> None:
 @pytest.mark.parametrize(
     ("field", "value"),
     [("width", 64), ("width", 1920), ("height", 48), ("height", 1080), ("scales", 1), ("scales", 4),
-     ("sectors_per_quadrant", 4), ("sectors_per_quadrant", 16), ("threshold", 0), ("threshold", 255),
+     ("sectors", 16), ("sectors", 64), ("threshold", 0), ("threshold", 255),
      ("mode", "fast")],
 )  # fmt: skip
 def test_legal_extremes_are_accepted(field: str, value: Any) -> None:
@@ -67,12 +68,12 @@ def test_legal_extremes_are_accepted(field: str, value: Any) -> None:
 
 def test_defaults() -> None:
     cfg = Config(width=64, height=48)
-    assert (cfg.scales, cfg.sectors_per_quadrant, cfg.threshold, cfg.mode) == (1, 8, 20, "orb")
+    assert (cfg.scales, cfg.sectors, cfg.threshold, cfg.mode) == (1, 32, 20, "orb")
 
 
 @pytest.mark.parametrize(("n", "total"), [(4, 16), (8, 32), (16, 64)])
-def test_sectors_is_4n_and_converts_back(n: int, total: int) -> None:
-    assert Config(**{**LEGAL, "sectors_per_quadrant": n}).sectors == total
+def test_sectors_is_the_total_and_n_is_derived(n: int, total: int) -> None:
+    assert Config(**{**LEGAL, "sectors": total}).sectors_per_quadrant == n
     assert sectors_to_per_quadrant(total) == n
 
 
@@ -99,14 +100,14 @@ def test_config_is_frozen() -> None:
         cfg.width = 100  # type: ignore[misc]
 
 
-RANGES = {"width": "64..1920", "height": "48..1080", "scales": "1..4", "sectors_per_quadrant": "4, 8, 16",
+RANGES = {"width": "64..1920", "height": "48..1080", "scales": "1..4", "sectors": "16, 32 or 64",
           "threshold": "0..255", "mode": "'orb', 'fast'"}  # fmt: skip
 
 
 @pytest.mark.parametrize(
     ("field", "value"),
-    [("width", 63), ("height", 1081), ("scales", 5), ("sectors_per_quadrant", 5), ("threshold", 256), ("mode", "x"),
-     ("width", True), ("height", 480.0), ("scales", 2.0), ("sectors_per_quadrant", 8.0), ("threshold", False)],
+    [("width", 63), ("height", 1081), ("scales", 5), ("sectors", 24), ("threshold", 256), ("mode", "x"),
+     ("width", True), ("height", 480.0), ("scales", 2.0), ("sectors", 32.0), ("threshold", False)],
 )  # fmt: skip
 def test_every_refusal_names_the_value_and_the_legal_range(field: str, value: Any) -> None:
     # docs/spec.md section 1: "An illegal value is refused with a message naming the value and the legal range".

@@ -89,7 +89,7 @@ def test_extract_orb_multi_equals_extract(photos: dict[str, np.ndarray], name: s
     multi = extract_orb_multi(img, 20, scales, [4, 8, 16])
     assert sorted(multi) == [4, 8, 16]
     for n, feats in multi.items():
-        expected = extract(img, Config(w, h, scales, n, 20, "orb"))
+        expected = extract(img, Config(w, h, scales, 4 * n, 20, "orb"))
         assert feats == expected
         assert feats.sectors_total == expected.sectors_total == 4 * n
 

@@ -121,7 +121,7 @@ def test_csv_round_trip_of_hand_lists(tmp_path: Path, make) -> None:
 @pytest.mark.parametrize("mode", ["orb", "fast"])
 def test_csv_round_trip_of_an_extracted_photograph(ref, photographs, tmp_path: Path, mode: str) -> None:
     img = ref.center_crop(photographs["coffee"], 200, 160)
-    f = extract(img, Config(200, 160, scales=2, sectors_per_quadrant=16, threshold=20, mode=mode))
+    f = extract(img, Config(200, 160, scales=2, sectors=64, threshold=20, mode=mode))
     assert len(f) > 50
     path = tmp_path / "f.csv"
     write_csv(f, path)

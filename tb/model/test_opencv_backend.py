@@ -72,7 +72,7 @@ def test_fast_mode_is_close_to_the_model(photos: dict[str, np.ndarray]) -> None:
 
 def test_orb_mode_reports_opencv_orb(photos: dict[str, np.ndarray]) -> None:
     img = photos["astronaut"]
-    cfg = _cfg(img, scales=3, sectors_per_quadrant=8, threshold=20)
+    cfg = _cfg(img, scales=3, sectors=32, threshold=20)
     feats = extract_opencv(img, cfg)
     kps, desc = orb_detector(cfg).detectAndCompute(img, None)
     assert len(feats) == len(kps) > 1000

@@ -133,7 +133,7 @@ def test_flat_image_has_no_features(mode: str, t: int, value: int) -> None:
 )  # fmt: skip
 def test_smallest_legal_frame_against_naive_reference(ref, mode: str, t: int, n: int, lo: int, hi: int, seed: int):
     img = np.random.default_rng(seed).integers(lo, hi, (48, 64), dtype=np.uint8)
-    f = run(img, mode=mode, threshold=t, sectors_per_quadrant=n)
+    f = run(img, mode=mode, threshold=t, sectors=4 * n)
     assert len(f) > 0
     assert_matches_reference(ref, f, img, 1, n, t, mode)
 
@@ -157,7 +157,7 @@ def test_four_scales_of_the_smallest_frame_against_naive_reference(ref, mode: st
 def test_photograph_crop_with_two_scales_against_naive_reference(ref, photographs, n: int) -> None:
     name = {4: "astronaut", 8: "camera", 16: "chelsea"}[n]
     img = ref.center_crop(photographs[name], 128, 96)
-    f = run(img, scales=2, sectors_per_quadrant=n, threshold=10)
+    f = run(img, scales=2, sectors=4 * n, threshold=10)
     assert (f.scale == 1).any() and (f.scale == 0).any()
     assert_matches_reference(ref, f, img, 2, n, 10, "orb")
 
@@ -176,7 +176,7 @@ def test_block_checkerboards_against_naive_reference(ref, block: int) -> None:
     cells = np.indices((48 // block + 1, 64 // block + 1)).sum(axis=0) % 2
     img = (np.kron(cells, np.ones((block, block), dtype=np.int64))[:48, :64] * 200 + 20).astype(np.uint8)
     for mode in ("fast", "orb"):
-        f = run(img, mode=mode, threshold=10, sectors_per_quadrant=4)
+        f = run(img, mode=mode, threshold=10, sectors=16)
         assert_matches_reference(ref, f, img, 1, 4, 10, mode)
 
 
@@ -212,13 +212,13 @@ def test_scale_1_coordinates_are_in_scale_1_pixels() -> None:
 @pytest.mark.parametrize(("name", "scales"), [("astronaut", 4), ("coffee", 3), ("chelsea", 2)])
 def test_each_scale_equals_the_model_run_on_the_naively_downscaled_image(ref, photographs, name: str, scales: int):
     img = photographs[name]
-    f = run(img, scales=scales, threshold=20, sectors_per_quadrant=8)
+    f = run(img, scales=scales, threshold=20, sectors=32)
     level = img
     for s in range(scales):
         if s:
             level = ref.downscale(level)
         h, w = level.shape
-        direct = extract(level, Config(width=w, height=h, scales=1, sectors_per_quadrant=8, threshold=20))
+        direct = extract(level, Config(width=w, height=h, scales=1, sectors=32, threshold=20))
         got = ref.rows(f.take(np.nonzero(f.scale == s)[0]))
         expected = [(s, *row[1:]) for row in ref.rows(direct)]
         assert len(expected) > 0, f"{name}: no features at scale {s}"
@@ -237,12 +237,12 @@ def test_output_is_in_canonical_order(photographs, scales: int, mode: str) -> No
 @pytest.mark.parametrize("n", NS)
 def test_output_columns(photographs, n: int) -> None:
     img = photographs["chelsea"]
-    orb = run(img, scales=2, sectors_per_quadrant=n)
+    orb = run(img, scales=2, sectors=4 * n)
     assert orb.descriptor.shape == (len(orb), 32) and orb.descriptor.dtype == np.uint8
     assert orb.sectors_total == 4 * n
     assert orb.sector.min() >= 0 and orb.sector.max() < 4 * n
     assert orb.score.min() >= 9 and orb.score.max() <= 4080
-    fast = run(img, scales=2, sectors_per_quadrant=n, mode="fast")
+    fast = run(img, scales=2, sectors=4 * n, mode="fast")
     assert fast.descriptor.shape == (len(fast), 0) and (fast.sector == NO_SECTOR).all()
     assert len(fast) > len(orb)
 
@@ -313,8 +313,8 @@ def test_rotation_by_90_degrees_moves_sectors_by_n_and_keeps_descriptors(ref, ph
     img = np.ascontiguousarray(img[: h - h % 4, : w - w % 4])  # even sizes: the pyramid commutes with rot90
     h, w = img.shape
     rot = np.ascontiguousarray(np.rot90(img, k))
-    a = run(img, scales=2, sectors_per_quadrant=n, threshold=20)
-    b = run(rot, scales=2, sectors_per_quadrant=n, threshold=20)
+    a = run(img, scales=2, sectors=4 * n, threshold=20)
+    b = run(rot, scales=2, sectors=4 * n, threshold=20)
     in_b = {(int(s), int(x), int(y)): i for i, (s, x, y) in enumerate(zip(b.scale, b.x, b.y, strict=True))}
     both = 0
     exempt: list[Key] = []

@@ -9,9 +9,9 @@ from golden_model import Config, extract, first_difference
 from golden_model.features import Features
 
 
-def expected_features(img: np.ndarray, scales: int, threshold: int, mode: str = "fast", n: int = 8) -> Features:
+def expected_features(img: np.ndarray, scales: int, threshold: int, mode: str = "fast", sectors: int = 32) -> Features:
     h, w = img.shape
-    return extract(img, Config(w, h, scales=scales, sectors_per_quadrant=n, threshold=threshold, mode=mode))
+    return extract(img, Config(w, h, scales=scales, sectors=sectors, threshold=threshold, mode=mode))
 
 
 def check_frame(got: Features, expected: Features, what: str) -> None:

@@ -31,16 +31,20 @@ import pytest
 from cocotb.triggers import RisingEdge
 
 from golden_model import Config, extract
+from golden_model.featcodec import decode_stream_features, encode_eof, encode_feature
 from golden_model.features import NO_SECTOR, Features
+from golden_model.featword import EOF_FLAG, FEAT_BITS, FEATURE_BEAT
 from golden_model.images import to_luma
 from golden_model.overlay import marker_bitmap, marker_schedule, render_marker_overlay
 from orbtb.runner import run
 from orbtb.unit import env_int, env_str, reset
 
 LATENCY = 2
-FEAT_BITS = 320
-EOF_BIT = 39
 RGB_PHOTOS = ("astronaut", "coffee", "chelsea", "rocket", "camera")
+# feature words carry random bits from above the end-of-frame flag on (sector, reserved bits,
+# descriptor): the overlay reads only x, y and scale
+JUNK_LO = EOF_FLAG.lsb + 1
+JUNK_BYTES = (FEAT_BITS - JUNK_LO) // 8
 
 
 # ------------------------------------------------------------------------------------------------
@@ -93,9 +97,9 @@ def interleaved_words(f: Features, rng: np.random.Generator) -> list[int]:
         i = per_scale[s].pop(0)
         if not per_scale[s]:
             del per_scale[s]
-        junk = int.from_bytes(rng.bytes(35), "little") << 40
-        fields = (int(f.scale[i]) << 36) | (int(f.y[i]) << 24) | (int(f.x[i]) << 12) | int(rng.integers(4096))
-        words.append(junk | fields)
+        junk = int.from_bytes(rng.bytes(JUNK_BYTES), "little") << JUNK_LO
+        score = int(rng.integers(1 << FEATURE_BEAT.field("score").width))
+        words.append(junk | encode_feature(scale=int(f.scale[i]), x=int(f.x[i]), y=int(f.y[i]), score=score))
     return words
 
 
@@ -104,12 +108,12 @@ def shuffled_words(f: Features, rng: np.random.Generator) -> list[int]:
 
 
 def eof_word(number: int) -> int:
-    return (1 << EOF_BIT) | (number & 0xFFFF)
+    return encode_eof(number)
 
 
 def decode(words: list[int]) -> Features:
-    return make_features([(w >> 36) & 3 for w in words], [(w >> 12) & 0xFFF for w in words],
-                         [(w >> 24) & 0xFFF for w in words])  # fmt: skip
+    """The features of a frame's words (fast mode; the random bits above the flag are not checked)."""
+    return decode_stream_features(words, check=False)
 
 
 def pack_rgb(rgb: np.ndarray) -> list[int]:

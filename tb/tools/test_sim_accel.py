@@ -33,7 +33,7 @@ def test_sim_accel_small_photo(tmp_path: Path) -> None:
     assert report["bit_exact"] and report["overlay_bit_exact"], report
     assert (report["dropped"], report["cycles_per_pixel"]) == (0, 1.0), report
     assert 0 < report["latency_cycles"] <= 1000, report
-    cfg = Config(160, 96, scales=2, sectors_per_quadrant=4, threshold=15)
+    cfg = Config(160, 96, scales=2, sectors=16, threshold=15)
     expected = extract(rgb_to_luma(rgb), cfg)
     assert report["features"] == len(expected) > 0
     assert first_difference(read_csv(out / "features.csv", sectors_total=16), expected) is None

@@ -46,7 +46,7 @@ PHOTOS = ("astronaut", "coffee", "chelsea", "rocket")
 
 
 def expected(b: AccelBench, rgb: np.ndarray, threshold: int, mode: str = "orb") -> Features:
-    return expected_features(rgb_to_luma(rgb), b.scales, threshold, mode, b.n)
+    return expected_features(rgb_to_luma(rgb), b.scales, threshold, mode, b.sectors)
 
 
 @cocotb.test()
@@ -232,7 +232,7 @@ async def registers(dut) -> None:
     size = await b.read_reg(regs.CFG_SIZE)
     assert (regs.CFG_SIZE.field("width").get(size), regs.CFG_SIZE.field("height").get(size)) == (b.width, b.height)
     orb = await b.read_reg(regs.CFG_ORB)
-    assert (regs.CFG_ORB.field("scales").get(orb), regs.CFG_ORB.field("sectors").get(orb)) == (b.scales, b.n)
+    assert (regs.CFG_ORB.field("scales").get(orb), regs.CFG_ORB.field("sectors").get(orb)) == (b.scales, b.sectors)
     assert regs.CFG_MEM.field("depth").get(await b.read_reg(regs.CFG_MEM)) == b.depth
     resp, _ = await b.read(0x5C)
     assert resp == SLVERR, "an unknown register must answer SLVERR"
@@ -328,17 +328,18 @@ async def driver_errors(dut) -> None:
 # pytest runners
 
 CONFIGS = {
-    # name: (W, H, scales, sectors per quadrant, memory depth, input packing)
-    "rgb_2scales": (128, 96, 2, 8, 256, "RGB"),
-    "rbg_1scale_small_mem": (96, 64, 1, 4, 16, "RBG"),
-    "luma_1scale": (96, 64, 1, 16, 256, "LUMA"),
-    "rgb_4scales": (192, 160, 4, 8, 1024, "RGB"),
+    # name: (W, H, scales, sectors, memory depth, input packing)
+    "rgb_2scales": (128, 96, 2, 32, 256, "RGB"),
+    "rbg_1scale_small_mem": (96, 64, 1, 16, 16, "RBG"),
+    "luma_1scale": (96, 64, 1, 64, 256, "LUMA"),
+    "rgb_4scales": (192, 160, 4, 32, 1024, "RGB"),
 }
 
 
 def run_accel(config: str, testcase: list[str] | None = None, env: dict[str, str] | None = None) -> None:
-    w, h, s, n, depth, packing = CONFIGS[config]
-    generics = {"WIDTH_g": w, "HEIGHT_g": h, "SCALES_g": s, "SECTORS_g": n, "MEM_DEPTH_g": depth, "INPUT_g": packing}
+    w, h, s, sectors, depth, packing = CONFIGS[config]
+    generics = {"WIDTH_g": w, "HEIGHT_g": h, "SCALES_g": s, "SECTORS_g": sectors, "MEM_DEPTH_g": depth,
+                "INPUT_g": packing}  # fmt: skip
     run("orb_accel_top", "test_orb_accel_top", generics, env={**SIM_ENV, **(env or {})}, testcase=testcase)
 
 

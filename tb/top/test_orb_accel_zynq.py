@@ -44,7 +44,7 @@ async def wrapper(dut) -> None:
     assert regs.CFG_MEM.field("depth").get(await b.read_reg(regs.CFG_MEM)) == b.depth
     await b.configure(threshold=t)
     frames = [colour_photo("astronaut", w, h), colour_photo("coffee", w, h)]
-    exps = [expected_features(rgb_to_luma(f), b.scales, t, "orb", b.n) for f in frames]
+    exps = [expected_features(rgb_to_luma(f), b.scales, t, "orb", b.sectors) for f in frames]
     assert all(len(e) > 0 for e in exps), "a test photograph has no feature to compare"
 
     async def video() -> None:
@@ -89,5 +89,5 @@ async def wrapper(dut) -> None:
 
 
 def test_accel_zynq() -> None:
-    generics = {"WIDTH_g": 128, "HEIGHT_g": 96, "SCALES_g": 2, "SECTORS_g": 8, "MEM_DEPTH_g": 256, "INPUT_g": "RBG"}
+    generics = {"WIDTH_g": 128, "HEIGHT_g": 96, "SCALES_g": 2, "SECTORS_g": 32, "MEM_DEPTH_g": 256, "INPUT_g": "RBG"}
     run("orb_accel_zynq", "test_orb_accel_zynq", generics, env=SIM_ENV)

@@ -35,7 +35,7 @@ async def core_job(dut) -> None:
     frames = np.load(out / "frames.npy")
     thresholds = [int(v) for v in os.environ["ORB_JOB_THRESHOLDS"].split(",")]
     modes = os.environ["ORB_JOB_MODES"].split(",")
-    sectors_total = 4 * int(os.environ["ORB_SECTORS"])
+    sectors_total = int(os.environ["ORB_SECTORS"])
     clk = dut.clk
     dut.rst.value = 1
     dut.threshold.value = thresholds[0]
