@@ -15,12 +15,13 @@ regenerates into a temporary directory).
 
 from __future__ import annotations
 
-import argparse
 import json
 import re
 import textwrap
 from dataclasses import dataclass
 from pathlib import Path
+
+from orb_tools.codegen import generator_main, pystr
 
 ROOT = Path(__file__).resolve().parents[2]
 DATA = ROOT / "golden_model" / "data" / "limits.json"
@@ -230,13 +231,6 @@ def render_vhdl(lims: Limits) -> str:
 # Python
 
 
-def pystr(s: str) -> str:
-    """A string literal the way ruff format writes it (double quotes unless that needs escapes)."""
-    if '"' in s and "'" not in s:
-        return "'" + s.replace("\\", "\\\\") + "'"
-    return json.dumps(s, ensure_ascii=False)
-
-
 PY_HEADER = '''\
 # SPDX-License-Identifier: MIT
 """The accelerator's legal configuration values (docs/limits.md), for the model's Config, the CLI and the tests.
@@ -345,16 +339,7 @@ def render_all(lims: Limits) -> dict[str, str]:
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--data", type=Path, default=DATA, help="limits data (JSON)")
-    ap.add_argument("--out", type=Path, default=ROOT, help="root directory of the outputs (default: the repository)")
-    args = ap.parse_args()
-    texts = render_all(load(args.data))
-    for key, rel in OUTPUTS.items():
-        path = args.out / rel
-        path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_bytes(texts[key].encode())
-        print(f"wrote {path}")
+    generator_main(__doc__ or "", "limits", DATA, ROOT, OUTPUTS, lambda data: render_all(load(data)))
 
 
 if __name__ == "__main__":

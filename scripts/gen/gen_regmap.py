@@ -14,11 +14,12 @@ default: the repository; tb/host/test_orb_regs_pkg.py regenerates into a tempora
 
 from __future__ import annotations
 
-import argparse
 import json
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
+
+from orb_tools.codegen import align_colons, generator_main, pystr
 
 ROOT = Path(__file__).resolve().parents[2]
 DATA = ROOT / "golden_model" / "data" / "regmap.json"
@@ -346,36 +347,8 @@ def render_vhdl(rm: RegMap) -> str:
     return "\n".join(align_colons(out)) + "\n"
 
 
-def align_colons(lines: list[str]) -> list[str]:
-    """Pad the names of consecutive constant declarations so their colons line up (vsg's rule)."""
-    out: list[str] = []
-    group: list[tuple[str, str]] = []
-
-    def flush() -> None:
-        width = max((len(n) for n, _ in group), default=0)
-        out.extend(f"  constant {n.ljust(width)} :{rest}" for n, rest in group)
-        group.clear()
-
-    for line in lines:
-        if line.startswith("  constant "):
-            name, _, rest = line.removeprefix("  constant ").partition(" :")
-            group.append((name, rest))
-        else:
-            flush()
-            out.append(line)
-    flush()
-    return out
-
-
 # ------------------------------------------------------------------------------------------------
 # Python
-
-
-def pystr(s: str) -> str:
-    """A string literal the way ruff format writes it (double quotes unless that needs escapes)."""
-    if '"' in s and "'" not in s:
-        return "'" + s.replace("\\", "\\\\") + "'"
-    return json.dumps(s, ensure_ascii=False)
 
 
 def pyfield(rm: RegMap, f: Fld) -> list[str]:
@@ -598,16 +571,7 @@ def render_all(rm: RegMap) -> dict[str, str]:
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--data", type=Path, default=DATA, help="register map data (JSON)")
-    ap.add_argument("--out", type=Path, default=ROOT, help="root directory of the outputs (default: the repository)")
-    args = ap.parse_args()
-    texts = render_all(load(args.data))
-    for key, rel in OUTPUTS.items():
-        path = args.out / rel
-        path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_bytes(texts[key].encode())
-        print(f"wrote {path}")
+    generator_main(__doc__ or "", "register map", DATA, ROOT, OUTPUTS, lambda data: render_all(load(data)))
 
 
 if __name__ == "__main__":

@@ -14,12 +14,10 @@ the package and synthesise orb_feat_mem, which writes the slot with its constant
 from __future__ import annotations
 
 import copy
-import importlib.util
 import json
 import os
 import re
 import subprocess
-import sys
 from pathlib import Path
 from types import ModuleType
 
@@ -31,6 +29,7 @@ from golden_model import featword as fw
 from golden_model.features import NO_SECTOR, Features
 from orb_sim.hdl import sources
 from orbtb.runner import ghdl_path_env
+from orbtb.views import assert_deterministic, assert_view_fresh, load_script
 
 ROOT = Path(__file__).resolve().parents[2]
 SCRIPT = ROOT / "scripts" / "gen" / "gen_featword.py"
@@ -49,12 +48,7 @@ FEATURE, EOF = fw.FEATURE_BEAT, fw.EOF_BEAT
 
 
 def gen_module() -> ModuleType:
-    spec = importlib.util.spec_from_file_location("gen_featword", SCRIPT)
-    assert spec is not None and spec.loader is not None
-    mod = importlib.util.module_from_spec(spec)
-    sys.modules["gen_featword"] = mod  # dataclasses look their module up
-    spec.loader.exec_module(mod)
-    return mod
+    return load_script(SCRIPT)
 
 
 # ------------------------------------------------------------------------------------------------
@@ -63,17 +57,11 @@ def gen_module() -> ModuleType:
 
 @pytest.mark.parametrize("view", VIEWS, ids=lambda p: p.name)
 def test_views_are_what_the_generator_writes(tmp_path: Path, view: Path) -> None:
-    subprocess.run([sys.executable, str(SCRIPT), "--out", str(tmp_path)], check=True, capture_output=True)
-    assert (tmp_path / view).read_bytes() == (ROOT / view).read_bytes(), (
-        f"{view} is stale: run `.venv/bin/python scripts/gen/gen_featword.py`"
-    )
+    assert_view_fresh(SCRIPT, view, ROOT, tmp_path)
 
 
 def test_generator_is_deterministic(tmp_path: Path) -> None:
-    for d in ("a", "b"):
-        subprocess.run([sys.executable, str(SCRIPT), "--out", str(tmp_path / d)], check=True, capture_output=True)
-    for view in VIEWS:
-        assert (tmp_path / "a" / view).read_bytes() == (tmp_path / "b" / view).read_bytes()
+    assert_deterministic(SCRIPT, VIEWS, tmp_path)
 
 
 def test_generated_views_say_so() -> None:

@@ -15,12 +15,10 @@ from __future__ import annotations
 
 import argparse
 import copy
-import importlib.util
 import json
 import os
 import re
 import subprocess
-import sys
 from pathlib import Path
 from types import ModuleType
 from typing import Any
@@ -30,6 +28,7 @@ import pytest
 from golden_model import limits
 from golden_model.config import Config, ConfigError
 from orbtb.runner import ghdl_path_env
+from orbtb.views import assert_view_fresh, load_script
 
 ROOT = Path(__file__).resolve().parents[2]
 HDL = ROOT / "hdl"
@@ -42,12 +41,7 @@ LEGAL: dict[str, Any] = {"width": 640, "height": 480, "scales": 2, "sectors": 32
 
 
 def gen_module() -> ModuleType:
-    spec = importlib.util.spec_from_file_location("gen_limits", SCRIPT)
-    assert spec is not None and spec.loader is not None
-    mod = importlib.util.module_from_spec(spec)
-    sys.modules["gen_limits"] = mod  # dataclasses look their module up
-    spec.loader.exec_module(mod)
-    return mod
+    return load_script(SCRIPT)
 
 
 def legal_in_data(name: str, value: int) -> bool:
@@ -72,10 +66,7 @@ def probe(name: str) -> range:
 
 @pytest.mark.parametrize("view", VIEWS, ids=lambda p: p.name)
 def test_views_are_what_the_generator_writes(tmp_path: Path, view: Path) -> None:
-    subprocess.run([sys.executable, str(SCRIPT), "--out", str(tmp_path)], check=True, capture_output=True)
-    assert (tmp_path / view).read_bytes() == (ROOT / view).read_bytes(), (
-        f"{view} is stale: run `.venv/bin/python scripts/gen/gen_limits.py`"
-    )
+    assert_view_fresh(SCRIPT, view, ROOT, tmp_path)
 
 
 def _broken(raw: dict, what: str) -> dict:

@@ -13,7 +13,6 @@ VHDL testbench run by GHDL).
 from __future__ import annotations
 
 import copy
-import importlib.util
 import json
 import os
 import re
@@ -26,6 +25,7 @@ import pytest
 
 from golden_model import regs
 from orbtb.runner import ghdl_path_env
+from orbtb.views import assert_deterministic, assert_view_fresh, load_script
 
 ROOT = Path(__file__).resolve().parents[2]
 SCRIPT = ROOT / "scripts" / "gen" / "gen_regmap.py"
@@ -35,27 +35,16 @@ GHDL_FILES = ("common/orb_limits_pkg.vhd", "host/orb_regs_pkg.vhd", "host/orb_ax
 
 
 def gen_module() -> ModuleType:
-    spec = importlib.util.spec_from_file_location("gen_regmap", SCRIPT)
-    assert spec is not None and spec.loader is not None
-    mod = importlib.util.module_from_spec(spec)
-    sys.modules["gen_regmap"] = mod  # dataclasses look their module up
-    spec.loader.exec_module(mod)
-    return mod
+    return load_script(SCRIPT)
 
 
 @pytest.mark.parametrize("view", VIEWS, ids=lambda p: p.name)
 def test_views_are_what_the_generator_writes(tmp_path: Path, view: Path) -> None:
-    subprocess.run([sys.executable, str(SCRIPT), "--out", str(tmp_path)], check=True, capture_output=True)
-    assert (tmp_path / view).read_bytes() == (ROOT / view).read_bytes(), (
-        f"{view} is stale: run `.venv/bin/python scripts/gen/gen_regmap.py`"
-    )
+    assert_view_fresh(SCRIPT, view, ROOT, tmp_path)
 
 
 def test_generator_is_deterministic(tmp_path: Path) -> None:
-    for d in ("a", "b"):
-        subprocess.run([sys.executable, str(SCRIPT), "--out", str(tmp_path / d)], check=True, capture_output=True)
-    for view in VIEWS:
-        assert (tmp_path / "a" / view).read_bytes() == (tmp_path / "b" / view).read_bytes()
+    assert_deterministic(SCRIPT, VIEWS, tmp_path)
 
 
 def _broken(raw: dict, what: str) -> dict:

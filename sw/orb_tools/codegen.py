@@ -1,0 +1,59 @@
+# SPDX-License-Identifier: MIT
+"""Shared helpers of the generators in scripts/gen/ (one source per shared fact, several views):
+text formatting for the VHDL and Python views, and the common command line that writes every
+view of a source under a root folder (the repository, or a temporary folder for the byte checks
+of the tests)."""
+
+from __future__ import annotations
+
+import argparse
+import json
+from collections.abc import Callable, Mapping
+from pathlib import Path
+
+
+def align_colons(lines: list[str]) -> list[str]:
+    """Pad the names of consecutive constant declarations so their colons line up (vsg's rule)."""
+    out: list[str] = []
+    group: list[tuple[str, str]] = []
+
+    def flush() -> None:
+        width = max((len(n) for n, _ in group), default=0)
+        out.extend(f"  constant {n.ljust(width)} :{rest}" for n, rest in group)
+        group.clear()
+
+    for line in lines:
+        if line.startswith("  constant "):
+            name, _, rest = line.removeprefix("  constant ").partition(" :")
+            group.append((name, rest))
+        else:
+            flush()
+            out.append(line)
+    flush()
+    return out
+
+
+def pystr(s: str) -> str:
+    """A string literal the way ruff format writes it (double quotes unless that needs escapes)."""
+    if '"' in s and "'" not in s:
+        return "'" + s.replace("\\", "\\\\") + "'"
+    return json.dumps(s, ensure_ascii=False)
+
+
+def write_views(texts: Mapping[str, str], outputs: Mapping[str, Path], root: Path) -> None:
+    """Write each view `texts[key]` to root / outputs[key] (byte for byte, UTF-8)."""
+    for key, rel in outputs.items():
+        path = root / rel
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_bytes(texts[key].encode())
+        print(f"wrote {path}")
+
+
+def generator_main(doc: str, what: str, data: Path, root: Path, outputs: Mapping[str, Path],
+                   render: Callable[[Path], Mapping[str, str]]) -> None:  # fmt: skip
+    """The command line of a generator: --data (the source) and --out (root of the views)."""
+    ap = argparse.ArgumentParser(description=doc.split("\n\n")[0])
+    ap.add_argument("--data", type=Path, default=data, help=f"{what} data (JSON)")
+    ap.add_argument("--out", type=Path, default=root, help="root directory of the outputs (default: the repository)")
+    args = ap.parse_args()
+    write_views(render(args.data), outputs, args.out)
