@@ -78,7 +78,9 @@ class OrbAccel:
                 raise AccelError(f"register map version {major}.{minor}: this driver reads version "
                                  f"{regs.VERSION_MAJOR}.x (docs/registers.md)")  # fmt: skip
         self.hw = self.read_config()
-        self.mode = "orb"
+        # the mode frames are decoded in: CTRL's (another program may have configured the device),
+        # then whatever configure() sets; a frame keeps the mode that was set when it started
+        self.mode = MODES[regs.CTRL.field("mode").get(self.read(regs.CTRL))]
 
     # ---- registers -----------------------------------------------------------------------------
     def read(self, reg: regs.Register) -> int:

@@ -121,22 +121,18 @@ class AccelBench:
         if not await self.cpu(self.bus.wait_irq, self.clocks_to_s(timeout_clocks)):
             raise AssertionError(f"no interrupt within {timeout_clocks} clocks")
 
-    async def read_bank(self, bank: int, mode: str | None = None) -> tuple[Features, EndOfFrame]:
-        """The bank's features (canonical order) and its end-of-frame record, read by the driver
-        (the mode of the last configure unless given)."""
-        if mode is not None:
-            self.accel.mode = mode
+    async def read_bank(self, bank: int) -> tuple[Features, EndOfFrame]:
+        """The bank's features (canonical order, in the mode of the last configure) and its
+        end-of-frame record, read by the driver."""
         frame = await self.cpu(self.accel.read_bank, bank)
         return frame.features, frame.record
 
     async def release(self, bank: int) -> None:
         await self.cpu(self.accel.release, bank)
 
-    async def read_newest(self, mode: str | None = None) -> tuple[Features, EndOfFrame]:
+    async def read_newest(self) -> tuple[Features, EndOfFrame]:
         """The next frame through the driver: wait for its interrupt, acknowledge it, read the
         newest bank and release it."""
-        if mode is not None:
-            self.accel.mode = mode
         frame = await self.cpu(self.accel.next_frame, self.clocks_to_s(self.frame_timeout_clocks))
         return frame.features, frame.record
 
