@@ -21,7 +21,8 @@ help:
 	@echo "make eval    compare-fast and rotation-bench against OpenCV on the evaluation photos (STEP=1: ~6 min)"
 	@echo "make figures make eval, then copy its figures into docs/img (docs/img/README.md)"
 	@echo "make lint    ruff, the import-layer contracts (lint-imports); GHDL synth check and vsg style of hdl/"
-	@echo "make synth   LUT/FF/BRAM/DSP and logic-delay estimate of orb_core (GHDL + yosys; ~10 min)"
+	@echo "make synth   LUT/FF/BRAM/DSP estimate of orb_core 640x480x1 + 1920x1080x2, checked (GHDL + yosys; 4-7 min, cached;"
+	@echo "             CONFIG=1920x1080x2 TOP=orb_accel_top|orb_accel_zynq, STA=1 adds the slow logic-delay pass)"
 	@echo "make netlist-sim  unit tests on GHDL's synthesised netlists (~15 min; K=entity, QUICK=1; docs/netlist-sim.md)"
 	@echo "make tools   which of ghdl, yosys, python3 are installed, and how to install the rest"
 
@@ -71,11 +72,16 @@ lint: $(STAMP)
 	@sh scripts/flow/check_tools.sh ghdl
 	$(BIN)/python scripts/flow/lint_hdl.py
 
-# Resource and logic-delay estimate (GHDL + yosys, no Vivado); CONFIG=1920x1080x2 runs one configuration.
+# Resource estimate (GHDL + yosys, no Vivado; docs/synthesis.md), checked against scripts/flow/synth_expected.json.
+# CONFIG=1920x1080x2 (or a list) runs those configurations, TOP= another top, STA=1 adds the logic-delay pass.
+# Plain python3 (no `make setup` needed); records are cached under build/synth.
 CONFIG ?=
+TOP ?=
+STA ?=
 synth:
 	@sh scripts/flow/check_tools.sh ghdl yosys python3
-	$(PYTHON) scripts/flow/synth.py --jobs $(JOBS) $(if $(CONFIG),--config $(CONFIG))
+	$(PYTHON) scripts/flow/synth.py --jobs $(JOBS) $(if $(TOP),--top $(TOP)) $(foreach c,$(CONFIG),--config $(c)) \
+		$(if $(filter 1 yes true,$(STA)),--sta)
 
 # The cocotb tests of docs/netlist-sim.md on `ghdl synth --out=vhdl` netlists (~15 min); K=orb_overlay runs one
 # entity, QUICK=1 leaves out the two slow cases (~3 min).

@@ -1,16 +1,38 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: MIT
-"""Synthesis estimate of the accelerator top without Vivado: GHDL -> Verilog -> yosys synth_xilinx.
+"""Synthesis estimate of the accelerator without Vivado: GHDL -> Verilog -> yosys synth_xilinx.
 
-For each configuration (WIDTH_g x HEIGHT_g x SCALES_g of orb_core):
-  1. `ghdl synth --std=08 -gWIDTH_g=.. -gHEIGHT_g=.. -gSCALES_g=.. --out=verilog <hdl sources in
-     dependency order> -e orb_core` -> build/synth/<cfg>/top.v (GHDL's inferred-RAM notes are
-     kept in ghdl.log and in the report);
-  2. yosys `synth_xilinx -family xc7 -top orb_core; stat` -> resource counts (stat.txt);
-  3. yosys `synth_xilinx -family xc7 -abc9 -flatten ...; sta` -> longest pre-route arrival time
-     (sta.txt), the logic-delay estimate: cell delays from yosys's xc7 models, no routing.
-Results: build/synth/report.json (one record per configuration; records of other configurations
-already there are kept), build/synth/report.md (table) and the same table on stdout.
+A job is a top (orb_core, orb_accel_top or orb_accel_zynq) with a configuration WIDTH_g x HEIGHT_g
+x SCALES_g (plus the top's extra generics in TOPS). For each job, in build/synth/<top>/<W>x<H>x<S>/:
+  1. `ghdl synth --std=08 -gWIDTH_g=.. -gHEIGHT_g=.. -gSCALES_g=.. [-gMEM_DEPTH_g=.. -gINPUT_g=..]
+     --out=verilog <hdl sources in manifest order> -e <top>` -> top.v (GHDL's inferred-RAM notes
+     are kept in ghdl.log and in the record);
+  2. yosys `synth_xilinx -family xc7 -top <top>; stat` -> resource counts (stat.txt);
+  3. only with --sta (make synth STA=1; slow: 4.5-7.5 min per job measured): yosys `synth_xilinx
+     -family xc7 -abc9 -flatten ...; sta` -> longest pre-route arrival time (sta.txt), the
+     logic-delay estimate: cell delays from yosys's xc7 models, no routing. Without it
+     logic_delay_ns is null.
+
+Default set (make synth): orb_core 640x480x1 and 1920x1080x2, resources only (3.5-7 min wall
+measured with 2 jobs on a shared 2-core machine). At the end the script prints how long the other
+known jobs (OTHER_JOBS) and the sta pass would take, from the last measured wall times
+(build/synth/times.json, else the wall_s in synth_expected.json), or "unknown".
+
+Cache: each job's record is kept in its directory (record.json) with a cache key, a SHA-256 of the
+HDL sources (orb_sim.hdl.sources(), the manifest's files in order, by name and content), the top,
+the generics, FLOW_VERSION, the yosys scripts and the GHDL/yosys versions. A job whose key matches
+and which has the requested passes is not run again; a second `make synth` takes seconds.
+
+Results: build/synth/report.json (one record per top and configuration; records of other jobs
+already there are kept) and build/synth/report.md (table), both rewritten as soon as a pass of a
+job finishes, not at the end.
+
+Expected values: scripts/flow/synth_expected.json holds, per "<top> <W>x<H>x<S>", the lut, ff,
+bram36, dsp (and optionally logic_delay_ns) measured at a given commit, and a tolerance in percent.
+Every record produced or reused is compared against them; a figure outside the tolerance (higher:
+a regression; lower: an improvement, or logic optimised away; either way the expectation is out of
+date) is reported with expected, got and tolerance and makes the exit status 1. A job without an
+entry is reported as "no expectation".
 
 Counting: lut = LUT1..LUT6 + SRL16E/SRLC32E + LUT-RAM cells in LUTs (as Vivado's "Slice LUTs");
 ff = FDRE + FDSE + FDCE + FDPE; bram36 = RAMB36E1 + RAMB18E1 / 2; dsp = DSP48E1.
@@ -31,13 +53,14 @@ Work-arounds for tool bugs, each recorded in the record's "workarounds" list:
     every carry chain; the cell models are read again with their specify blocks before `sta`.
     LUT-RAM cells stay untimed (listed in the record's sta.untimed_cell_types).
 
-Usage: scripts/flow/synth.py [--config WxHxS ...] [--jobs N] [--no-sta] [--timeout S]
+Usage: scripts/flow/synth.py [--top T] [--config WxHxS ...] [--sta] [--jobs N] [--timeout S] [--out D]
 """
 
 from __future__ import annotations
 
 import argparse
 import datetime
+import hashlib
 import json
 import os
 import re
@@ -47,25 +70,49 @@ import subprocess
 import sys
 import threading
 import time
+from collections.abc import Collection, Iterable, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
-
-from orb_sim.hdl import HDL, sources  # the one list of hdl files (hdl/manifest.txt)
+from typing import Any
 
 ROOT = Path(__file__).resolve().parents[2]
+# orb_sim of this checkout, also with a plain python3 (make synth needs no `make setup`)
+sys.path.insert(0, str(ROOT / "sw"))
+from orb_sim.hdl import find_entity, sources  # noqa: E402  (the one list of hdl files: hdl/manifest.txt)
 
-TOP = "orb_core"
 OUT = ROOT / "build" / "synth"
-# (WIDTH_g, HEIGHT_g, SCALES_g); documented in docs/synthesis.md
-DEFAULT_CONFIGS = (
-    (640, 480, 1),
-    (640, 480, 2),
-    (1280, 720, 2),
-    (1920, 1080, 1),
-    (1920, 1080, 2),
-    (1920, 1080, 4),
+EXPECTED = Path(__file__).resolve().with_name("synth_expected.json")
+
+# Bump when a change to this script changes the figures or the record's meaning: it is part of the
+# cache key, so every cached record is measured again.
+FLOW_VERSION = 2
+
+# The tops the script knows and the generics each gets besides WIDTH_g, HEIGHT_g, SCALES_g
+# (their defaults, given explicitly so that they are in the record and the cache key).
+TOPS: dict[str, dict[str, int | str]] = {
+    "orb_core": {},
+    "orb_accel_top": {"MEM_DEPTH_g": 1024, "INPUT_g": "RGB"},
+    "orb_accel_zynq": {"MEM_DEPTH_g": 1024, "INPUT_g": "RBG"},
+}
+DEFAULT_TOP = "orb_core"
+# make synth: (top, "WxHxS"), resources only; documented in docs/synthesis.md
+DEFAULT_JOBS = (
+    ("orb_core", "640x480x1"),
+    ("orb_core", "1920x1080x2"),
 )
+# Known but not run by default; the end of a default run prints their estimated times.
+OTHER_JOBS = (
+    ("orb_core", "640x480x2"),
+    ("orb_core", "1280x720x2"),
+    ("orb_core", "1920x1080x1"),
+    ("orb_core", "1920x1080x4"),
+    ("orb_accel_top", "640x480x2"),
+    ("orb_accel_top", "1920x1080x2"),
+    ("orb_accel_zynq", "1920x1080x2"),
+)
+# the figures synth_expected.json may give and the check compares
+CHECKED = ("lut", "ff", "bram36", "dsp", "logic_delay_ns")
 # XC7Z020 (Zybo Z7-20) capacity
 DEVICE = {"name": "XC7Z020", "lut": 53200, "ff": 106400, "bram36": 140, "dsp": 220}
 
@@ -115,6 +162,7 @@ tee -o sta_stat.txt stat
 read_verilog -lib -specify -overwrite +/xilinx/cells_sim.v
 tee -o sta.txt sta
 """
+PASSES = {"stat": ("yosys_stat", STAT_SCRIPT), "sta": ("yosys_sta", STA_SCRIPT)}
 
 
 class ToolError(RuntimeError):
@@ -142,8 +190,118 @@ def parse_config(text: str) -> Config:
         raise argparse.ArgumentTypeError(f"config must look like 1920x1080x2 (W x H x scales), got {text!r}")
     w, h, s = (int(g) for g in m.groups())
     if not (64 <= w <= 1920 and 48 <= h <= 1080 and 1 <= s <= 4):
-        raise argparse.ArgumentTypeError(f"{text}: orb_core allows W 64..1920, H 48..1080, scales 1..4")
+        raise argparse.ArgumentTypeError(f"{text}: the tops allow W 64..1920, H 48..1080, scales 1..4")
     return Config(w, h, s)
+
+
+@dataclass(frozen=True)
+class Job:
+    top: str
+    cfg: Config
+
+    @property
+    def name(self) -> str:
+        """The job's name, also its key in synth_expected.json and times.json: '<top> <W>x<H>x<S>'."""
+        return f"{self.top} {self.cfg.name}"
+
+    @property
+    def generics(self) -> dict[str, int | str]:
+        return {**self.cfg.generics, **TOPS[self.top]}
+
+    def dir(self, out: Path) -> Path:
+        return out / self.top / self.cfg.name
+
+
+def job(top: str, config: str) -> Job:
+    if top not in TOPS:
+        raise ValueError(f"unknown top {top!r}; known: {', '.join(TOPS)}")
+    return Job(top, parse_config(config))
+
+
+def parse_job_name(name: str) -> Job:
+    """'orb_core 640x480x1' -> Job (ValueError/ArgumentTypeError if the top or the config is unknown)."""
+    top, _, config = name.partition(" ")
+    return job(top, config)
+
+
+def cache_key(top: str, generics: dict[str, int | str], files: Sequence[Path], tools: dict[str, str]) -> str:
+    """SHA-256 over what a job's figures depend on: every HDL source (name and content, in compile
+    order), the top, its generics, FLOW_VERSION, the yosys scripts and the tool versions."""
+    h = hashlib.sha256()
+    meta = {
+        "flow": FLOW_VERSION,
+        "top": top,
+        "generics": {k: generics[k] for k in sorted(generics)},
+        "scripts": [STAT_SCRIPT, STA_SCRIPT],
+        "tools": {k: tools[k] for k in sorted(tools)},
+    }
+    h.update(json.dumps(meta, sort_keys=True).encode())
+    for f in files:
+        h.update(b"\0" + f.name.encode() + b"\0" + hashlib.sha256(f.read_bytes()).digest())
+    return h.hexdigest()
+
+
+def load_expected(path: Path = EXPECTED) -> dict[str, Any]:
+    """synth_expected.json, checked for shape: {"tolerance_pct": x, "jobs": {"<top> <cfg>": {...}}}."""
+    data = json.loads(path.read_text())
+    if not isinstance(data.get("tolerance_pct"), (int, float)) or data["tolerance_pct"] < 0:
+        raise ValueError(f"{path}: 'tolerance_pct' must be a non-negative number")
+    jobs = data.get("jobs")
+    if not isinstance(jobs, dict):
+        raise ValueError(f"{path}: 'jobs' must be an object keyed by '<top> <W>x<H>x<S>'")
+    for name, entry in jobs.items():
+        try:
+            parse_job_name(name)
+        except (ValueError, argparse.ArgumentTypeError) as exc:
+            raise ValueError(f"{path}: {name!r}: {exc}") from None
+        if not any(k in entry for k in CHECKED):
+            raise ValueError(f"{path}: {name} has none of {', '.join(CHECKED)}")
+        for k in CHECKED:
+            if k in entry and not isinstance(entry[k], (int, float)):
+                raise ValueError(f"{path}: {name}.{k} must be a number")
+    return data
+
+
+def num(x: float) -> str:
+    return f"{x:,.0f}" if abs(x) >= 1000 else f"{x:.4g}"
+
+
+@dataclass(frozen=True)
+class Check:
+    status: str  # "ok", "fail" or "no expectation"
+    messages: tuple[str, ...]  # one per figure outside the tolerance, and notes
+
+    def as_dict(self) -> dict[str, Any]:
+        return {"status": self.status, "messages": list(self.messages)}
+
+
+def check_record(rec: dict[str, Any], expected: dict[str, Any]) -> Check:
+    """Compare a record's figures with its expectation (load_expected's data)."""
+    name = f"{rec['top']} {rec['width']}x{rec['height']}x{rec['scales']}"
+    entry = expected["jobs"].get(name)
+    if entry is None:
+        return Check("no expectation", ())
+    tol = float(entry.get("tolerance_pct", expected["tolerance_pct"]))
+    fails: list[str] = []
+    notes: list[str] = []
+    for k in CHECKED:
+        if k not in entry:
+            continue
+        exp, got = entry[k], rec.get(k)
+        if got is None:
+            why = "sta not run (STA=1)" if k == "logic_delay_ns" else "no figure (the run failed)"
+            (notes if k == "logic_delay_ns" else fails).append(f"{name}: {k} expected {exp:,}, not checked: {why}")
+            continue
+        dev = abs(got - exp)
+        if dev <= abs(exp) * tol / 100 + 1e-9:
+            continue
+        rel = f"{100 * (got - exp) / exp:+.1f} %" if exp else f"{got - exp:+g}"
+        kind = "higher: a regression" if got > exp else "lower: better, or logic optimised away; check, then update"
+        fails.append(
+            f"{name}: {k} expected {exp:,} ± {tol:g} % ({num(exp * (1 - tol / 100))}..{num(exp * (1 + tol / 100))}), "
+            f"got {got:,} ({rel}, {kind})"
+        )
+    return Check("fail" if fails else "ok", tuple(fails + notes))
 
 
 def find_tools() -> tuple[str, str]:
@@ -184,21 +342,21 @@ def hdl_revision() -> str:
     return f"commit {rev}" + (" + local changes" if dirty else "")
 
 
-def ghdl_synth(ghdl: str, cfg: Config, cdir: Path, rec: dict) -> None:
+def ghdl_synth(ghdl: str, job: Job, files: Sequence[Path], cdir: Path, rec: dict[str, Any]) -> None:
     """GHDL -> top.ghdl.v (raw) and top.v (Verilog-writer fix applied). Fills RAM notes etc."""
-    files = sources()
+    cfg = job.cfg
 
-    def run(srcs: list[Path]) -> subprocess.CompletedProcess:
+    def run(srcs: Iterable[Path]) -> subprocess.CompletedProcess[str]:
         cmd = [ghdl, "synth", "--std=08"]
-        cmd += [f"-g{k}={v}" for k, v in cfg.generics.items()]
-        cmd += ["--out=verilog", *map(str, srcs), "-e", TOP]
+        cmd += [f"-g{k}={v}" for k, v in job.generics.items()]
+        cmd += ["--out=verilog", *map(str, srcs), "-e", job.top]
         rec["ghdl_cmd"] = " ".join(cmd).replace(str(ROOT) + "/", "")
         return subprocess.run(cmd, capture_output=True, text=True, check=False, cwd=cdir)
 
     t0 = time.monotonic()
     proc = run(files)
     if proc.returncode != 0 and "GHDL Bug occurred" in proc.stderr and cfg.scales == 1:
-        merge = HDL / "core" / "orb_feat_merge.vhd"
+        merge = find_entity("orb_feat_merge").path
         text, applied = merge.read_text(), []
         for pattern, repl, what in MERGE_S1_PATCHES:
             text, n = pattern.subn(repl, text)
@@ -212,8 +370,7 @@ def ghdl_synth(ghdl: str, cfg: Config, cdir: Path, rec: dict) -> None:
             proc = run([patched if s == merge else s for s in files])
             rec["workarounds"].append(
                 "GHDL 2.0 synth crashes on orb_feat_merge with SCALES_g=1 (0-bit scale index); synthesised "
-                f"build/synth/{cfg.name}/patched/orb_feat_merge.vhd instead, equivalent for SCALES_g=1: "
-                + "; ".join(applied)
+                f"{rel(cdir)}/patched/orb_feat_merge.vhd instead, equivalent for SCALES_g=1: " + "; ".join(applied)
             )
     rec["wall_s"]["ghdl"] = round(time.monotonic() - t0, 1)
     (cdir / "ghdl.log").write_text(proc.stderr)
@@ -272,12 +429,12 @@ def drop_zero_width(verilog: str) -> tuple[str, int]:
     return "\n".join(out) + "\n", len(zero)
 
 
-RUNNING: set[subprocess.Popen] = set()
+RUNNING: set[subprocess.Popen[bytes]] = set()
 
 
-def run_yosys(yosys: str, cdir: Path, script: str, log: str, timeout: float) -> tuple[float, float]:
+def run_yosys(yosys: str, top: str, cdir: Path, script: str, log: str, timeout: float) -> tuple[float, float]:
     """Run one yosys script in cdir; returns (wall s, CPU s of yosys and its abc children)."""
-    (cdir / f"{log}.ys").write_text(script.format(top=TOP))
+    (cdir / f"{log}.ys").write_text(script.format(top=top))
     t0 = time.monotonic()
     with open(cdir / f"{log}.stderr", "w") as err:
         proc = subprocess.Popen(
@@ -302,11 +459,11 @@ def run_yosys(yosys: str, cdir: Path, script: str, log: str, timeout: float) -> 
     return wall, cpu
 
 
-def parse_stat(text: str) -> dict[str, int]:
+def parse_stat(text: str, top: str) -> dict[str, int]:
     """Cell counts of the whole design from `stat` output (the 'design hierarchy' totals if any)."""
     sections = re.split(r"^=== (.+?) ===$", text, flags=re.M)
     blocks = dict(zip(sections[1::2], sections[2::2], strict=True))
-    body = blocks.get("design hierarchy") or blocks.get(TOP) or (sections[-1] if len(sections) > 1 else "")
+    body = blocks.get("design hierarchy") or blocks.get(top) or (sections[-1] if len(sections) > 1 else "")
     cells: dict[str, int] = {}
     in_cells = False
     for line in body.splitlines():
@@ -325,7 +482,7 @@ def parse_stat(text: str) -> dict[str, int]:
     return cells
 
 
-def summarise(cells: dict[str, int]) -> dict:
+def summarise(cells: dict[str, int]) -> dict[str, Any]:
     lut_logic = sum(cells.get(c, 0) for c in LUT_CELLS)
     srl = sum(cells.get(c, 0) for c in SRL_CELLS)
     lutram = sum(n * LUTRAM_CELLS[c] for c, n in cells.items() if c in LUTRAM_CELLS)
@@ -349,7 +506,7 @@ def summarise(cells: dict[str, int]) -> dict:
     }
 
 
-def parse_sta(text: str) -> dict:
+def parse_sta(text: str) -> dict[str, Any]:
     m = ARRIVAL_RE.search(text)
     if not m:
         raise ToolError("yosys sta printed no 'Latest arrival time' line")
@@ -371,69 +528,90 @@ def parse_sta(text: str) -> dict:
     }
 
 
-def synth_stat(yosys: str, cdir: Path, rec: dict, timeout: float) -> None:
-    wall, cpu = run_yosys(yosys, cdir, STAT_SCRIPT, "yosys_stat", timeout)
+def synth_stat(yosys: str, top: str, cdir: Path, rec: dict[str, Any], timeout: float) -> None:
+    wall, cpu = run_yosys(yosys, top, cdir, STAT_SCRIPT, "yosys_stat", timeout)
     rec["wall_s"]["yosys_stat"], rec["cpu_s"]["yosys_stat"] = round(wall, 1), round(cpu, 1)
-    rec.update(summarise(parse_stat((cdir / "stat.txt").read_text())))
+    rec.update(summarise(parse_stat((cdir / "stat.txt").read_text(), top)))
 
 
-def synth_sta(yosys: str, cdir: Path, rec: dict, timeout: float) -> None:
-    try:
-        wall, cpu = run_yosys(yosys, cdir, STA_SCRIPT, "yosys_sta", timeout)
-        rec["wall_s"]["yosys_sta"], rec["cpu_s"]["yosys_sta"] = round(wall, 1), round(cpu, 1)
-        sta = parse_sta((cdir / "sta.txt").read_text())
-    except ToolError as exc:
-        rec["errors"].append(f"timing pass: {exc}")
-        return
+def synth_sta(yosys: str, top: str, cdir: Path, rec: dict[str, Any], timeout: float) -> None:
+    wall, cpu = run_yosys(yosys, top, cdir, STA_SCRIPT, "yosys_sta", timeout)
+    rec["wall_s"]["yosys_sta"], rec["cpu_s"]["yosys_sta"] = round(wall, 1), round(cpu, 1)
+    sta = parse_sta((cdir / "sta.txt").read_text())
     rec["logic_delay_ns"] = round(sta["arrival_ps"] / 1000, 3)
     rec["sta"] = {k: v for k, v in sta.items() if k != "path"}
     log = (cdir / "yosys_sta.log").read_text()
     rec["sta"]["untimed_cell_types"] = sorted(set(re.findall(r"Module '(\w+)' has no timing arcs", log)))
-    flat = summarise(parse_stat((cdir / "sta_stat.txt").read_text()))
+    flat = summarise(parse_stat((cdir / "sta_stat.txt").read_text(), top))
     rec["abc9_flat"] = {k: flat[k] for k in ("lut", "lut_logic", "srl", "lutram", "ff", "ramb36", "ramb18", "dsp")}
 
 
-def new_record(cfg: Config) -> dict:
+def new_record(job: Job, key: str) -> dict[str, Any]:
     return {
-        "top": TOP,
-        "width": cfg.width,
-        "height": cfg.height,
-        "scales": cfg.scales,
-        "sectors": 32,  # orb_core defaults: SECTORS_g = 8 per quadrant, DESC_g = true
+        "top": job.top,
+        "width": job.cfg.width,
+        "height": job.cfg.height,
+        "scales": job.cfg.scales,
+        "generics": job.generics,
+        "sectors": 32,  # the tops' defaults: SECTORS_g = 8 per quadrant (orb_core: DESC_g = true)
         "lut": None,
         "ff": None,
         "bram36": None,
         "dsp": None,
-        "logic_delay_ns": None,
+        "logic_delay_ns": None,  # null unless the sta pass ran (--sta / STA=1)
         "srl": None,
         "ramb18": None,
         "ramb36": None,
+        "passes": [],
+        "cache_key": key,
         "workarounds": [],
+        "warnings": [],
         "errors": [],
         "wall_s": {},
         "cpu_s": {},
     }
 
 
-def util(rec: dict) -> dict:
+def load_cached(cdir: Path, key: str) -> dict[str, Any] | None:
+    """The job's cached record if its cache key matches and it has no errors, else None."""
+    try:
+        rec = json.loads((cdir / "record.json").read_text())
+    except (OSError, ValueError):
+        return None
+    if not isinstance(rec, dict) or rec.get("cache_key") != key or rec.get("errors"):
+        return None
+    return rec
+
+
+def util(rec: dict[str, Any]) -> dict[str, float | None]:
     return {
         k: (round(100 * rec[k] / DEVICE[k], 1) if rec.get(k) is not None else None)
         for k in ("lut", "ff", "bram36", "dsp")
     }
 
 
-def fmt(v, pct=None) -> str:
+def fmt(v: float | None, pct: float | None = None) -> str:
     if v is None:
         return "—"
     s = f"{v:,}" if isinstance(v, int) else f"{v:g}"
     return f"{s} ({pct:.1f}%)" if pct is not None else s
 
 
-def table(records: list[dict]) -> str:
+def fmt_s(seconds: float | None) -> str:
+    if seconds is None:
+        return "unknown"
+    return f"{seconds:.0f} s" if seconds < 120 else f"{seconds / 60:.1f} min"
+
+
+def rec_key(rec: dict[str, Any]) -> tuple[str, int, int, int]:
+    return (rec["top"], rec["width"], rec["height"], rec["scales"])
+
+
+def table(records: list[dict[str, Any]]) -> str:
     head = (
-        "| config (W x H, scales) | LUT | FF | BRAM36 | DSP | SRL | LUT-RAM | LUT, FF (abc9 flat) "
-        "| logic delay ns | yosys CPU s | RAMs found by GHDL | notes |\n"
-        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---|\n"
+        "| top | config (W x H, scales) | LUT | FF | BRAM36 | DSP | SRL | LUT-RAM | LUT, FF (abc9 flat) "
+        "| logic delay ns | yosys CPU s | check | measured | RAMs found by GHDL | notes |\n"
+        "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---|---|---|\n"
     )
     rows = []
     for r in records:
@@ -448,69 +626,257 @@ def table(records: list[dict]) -> str:
             notes.append("sta path ends at no recognised endpoint")
         if r.get("sta", {}).get("untimed_cell_types"):
             notes.append("untimed in sta: " + ", ".join(r["sta"]["untimed_cell_types"]))
+        notes += r.get("warnings", [])
         notes += ["ERROR: " + e for e in r.get("errors", [])]
+        check = r.get("check", {}).get("status", "—")
+        measured = f"{r.get('date', '?')}, {r.get('hdl_revision', '?')}"
         rows.append(
-            f"| {r['width']}x{r['height']}, {r['scales']} | {fmt(r['lut'], u['lut'])} | {fmt(r['ff'], u['ff'])} "
-            f"| {fmt(r['bram36'], u['bram36'])} | {fmt(r['dsp'], u['dsp'])} | {fmt(r['srl'])} "
-            f"| {fmt(r.get('lutram'))} | {flat} | {fmt(r['logic_delay_ns'])} | {cpu} | {rams} | {'; '.join(notes)} |"
+            f"| {r['top']} | {r['width']}x{r['height']}, {r['scales']} | {fmt(r['lut'], u['lut'])} "
+            f"| {fmt(r['ff'], u['ff'])} | {fmt(r['bram36'], u['bram36'])} | {fmt(r['dsp'], u['dsp'])} "
+            f"| {fmt(r['srl'])} | {fmt(r.get('lutram'))} | {flat} | {fmt(r['logic_delay_ns'])} | {cpu} "
+            f"| {check} | {measured} | {rams} | {'; '.join(notes)} |"
         )
     return head + "\n".join(rows) + "\n"
 
 
-def _interrupt(signum, frame) -> None:
+def estimate(name: str, steps: Sequence[str], times: dict[str, Any], expected: dict[str, Any]) -> tuple[float, str]:
+    """Seconds the steps (ghdl, yosys_stat, yosys_sta) of one job took when last measured: from
+    times.json (this machine), else from synth_expected.json. Raises KeyError when unknown."""
+    for source, where in ((times.get(name, {}), "measured here"), (expected["jobs"].get(name, {}), "expected file")):
+        walls = source.get("wall_s", {})
+        if all(s in walls for s in steps):
+            date = source.get("date") or source.get("measured", {}).get("date", "?")
+            return sum(float(walls[s]) for s in steps), f"{where}, {date}"
+    raise KeyError(name)
+
+
+def estimates(
+    without_sta: Sequence[Job],
+    others: Sequence[Job],
+    times: dict[str, Any],
+    expected: dict[str, Any],
+    cached: Collection[str] = (),
+) -> list[str]:
+    """Lines saying how long what this run left out would take, one yosys process after the other:
+    the timing pass of the jobs in without_sta and the resource passes of the other jobs (those
+    named in cached have a valid cached record and take seconds)."""
+    lines: list[str] = []
+
+    def together(total: list[float | None]) -> str:
+        known = [t for t in total if t is not None]
+        if known and not any(known) and None not in total:
+            return f"  {'together':<52} seconds (cached)"
+        s = f"~{fmt_s(sum(known))} wall, one after the other" + (" + unknown" * (None in total)) if known else "unknown"
+        return f"  {'together':<52} {s}"
+
+    def line(label: str, name: str, steps: Sequence[str]) -> float | None:
+        if name in cached:
+            lines.append(f"  {label:<52} cached (seconds)")
+            return 0.0
+        try:
+            s, src = estimate(name, steps, times, expected)
+        except KeyError:
+            lines.append(f"  {label:<52} unknown (never measured)")
+            return None
+        lines.append(f"  {label:<52} ~{fmt_s(s)} ({src})")
+        return s
+
+    if others:
+        lines.append("Other known configurations (resources; make synth TOP=<top> CONFIG=<WxHxS>):")
+        total = [line(f"{j.name}", j.name, ("ghdl", "yosys_stat")) for j in others]
+        lines.append(together(total))
+    if without_sta:
+        lines.append("The timing pass (STA=1), per configuration of this run:")
+        total = [line(f"{j.name} sta", j.name, ("yosys_sta",)) for j in without_sta]
+        lines.append(together(total))
+    if lines:
+        lines.insert(0, "Estimated wall times from the last measured ones (noisy: the machine may be shared):")
+    return lines
+
+
+class Run:
+    """Shared state of one run: records, times and the report files, written under a lock."""
+
+    def __init__(self, out: Path, expected: dict[str, Any], expected_path: Path, header: str) -> None:
+        self.out = out
+        self.expected = expected
+        self.expected_path = expected_path
+        self.header = header
+        self.lock = threading.Lock()
+        self.report = out / "report.json"
+        self.times_file = out / "times.json"
+        try:
+            self.records: list[dict[str, Any]] = json.loads(self.report.read_text())
+        except (OSError, ValueError):
+            self.records = []
+        try:
+            self.times: dict[str, Any] = json.loads(self.times_file.read_text())
+        except (OSError, ValueError):
+            self.times = {}
+
+    def note_time(self, job: Job, step: str, wall: float | None, date: str) -> None:
+        if wall is None:
+            return
+        with self.lock:
+            entry = self.times.setdefault(job.name, {"wall_s": {}})
+            entry["wall_s"][step] = wall
+            entry["date"] = date
+            self.times_file.write_text(json.dumps(self.times, indent=2, sort_keys=True) + "\n")
+
+    def publish(self, rec: dict[str, Any]) -> None:
+        """Check the record, put it into report.json / report.md (replacing its old record)."""
+        with self.lock:
+            rec["util_pct"] = util(rec)
+            rec["check"] = check_record(rec, self.expected).as_dict()
+            self.records = [r for r in self.records if r.get("top") and rec_key(r) != rec_key(rec)] + [rec]
+            self.records.sort(key=rec_key)
+            self.out.mkdir(parents=True, exist_ok=True)
+            self.report.write_text(json.dumps(self.records, indent=2) + "\n")
+            (self.out / "report.md").write_text(self.markdown())
+
+    def markdown(self) -> str:
+        return (
+            f"# Synthesis estimate on {DEVICE['name']}\n\n"
+            f"{self.header}\n"
+            f"Percentages of the {DEVICE['name']}: {DEVICE['lut']:,} LUT, {DEVICE['ff']:,} FF, "
+            f"{DEVICE['bram36']} RAMB36, {DEVICE['dsp']} DSP48E1. LUT includes SRLs and LUT-RAM; "
+            "logic delay = yosys `sta` longest pre-route arrival (no routing), ns, only where the timing "
+            "pass ran (STA=1). LUT/FF/SRL/BRAM/DSP from `synth_xilinx` (hierarchical); LUT, FF (abc9 flat) "
+            f"from the timing pass. check: against {rel(self.expected_path)}.\n\n" + table(self.records)
+        )
+
+
+def _interrupt(signum: int, frame: object) -> None:
     raise KeyboardInterrupt
+
+
+def rel(p: Path) -> str:
+    return str(p.relative_to(ROOT)) if p.is_relative_to(ROOT) else str(p)
 
 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--config", type=parse_config, action="append", help="WxHxS, e.g. 1920x1080x2 (repeatable)")
-    ap.add_argument("--jobs", type=int, default=2, help="yosys processes at once (default 2)")
-    ap.add_argument("--no-sta", action="store_true", help="skip the -abc9 timing pass")
+    extra = "; ".join(f"{t}: " + ", ".join(f"{k} {v}" for k, v in g.items()) for t, g in TOPS.items() if g)
+    ap.add_argument("--top", choices=tuple(TOPS), default=DEFAULT_TOP, help=f"entity (default {DEFAULT_TOP}; {extra})")
+    default_cfgs = ", ".join(c for _, c in DEFAULT_JOBS)
+    ap.add_argument("--config", type=parse_config, action="append", help=f"WxHxS, repeatable (default: {default_cfgs})")
+    ap.add_argument(
+        "--sta",
+        action=argparse.BooleanOptionalAction,
+        default=False,
+        help="also run the slow -abc9 timing pass for logic_delay_ns (default: no; a run ends with its estimate)",
+    )
+    ap.add_argument("--jobs", type=int, default=2, help="processes at once (default 2)")
     ap.add_argument("--timeout", type=float, default=3600, help="seconds per yosys run (default 3600)")
-    ap.add_argument("--out", type=Path, default=OUT, help=f"output directory (default {OUT.relative_to(ROOT)})")
-    ap.add_argument("--top", choices=("orb_core", "orb_accel_top"), default="orb_core",
-                    help="entity to synthesise (orb_accel_top: the complete accelerator with its defaults "
-                    "MEM_DEPTH_g 1024, INPUT_g RGB)")  # fmt: skip
+    ap.add_argument("--out", type=Path, default=OUT, help=f"output directory (default {rel(OUT)})")
+    ap.add_argument("--expected", type=Path, default=EXPECTED, help=f"expected values (default {rel(EXPECTED)})")
+    ap.add_argument("--no-cache", action="store_true", help="run every job even if its cached record matches")
     args = ap.parse_args(argv)
-    global TOP
-    TOP = args.top
 
+    try:
+        expected = load_expected(args.expected)
+    except (OSError, ValueError) as exc:
+        print(f"error: expected values: {exc}", file=sys.stderr)
+        return 2
+    default_set = not args.config and args.top == DEFAULT_TOP
+    jobs = (
+        [Job(args.top, c) for c in args.config]
+        if args.config
+        else [Job(args.top, job(t, c).cfg) for t, c in DEFAULT_JOBS]
+    )
+    jobs = list(dict.fromkeys(jobs))
     ghdl, yosys = find_tools()
-    configs = args.config or [Config(*c) for c in DEFAULT_CONFIGS]
     tools = {"ghdl": tool_version([ghdl, "--version"]), "yosys": tool_version([yosys, "-V"])}
+    files = sources()
     hdl_rev = hdl_revision()
     started = datetime.datetime.now().astimezone()
+    date = started.strftime("%Y-%m-%d")
     t_start = time.monotonic()
-    print(f"{len(configs)} configuration(s), {args.jobs} job(s); {tools['ghdl']}; {tools['yosys']}", flush=True)
+    cmd = "scripts/flow/synth.py " + " ".join(argv if argv is not None else sys.argv[1:])
+    wanted = ["stat", *(["sta"] if args.sta else [])]
+    run = Run(
+        args.out,
+        expected,
+        args.expected,
+        f"Last run {started:%Y-%m-%d %H:%M %Z}: `{cmd.strip()}` on hdl/ at {hdl_rev} ({tools['ghdl']}; "
+        f"{tools['yosys']}). Each record was measured at the date and hdl/ revision in its `measured` column "
+        "(a record whose cache key matched was reused).\n",
+    )
+    print(f"{len(jobs)} job(s), passes {'+'.join(wanted)}, {args.jobs} process(es); {tools['ghdl']}; {tools['yosys']}")
 
-    results = {}
-    for cfg in configs:
-        cdir = args.out / cfg.name
-        cdir.mkdir(parents=True, exist_ok=True)
-        rec = new_record(cfg)
-        results[cfg] = rec
-        try:
-            ghdl_synth(ghdl, cfg, cdir, rec)
-        except ToolError as exc:
-            rec["errors"].append(str(exc))
+    # what each job needs: nothing (cached), or ghdl and/or some yosys passes
+    todo: dict[Job, list[str]] = {}
+    recs: dict[Job, dict[str, Any]] = {}
+    for j in jobs:
+        cdir = j.dir(args.out)
+        key = cache_key(j.top, j.generics, files, tools)
+        cached = None if args.no_cache else load_cached(cdir, key)
+        need = [p for p in wanted if cached is None or p not in cached.get("passes", [])]
+        if cached is not None and not need:
+            print(f"  {j.name:<28} cached (measured {cached.get('date', '?')}, hdl/ at {cached.get('hdl_revision')})")
+            run.publish(cached)
+            recs[j] = cached
+            continue
+        # a cached record missing a pass reuses its top.v; anything else starts again from GHDL
+        rec = cached if cached is not None and (cdir / "top.v").exists() else new_record(j, key)
+        if rec is not cached:
+            rec.update(date=date, hdl_revision=hdl_rev, tools=tools)
+            (cdir / "record.json").unlink(missing_ok=True)
+        recs[j], todo[j] = rec, need
 
-    def task(cfg: Config, which: str) -> None:
-        rec, cdir = results[cfg], args.out / cfg.name
-        try:
-            (synth_stat if which == "stat" else synth_sta)(yosys, cdir, rec, args.timeout)
-        except ToolError as exc:
-            rec["errors"].append(f"{which} pass: {exc}")
-        print(f"  {cfg.name:<12} {which:<4} done after {time.monotonic() - t_start:6.0f} s", flush=True)
-
-    passes = ["stat"] + ([] if args.no_sta else ["sta"])
-    # longest first (yosys time grows with the number of scales, hardly with the width)
-    order = sorted(configs, key=lambda c: (-c.scales, -c.width * c.height))
-    jobs = [(c, p) for c in order for p in reversed(passes) if not results[c]["errors"]]
     signal.signal(signal.SIGTERM, _interrupt)  # `kill` stops the yosys runs too
     pool = ThreadPoolExecutor(max_workers=max(1, args.jobs))
+
+    def ghdl_task(j: Job) -> None:
+        rec, cdir = recs[j], j.dir(args.out)
+        cdir.mkdir(parents=True, exist_ok=True)
+        try:
+            ghdl_synth(ghdl, j, files, cdir, rec)
+        except ToolError as exc:
+            rec["errors"].append(str(exc))
+        if cache_key(j.top, j.generics, files, tools) != rec["cache_key"]:
+            rec["warnings"].append("hdl/ changed while GHDL read it: this record is not cached")
+            rec["cache_key"] = None
+        run.note_time(j, "ghdl", rec["wall_s"].get("ghdl"), date)
+        print(f"  {j.name:<28} ghdl done after {time.monotonic() - t_start:6.0f} s", flush=True)
+
+    def pass_task(j: Job, which: str) -> None:
+        rec, cdir = recs[j], j.dir(args.out)
+        try:
+            (synth_stat if which == "stat" else synth_sta)(yosys, j.top, cdir, rec, args.timeout)
+            with run.lock:
+                rec["passes"] = sorted({*rec["passes"], which}, key=list(PASSES).index)
+                rec["date"], rec["hdl_revision"], rec["tools"] = date, hdl_rev, tools
+        except ToolError as exc:
+            rec["errors"].append(f"{which} pass: {exc}")
+        run.note_time(j, PASSES[which][0], rec["wall_s"].get(PASSES[which][0]), date)
+        done = all(p in rec["passes"] for p in wanted) or rec["errors"]
+        if done and not rec["errors"] and rec.get("cache_key"):
+            (cdir / "record.json").write_text(json.dumps(rec, indent=2) + "\n")
+        run.publish(rec)
+        figures = f"{fmt(rec['lut'])} LUT, {fmt(rec['ff'])} FF, {fmt(rec['bram36'])} BRAM36, {fmt(rec['dsp'])} DSP"
+        if which == "sta":
+            figures = f"logic delay {fmt(rec['logic_delay_ns'])} ns"
+        status = "FAILED: " + rec["errors"][-1] if rec["errors"] else figures
+        print(f"  {j.name:<28} {which:<4} done after {time.monotonic() - t_start:6.0f} s: {status}", flush=True)
+
+    def est(j: Job) -> float:
+        try:
+            return estimate(j.name, ("yosys_stat",), run.times, expected)[0]
+        except KeyError:  # yosys time grows with the number of scales and the top, hardly with the width
+            return j.cfg.scales * 100 + (200 if j.top != "orb_core" else 0) + j.cfg.width / 100
+
     try:
-        for f in [pool.submit(task, c, p) for c, p in jobs]:
+        for f in [pool.submit(ghdl_task, j) for j in todo if not recs[j]["passes"]]:
             f.result()
+        # longest first; the timing pass before the resource pass of the same job
+        order = sorted(todo, key=lambda j: -est(j))
+        tasks = [(j, p) for j in order for p in reversed(todo[j]) if not recs[j]["errors"]]
+        for f in [pool.submit(pass_task, j, p) for j, p in tasks]:
+            f.result()
+        for j in todo:
+            if recs[j]["errors"] and not recs[j]["passes"]:
+                run.publish(recs[j])  # ghdl failed: no pass ran, still report it
     except KeyboardInterrupt:
         pool.shutdown(wait=False, cancel_futures=True)
         for proc in list(RUNNING):
@@ -519,46 +885,35 @@ def main(argv: list[str] | None = None) -> int:
     pool.shutdown()
     wall = time.monotonic() - t_start
 
-    for rec in results.values():
-        rec["util_pct"] = util(rec)
-        rec["tools"] = tools
-        rec["date"] = started.strftime("%Y-%m-%d")
-        rec["hdl_revision"] = hdl_rev
-
-    report = args.out / "report.json"
-    old = json.loads(report.read_text()) if report.exists() else []
-    keep = [
-        r
-        for r in old
-        if (r.get("top"), r.get("width"), r.get("height"), r.get("scales"))
-        not in {(TOP, c.width, c.height, c.scales) for c in configs}
-    ]
-    records = sorted(keep + list(results.values()), key=lambda r: (r["top"], r["width"], r["height"], r["scales"]))
-    report.write_text(json.dumps(records, indent=2) + "\n")
-
-    cmd = "scripts/flow/synth.py " + " ".join(argv if argv is not None else sys.argv[1:])
-    md = (
-        f"# Synthesis estimate: {TOP} on {DEVICE['name']}\n\n"
-        f"Measured {started:%Y-%m-%d %H:%M %Z} with `{cmd.strip()}` on hdl/ at {hdl_rev} "
-        f"({tools['ghdl']}; {tools['yosys']}); "
-        f"this run: {len(configs)} configuration(s), {wall:.0f} s wall with {args.jobs} job(s).\n"
-        f"Percentages of the {DEVICE['name']}: {DEVICE['lut']:,} LUT, {DEVICE['ff']:,} FF, "
-        f"{DEVICE['bram36']} RAMB36, {DEVICE['dsp']} DSP48E1. LUT includes SRLs and LUT-RAM; "
-        "logic delay = yosys `sta` longest pre-route arrival (no routing), ns. "
-        "LUT/FF/SRL/BRAM/DSP from `synth_xilinx` (hierarchical); LUT, FF (abc9 flat) from the timing pass.\n\n"
-        + table(records)
-    )
-    (args.out / "report.md").write_text(md)
+    this_run = [recs[j] for j in jobs]
     print()
-    print(md)
-    for r in results.values():
+    print(run.markdown())
+    fails = 0
+    for j, r in zip(jobs, this_run, strict=True):
         for e in r["errors"]:
-            print(f"error: {r['width']}x{r['height']}x{r['scales']}: {e}", file=sys.stderr)
-    print(
-        f"wrote {report.relative_to(ROOT) if report.is_relative_to(ROOT) else report} and report.md; "
-        f"total wall time {wall:.0f} s"
-    )
-    return 1 if any(r["errors"] for r in results.values()) else 0
+            print(f"error: {j.name}: {e}", file=sys.stderr)
+        c = r.get("check") or check_record(r, expected).as_dict()
+        if c["status"] == "fail":
+            fails += 1
+            for m in c["messages"]:
+                print(f"expected-values check FAILED: {m}", file=sys.stderr)
+        else:
+            what = f" (no entry in {rel(args.expected)})" if c["status"] == "no expectation" else ""
+            print(f"expected-values check {c['status']}: {j.name}{what}" + "".join(f"; {m}" for m in c["messages"]))
+    others = [job(t, c) for t, c in (*DEFAULT_JOBS, *OTHER_JOBS)] if default_set else []
+    others = [o for o in others if o not in jobs]
+    cached = {o.name for o in others if load_cached(o.dir(args.out), cache_key(o.top, o.generics, files, tools))}
+    without_sta = [j for j in jobs if "sta" not in recs[j].get("passes", [])]
+    for line in estimates(without_sta, others, run.times, expected, cached):
+        print(line)
+    print(f"wrote {rel(run.report)} and report.md; total wall time {wall:.0f} s")
+    if fails:
+        print(
+            f"error: {fails} configuration(s) outside the expected values of {rel(args.expected)}; if the change is "
+            "intended, update that file (figures, commit, date)",
+            file=sys.stderr,
+        )
+    return 1 if fails or any(r["errors"] for r in this_run) else 0
 
 
 if __name__ == "__main__":

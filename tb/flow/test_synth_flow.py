@@ -1,0 +1,239 @@
+# SPDX-License-Identifier: MIT
+"""Fast checks of the synthesis-estimate flow (scripts/flow/synth.py) without running GHDL or yosys:
+the expected-values comparison, the cache key, the committed expected values and the time estimates."""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+import sys
+from pathlib import Path
+from types import ModuleType
+from typing import Any
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+SCRIPT = ROOT / "scripts" / "flow" / "synth.py"
+
+
+def _load() -> ModuleType:
+    spec = importlib.util.spec_from_file_location("orb_synth_flow_script", SCRIPT)
+    assert spec is not None and spec.loader is not None
+    mod = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = mod  # dataclasses look their module up while the class is built
+    spec.loader.exec_module(mod)
+    return mod
+
+
+synth = _load()
+
+EXPECTED: dict[str, Any] = {
+    "tolerance_pct": 2,
+    "jobs": {
+        "orb_core 640x480x1": {"lut": 10000, "ff": 9000, "bram36": 13.5, "dsp": 8, "logic_delay_ns": 5.0},
+        "orb_accel_top 640x480x2": {"lut": 20000, "tolerance_pct": 5},
+    },
+}
+
+
+def record(top: str = "orb_core", cfg: str = "640x480x1", **figures: Any) -> dict[str, Any]:
+    rec = synth.new_record(synth.job(top, cfg), "key")
+    rec.update(lut=10000, ff=9000, bram36=13.5, dsp=8)
+    rec.update(figures)
+    return rec
+
+
+# --- the expected-values check ---------------------------------------------------------------
+
+
+def test_check_within_tolerance_is_ok() -> None:
+    c = synth.check_record(record(lut=10200, ff=8820), EXPECTED)  # +2 %, -2 %: on the limits
+    assert c.status == "ok"
+    # logic_delay_ns is expected but the sta pass did not run: a note, not a failure
+    assert any("logic_delay_ns" in m and "not checked" in m for m in c.messages)
+
+
+def test_check_regression_fails_with_expected_got_tolerance() -> None:
+    c = synth.check_record(record(lut=10201), EXPECTED)
+    assert c.status == "fail"
+    (msg,) = [m for m in c.messages if "lut" in m]
+    assert "expected 10,000" in msg and "got 10,201" in msg and "± 2 %" in msg and "regression" in msg
+    assert "9,800..10,200" in msg
+
+
+@pytest.mark.parametrize(
+    ("figure", "value"),
+    [("ff", 9200), ("bram36", 14.0), ("dsp", 9), ("bram36", 13.0), ("dsp", 7), ("logic_delay_ns", 5.2)],
+)
+def test_check_each_figure_outside_tolerance_fails(figure: str, value: float) -> None:
+    c = synth.check_record(record(**{figure: value}), EXPECTED)
+    assert c.status == "fail"
+    assert [m for m in c.messages if f" {figure} expected" in m and "got" in m]
+
+
+def test_check_lower_than_expected_also_fails() -> None:
+    c = synth.check_record(record(lut=9000), EXPECTED)
+    assert c.status == "fail"
+    assert any("lower" in m and "update" in m for m in c.messages)
+
+
+def test_check_missing_figure_fails() -> None:
+    assert synth.check_record(record(lut=None), EXPECTED).status == "fail"
+
+
+def test_check_per_job_tolerance_and_no_expectation() -> None:
+    assert synth.check_record(record("orb_accel_top", "640x480x2", lut=20900), EXPECTED).status == "ok"
+    assert synth.check_record(record("orb_accel_top", "640x480x2", lut=21100), EXPECTED).status == "fail"
+    c = synth.check_record(record(cfg="1920x1080x1"), EXPECTED)
+    assert c.status == "no expectation"
+
+
+# --- the committed expected values --------------------------------------------------------
+
+
+def test_expected_file_parses_and_names_known_jobs() -> None:
+    data = synth.load_expected()
+    known = {(t, c) for t, c in (*synth.DEFAULT_JOBS, *synth.OTHER_JOBS)}
+    assert 0 < data["tolerance_pct"] <= 10
+    for name, entry in data["jobs"].items():
+        j = synth.parse_job_name(name)
+        assert (j.top, j.cfg.name) in known, f"{name} is not a job the script knows"
+        assert {"commit", "date", "command"} <= set(entry["measured"]), name
+    for top, cfg in synth.DEFAULT_JOBS:  # the default set is always checked
+        entry = data["jobs"][f"{top} {cfg}"]
+        assert all(isinstance(entry[k], (int, float)) for k in ("lut", "ff", "bram36", "dsp")), entry
+
+
+def test_load_expected_rejects_bad_files(tmp_path: Path) -> None:
+    bad = [
+        {"jobs": {}},  # no tolerance
+        {"tolerance_pct": 2, "jobs": {"orb_nothing 640x480x1": {"lut": 1}}},  # unknown top
+        {"tolerance_pct": 2, "jobs": {"orb_core 640x480": {"lut": 1}}},  # bad config
+        {"tolerance_pct": 2, "jobs": {"orb_core 640x480x1": {"luts": 1}}},  # no known figure
+        {"tolerance_pct": 2, "jobs": {"orb_core 640x480x1": {"lut": "9k"}}},  # not a number
+    ]
+    for i, data in enumerate(bad):
+        p = tmp_path / f"bad{i}.json"
+        p.write_text(json.dumps(data))
+        with pytest.raises(ValueError):
+            synth.load_expected(p)
+
+
+def test_tops_and_jobs_are_consistent() -> None:
+    from orb_sim.hdl import entities
+
+    names = entities()
+    for top, extra in synth.TOPS.items():
+        assert top in names, f"{top} is not in hdl/manifest.txt"
+        text = names[top].path.read_text()
+        for generic in extra:
+            assert generic in text, f"{top} has no generic {generic}"
+    for top, cfg in (*synth.DEFAULT_JOBS, *synth.OTHER_JOBS):
+        synth.job(top, cfg)
+    assert ("orb_core", "640x480x1") in synth.DEFAULT_JOBS and ("orb_core", "1920x1080x2") in synth.DEFAULT_JOBS
+
+
+# --- the cache key -------------------------------------------------------------------------
+
+
+@pytest.fixture
+def hdl(tmp_path: Path) -> list[Path]:
+    files = []
+    for name, text in (("a_pkg.vhd", "package a_pkg is end;"), ("top.vhd", "entity top is end;")):
+        (tmp_path / name).write_text(text)
+        files.append(tmp_path / name)
+    return files
+
+
+TOOLS = {"ghdl": "GHDL 2.0.0", "yosys": "Yosys 0.23"}
+
+
+def test_cache_key_is_stable(hdl: list[Path]) -> None:
+    g = {"WIDTH_g": 640, "HEIGHT_g": 480, "SCALES_g": 1}
+    assert synth.cache_key("orb_core", g, hdl, TOOLS) == synth.cache_key(
+        "orb_core", dict(reversed(g.items())), hdl, TOOLS
+    )
+
+
+def test_cache_key_follows_sources_top_generics_tools_and_flow_version(
+    hdl: list[Path], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    g = {"WIDTH_g": 640, "HEIGHT_g": 480, "SCALES_g": 1}
+    base = synth.cache_key("orb_core", g, hdl, TOOLS)
+    variants = [
+        synth.cache_key("orb_accel_top", g, hdl, TOOLS),
+        synth.cache_key("orb_core", {**g, "SCALES_g": 2}, hdl, TOOLS),
+        synth.cache_key("orb_core", {**g, "INPUT_g": "RGB"}, hdl, TOOLS),
+        synth.cache_key("orb_core", g, hdl[::-1], TOOLS),  # compile order
+        synth.cache_key("orb_core", g, hdl[:1], TOOLS),  # a file less
+        synth.cache_key("orb_core", g, hdl, {**TOOLS, "yosys": "Yosys 0.40"}),
+    ]
+    hdl[1].write_text("entity top is end; -- edited")
+    variants.append(synth.cache_key("orb_core", g, hdl, TOOLS))
+    hdl[1].write_text("entity top is end;")
+    assert synth.cache_key("orb_core", g, hdl, TOOLS) == base
+    monkeypatch.setattr(synth, "FLOW_VERSION", synth.FLOW_VERSION + 1)
+    variants.append(synth.cache_key("orb_core", g, hdl, TOOLS))
+    assert base not in variants and len(set(variants)) == len(variants)
+
+
+def test_cache_key_of_the_real_sources() -> None:
+    j = synth.job("orb_accel_zynq", "1920x1080x2")
+    assert j.generics == {"WIDTH_g": 1920, "HEIGHT_g": 1080, "SCALES_g": 2, "MEM_DEPTH_g": 1024, "INPUT_g": "RBG"}
+    key = synth.cache_key(j.top, j.generics, synth.sources(), TOOLS)
+    assert len(key) == 64 and key != synth.cache_key("orb_core", j.generics, synth.sources(), TOOLS)
+
+
+def test_load_cached_needs_the_same_key_and_no_errors(tmp_path: Path) -> None:
+    rec = record()
+    rec["cache_key"] = "abc"
+    (tmp_path / "record.json").write_text(json.dumps(rec))
+    assert synth.load_cached(tmp_path, "abc") == rec
+    assert synth.load_cached(tmp_path, "abd") is None
+    rec["errors"] = ["stat pass: yosys failed"]
+    (tmp_path / "record.json").write_text(json.dumps(rec))
+    assert synth.load_cached(tmp_path, "abc") is None
+    assert synth.load_cached(tmp_path / "nothing", "abc") is None
+
+
+# --- estimates and counting ------------------------------------------------------------------
+
+
+def test_estimates_use_the_last_times_or_say_unknown() -> None:
+    a, b = synth.job("orb_core", "640x480x1"), synth.job("orb_core", "1920x1080x4")
+    times = {a.name: {"wall_s": {"ghdl": 2, "yosys_stat": 100, "yosys_sta": 900}, "date": "2026-11-23"}}
+    none: dict[str, Any] = {"tolerance_pct": 2, "jobs": {}}
+    lines = synth.estimates([a], [a, b], times, none)
+    text = "\n".join(lines)
+    assert "orb_core 640x480x1 " in text and "~102 s" in text
+    assert any("1920x1080x4" in ln and "unknown" in ln for ln in lines)
+    assert any("sta" in ln and "~15.0 min" in ln for ln in lines)
+    assert synth.estimates([], [], times, none) == []
+    # the expected file's wall times when this machine has none; a cached job takes seconds
+    exp = {"tolerance_pct": 2, "jobs": {b.name: {"lut": 1, "wall_s": {"ghdl": 3, "yosys_stat": 600}}}}
+    lines = synth.estimates([], [b], {}, exp)
+    assert any("1920x1080x4" in ln and "~10.1 min" in ln and "expected file" in ln for ln in lines)
+    assert any("1920x1080x4" in ln and "cached" in ln for ln in synth.estimates([], [b], {}, exp, {b.name}))
+
+
+def test_parse_stat_and_counting() -> None:
+    stat = """
+=== design hierarchy ===
+
+   orb_core                          1
+
+   Number of cells:                 9
+     DSP48E1                         1
+     FDRE                            3
+     FDSE                            1
+     LUT2                            2
+     LUT6                            1
+     RAM32M                          1
+     RAMB18E1                        1
+     RAMB36E1                        2
+     SRLC32E                         1
+"""
+    s = synth.summarise(synth.parse_stat(stat, "orb_core"))
+    assert (s["lut"], s["lut_logic"], s["srl"], s["lutram"]) == (8, 3, 1, 4)
+    assert (s["ff"], s["bram36"], s["dsp"]) == (4, 2.5, 1)
