@@ -1,8 +1,9 @@
 -- SPDX-License-Identifier: MIT
--- orb_line_buffer: keeps the previous LINES_g lines of a pixel stream in one block RAM whose word
--- holds a whole column (LINES_g x DATA_WIDTH_g bits), read one clock before it is rewritten
--- shifted by one line. For every input pixel it outputs, one clock later, the column of the
--- LINES_g + 1 newest lines at that x: slice 0 is the input pixel, slice k the pixel k lines above.
+-- orb_line_buffer: keeps the previous LINES_g lines of a pixel stream in one block RAM (an
+-- orb_sdp_ram) whose word holds a whole column (LINES_g x DATA_WIDTH_g bits), read one clock
+-- before it is rewritten shifted by one line. For every input pixel it outputs, one clock later,
+-- the column of the LINES_g + 1 newest lines at that x: slice 0 is the input pixel, slice k the
+-- pixel k lines above.
 -- The caller supplies the column index, so the buffer needs no counters of its own; input gaps
 -- of any length are fine. Lines from an earlier frame stay in the RAM until overwritten: callers
 -- mask what they read near the top of a frame.
@@ -36,10 +37,7 @@ architecture rtl of orb_line_buffer is
   constant WORD_BITS_c : positive := LINES_g * DATA_WIDTH_g;
   constant ADDR_BITS_c : positive := clog2(LINE_WIDTH_g);
 
-  type mem_t is array (0 to LINE_WIDTH_g - 1) of std_logic_vector(WORD_BITS_c - 1 downto 0);
-
-  signal mem      : mem_t := (others => (others => '0'));  -- BRAM initial contents
-  signal rd_word  : std_logic_vector(WORD_BITS_c - 1 downto 0) := (others => '0');
+  signal rd_word  : std_logic_vector(WORD_BITS_c - 1 downto 0);
   signal wr_en    : std_logic                                  := '0';
   signal wr_addr  : unsigned(ADDR_BITS_c - 1 downto 0)         := (others => '0');
   signal data_dly : std_logic_vector(DATA_WIDTH_g - 1 downto 0) := (others => '0');
@@ -59,19 +57,26 @@ begin
     new_word <= data_dly;
   end generate gen_shift;
 
-  -- Simple dual-port RAM: registered read at in_col, write of the shifted word one clock later.
-  -- Read and write addresses differ whenever they coincide in time (consecutive columns).
-  ram : process (clk) is
-  begin
-    if rising_edge(clk) then
-      if wr_en = '1' then
-        mem(to_integer(wr_addr)) <= new_word;
-      end if;
-      if in_valid = '1' then
-        rd_word <= mem(to_integer(unsigned(in_col(ADDR_BITS_c - 1 downto 0))));
-      end if;
-    end if;
-  end process ram;
+  -- Simple dual-port RAM, zero at power-up: registered read at in_col, write of the shifted word
+  -- one clock later. Read and write addresses differ whenever they coincide in time (consecutive
+  -- columns).
+  ram : entity work.orb_sdp_ram
+    generic map (
+      DATA_WIDTH_g => WORD_BITS_c,
+      DEPTH_g      => LINE_WIDTH_g,
+      LATENCY_g    => 1,
+      INIT_ZERO_g  => true
+    )
+    port map (
+      clk     => clk,
+      wr_en   => wr_en,
+      wr_addr => std_logic_vector(wr_addr),
+      wr_data => new_word,
+      rd_en   => in_valid,
+      rd_addr => in_col(ADDR_BITS_c - 1 downto 0),
+      out_en  => '1',
+      rd_data => rd_word
+    );
 
   ctrl : process (clk) is
   begin

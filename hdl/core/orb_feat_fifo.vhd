@@ -1,8 +1,7 @@
 -- SPDX-License-Identifier: MIT
 -- orb_feat_fifo: synchronous first-word-fall-through FIFO of DEPTH_g (a power of two) words of
--- DATA_BITS_g bits, one write and one read port on one clock. The words live in a simple
--- dual-port RAM (one array signal, written and read in one clocked process, registered read:
--- yosys and Vivado infer LUT-RAM or block RAM); the RAM's read register is the FIFO's output, so
+-- DATA_BITS_g bits, one write and one read port on one clock. The words live in an orb_sdp_ram
+-- (latency 1: LUT RAM or block RAM by size); the RAM's read register is the FIFO's output, so
 -- the head word is on rd_data while rd_valid is high and rd_en = '1' takes it, one word per clock.
 -- A word written into an empty FIFO appears on rd_data two clocks later. A write is accepted
 -- when the FIFO holds fewer than DEPTH_g words (level < DEPTH_g) or a word is read in the same
@@ -36,10 +35,7 @@ architecture rtl of orb_feat_fifo is
 
   constant PTR_BITS_c : positive := clog2(DEPTH_g);
 
-  type mem_t is array (0 to DEPTH_g - 1) of std_logic_vector(DATA_BITS_g - 1 downto 0);
-
-  signal mem    : mem_t;
-  signal q      : std_logic_vector(DATA_BITS_g - 1 downto 0) := (others => '0');
+  signal q      : std_logic_vector(DATA_BITS_g - 1 downto 0);
   signal q_vld  : std_logic := '0';
   signal wr_ptr : unsigned(PTR_BITS_c - 1 downto 0) := (others => '0');
   signal rd_ptr : unsigned(PTR_BITS_c - 1 downto 0) := (others => '0');
@@ -63,17 +59,23 @@ begin
   load  <= '1' when rd_ptr /= wr_ptr and (q_vld = '0' or rd_ok = '1') else
            '0';
 
-  ram : process (clk) is
-  begin
-    if rising_edge(clk) then
-      if wr_ok = '1' then
-        mem(to_integer(wr_ptr)) <= wr_data;
-      end if;
-      if load = '1' then
-        q <= mem(to_integer(rd_ptr));
-      end if;
-    end if;
-  end process ram;
+  ram : entity work.orb_sdp_ram
+    generic map (
+      DATA_WIDTH_g => DATA_BITS_g,
+      DEPTH_g      => DEPTH_g,
+      LATENCY_g    => 1,
+      INIT_ZERO_g  => false
+    )
+    port map (
+      clk     => clk,
+      wr_en   => wr_ok,
+      wr_addr => std_logic_vector(wr_ptr),
+      wr_data => wr_data,
+      rd_en   => load,
+      rd_addr => std_logic_vector(rd_ptr),
+      out_en  => '1',
+      rd_data => q
+    );
 
   ctrl : process (clk) is
   begin

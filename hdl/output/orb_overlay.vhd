@@ -67,8 +67,6 @@ architecture rtl of orb_overlay is
   -- Scale colours (RGB): green, cyan, magenta, yellow (golden_model.overlay.SCALE_COLOURS).
   constant COLOURS_c : colour_table_t := (x"00FF00", x"00DCFF", x"FF00FF", x"FFDC00");
 
-  type bitmap_t is array (0 to BLOCKS_c - 1) of std_logic;
-
   function bit_of (n : natural) return std_logic is
   begin
     if n = 1 then
@@ -269,10 +267,7 @@ begin
   -- ---- bitmap banks: per bank and scale a 1-bit simple dual-port RAM, registered read ----------
   gen_bank : for bank in 0 to 1 generate
     gen_scale : for s in 0 to SCALES_g - 1 generate
-      -- No initial value: 7-series block RAM configures to zero (INIT default), and a 32K-entry
-      -- initialiser makes GHDL's netlist 12 MB. Unwritten bits read 'U' in simulation: not drawn.
-      signal mem   : bitmap_t;
-      signal q     : std_logic := '0';
+      signal q     : std_logic_vector(0 downto 0);
       signal mark  : std_logic;
       signal we    : std_logic;
       signal waddr : unsigned(ADDR_BITS_c - 1 downto 0);
@@ -284,19 +279,27 @@ begin
       waddr <= fw_addr when mark = '1' else
                clr_addr;
 
-      ram : process (clk) is
-      begin
-        if rising_edge(clk) then
-          if we = '1' then
-            mem(to_integer(waddr)) <= mark;
-          end if;
-          if ce = '1' then
-            q <= mem(to_integer(rd_addr));
-          end if;
-        end if;
-      end process ram;
+      -- No initial value: 7-series block RAM configures to zero (INIT default), and a 32K-entry
+      -- initialiser makes GHDL's netlist 12 MB. Unwritten bits read 'U' in simulation: not drawn.
+      ram : entity work.orb_sdp_ram
+        generic map (
+          DATA_WIDTH_g => 1,
+          DEPTH_g      => BLOCKS_c,
+          LATENCY_g    => 1,
+          INIT_ZERO_g  => false
+        )
+        port map (
+          clk        => clk,
+          wr_en      => we,
+          wr_addr    => std_logic_vector(waddr),
+          wr_data(0) => mark,
+          rd_en      => ce,
+          rd_addr    => std_logic_vector(rd_addr),
+          out_en     => '1',
+          rd_data    => q
+        );
 
-      rd_bits(bank * SCALES_g + s) <= q;
+      rd_bits(bank * SCALES_g + s) <= q(0);
     end generate gen_scale;
   end generate gen_bank;
 

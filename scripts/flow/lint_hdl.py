@@ -27,7 +27,7 @@ WORK = ROOT / "build" / "lint"
 VSG = ROOT / ".venv" / "bin" / "vsg"
 VSG_CONFIG = ROOT / "vsg.yaml"
 ENTITY_RE = re.compile(r"^\s*entity\s+(\w+)\s+is\b", re.M | re.I)
-RAM_NOTE_RE = re.compile(r"note: found (RAM|ROM) \"(\w+)\", width: (\d+) bits, depth: (\d+)")
+RAM_NOTE_RE = re.compile(r"note: found (RAM|ROM) \"([\w.]+)\", width: (\d+) bits, depth: (\d+)")
 
 
 def rel(p: Path | str) -> str:
