@@ -137,7 +137,7 @@ LUTRAM_CELLS = {
 }
 
 ABS_RE = re.compile(r"^(\s*)(\w+) <= std_logic_vector\(abs \$signed\((\w+)\)\);", re.M)
-RAM_NOTE_RE = re.compile(r"^(\S+?):(\d+):\d+:note: found (RAM|ROM) \"(\w+)\", width: (\d+) bits, depth: (\d+)", re.M)
+RAM_NOTE_RE = re.compile(r"^(\S+?):(\d+):\d+:note: found (RAM|ROM) \"([\w.]+)\", width: (\d+) bits, depth: (\d+)", re.M)
 # orb_feat_merge rewrites for SCALES_g = 1 only, where they change nothing: the scale index `pop`
 # (range -1 to 0) is only used to index under `pop >= 0`, i.e. it is 0 there, and rr is always 0.
 MERGE_S1_PATCHES = (
@@ -553,7 +553,7 @@ def new_record(job: Job, key: str) -> dict[str, Any]:
         "height": job.cfg.height,
         "scales": job.cfg.scales,
         "generics": job.generics,
-        "sectors": 32,  # the tops' defaults: SECTORS_g = 8 per quadrant (orb_core: DESC_g = true)
+        "sectors": 32,  # the tops' default SECTORS_g = 32 sectors in all (orb_core: DESC_g = true)
         "lut": None,
         "ff": None,
         "bram36": None,
