@@ -53,6 +53,7 @@ CASES = (
     Case("orb_axil_regs", "host/test_orb_axil_regs.py::test_orb_axil_regs[lat5]"),
     Case("orb_video_check", "input/test_orb_video_check.py::test_video_check_16x6"),
     Case("orb_video_check", "input/test_orb_video_check.py::test_video_check_33x5"),
+    Case("orb_frame_gate", "input/test_orb_frame_gate.py::test_frame_gate_24"),
     Case("orb_rgb_luma", "input/test_orb_rgb_luma.py::test_rgb_luma_rgb"),
     Case("orb_rgb_luma", "input/test_orb_rgb_luma.py::test_rgb_luma_rbg"),
     Case("orb_rgb_luma", "input/test_orb_rgb_luma.py::test_rgb_luma_luma"),
@@ -60,10 +61,10 @@ CASES = (
     Case("orb_fast_score", "detect/test_orb_fast_score.py::test_fast_score"),
     Case("orb_fast_nms", "detect/test_orb_fast_nms.py::test_nms[8-8-all8x8,ties:1]"),
     Case("orb_orient_moments", "describe/test_orb_orient_moments.py::test_orient_moments"),
-    Case("orb_orient_sector", "describe/test_orb_orient_sector.py::test_orient_sector[4]"),
+    Case("orb_orient_sector", "describe/test_orb_orient_sector.py::test_orient_sector[16]"),
     Case("orb_overlay", "output/test_orb_overlay.py::test_overlay_photos[64-48-1-3-env0]"),
-    Case("orb_desc_path", "describe/test_orb_desc_path.py::test_desc_path[4]", slow=True),
-    Case("orb_core", "core/test_orb_core.py::test_orb_small[64-48-1-8-photo:camera-5-none-orb]"),
+    Case("orb_desc_path", "describe/test_orb_desc_path.py::test_desc_path[16]", slow=True),
+    Case("orb_core", "core/test_orb_core.py::test_orb_small[64-48-1-32-photo:camera-5-none-orb]"),
     Case("orb_accel_top", "top/test_orb_accel_top.py::test_accel_overflow_overrun", slow=True),
 )
 
