@@ -24,6 +24,7 @@ from types import ModuleType
 import pytest
 
 from golden_model import regs
+from golden_model.config import MODES
 from orbtb.runner import ghdl_path_env
 from orbtb.views import assert_deterministic, assert_view_fresh, load_script
 
@@ -308,3 +309,10 @@ def test_a_register_added_to_the_map_needs_no_decode_code(tmp_path: Path) -> Non
     proc = _ghdl(["--elab-run", "--std=08", "tb"], tmp_path, check=False)
     out = proc.stdout + proc.stderr
     assert proc.returncode == 0 and "added registers: passed" in out, out
+
+
+def test_ctrl_mode_values_follow_the_model_modes() -> None:
+    """The driver writes CTRL.mode = MODES.index(mode): the map's value names must be in that order."""
+    ctrl = next(r for r in json.loads(DATA.read_text())["registers"] if r["name"] == "CTRL")
+    values = next(f for f in ctrl["fields"] if f["name"] == "mode")["values"]
+    assert [values[str(i)].split()[0] for i in range(len(values))] == list(MODES), values
