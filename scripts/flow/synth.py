@@ -198,18 +198,29 @@ def parse_config(text: str) -> Config:
 class Job:
     top: str
     cfg: Config
+    extra: tuple[tuple[str, str], ...] = ()  # --generic overrides (NAME, VALUE), e.g. the board's
 
     @property
     def name(self) -> str:
-        """The job's name, also its key in synth_expected.json and times.json: '<top> <W>x<H>x<S>'."""
-        return f"{self.top} {self.cfg.name}"
+        """The job's name, also its key in synth_expected.json and times.json: '<top> <W>x<H>x<S>',
+        followed by ' NAME=VALUE' for each --generic override."""
+        return " ".join([self.top, self.cfg.name, *(f"{k}={v}" for k, v in self.extra)])
 
     @property
     def generics(self) -> dict[str, int | str]:
-        return {**self.cfg.generics, **TOPS[self.top]}
+        return {**self.cfg.generics, **TOPS[self.top], **dict(self.extra)}
 
     def dir(self, out: Path) -> Path:
-        return out / self.top / self.cfg.name
+        return out / self.top / "_".join([self.cfg.name, *(f"{k}{v}" for k, v in self.extra)])
+
+
+def parse_generic(text: str) -> tuple[str, str]:
+    """'MEM_DEPTH_g=2048' -> ('MEM_DEPTH_g', '2048'); only the generics a top already has can be set."""
+    name, sep, value = text.partition("=")
+    known = {"WIDTH_g", "HEIGHT_g", "SCALES_g"} | {k for g in TOPS.values() for k in g} | {"SECTORS_g"}
+    if not sep or not value or name not in known:
+        raise argparse.ArgumentTypeError(f"--generic takes NAME=VALUE with NAME one of {sorted(known)}, got {text!r}")
+    return name, value
 
 
 def job(top: str, config: str) -> Job:
@@ -553,7 +564,7 @@ def new_record(job: Job, key: str) -> dict[str, Any]:
         "height": job.cfg.height,
         "scales": job.cfg.scales,
         "generics": job.generics,
-        "sectors": 32,  # the tops' default SECTORS_g = 32 sectors in all (orb_core: DESC_g = true)
+        "sectors": int(job.generics.get("SECTORS_g", 32)),  # the tops' default SECTORS_g = 32 sectors in all
         "lut": None,
         "ff": None,
         "bram36": None,
@@ -771,6 +782,13 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--out", type=Path, default=OUT, help=f"output directory (default {rel(OUT)})")
     ap.add_argument("--expected", type=Path, default=EXPECTED, help=f"expected values (default {rel(EXPECTED)})")
     ap.add_argument("--no-cache", action="store_true", help="run every job even if its cached record matches")
+    ap.add_argument(
+        "--generic",
+        type=parse_generic,
+        action="append",
+        default=[],
+        help="NAME=VALUE, repeatable: override a generic of the top (e.g. the board's MEM_DEPTH_g=2048)",
+    )
     args = ap.parse_args(argv)
 
     try:
@@ -780,9 +798,9 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     default_set = not args.config and args.top == DEFAULT_TOP
     jobs = (
-        [Job(args.top, c) for c in args.config]
+        [Job(args.top, c, tuple(args.generic)) for c in args.config]
         if args.config
-        else [Job(args.top, job(t, c).cfg) for t, c in DEFAULT_JOBS]
+        else [Job(args.top, job(t, c).cfg, tuple(args.generic)) for t, c in DEFAULT_JOBS]
     )
     jobs = list(dict.fromkeys(jobs))
     ghdl, yosys = find_tools()
