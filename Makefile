@@ -9,7 +9,8 @@ SECTORS ?= 32
 THRESHOLD ?= 20
 JOBS   ?= 2
 
-.PHONY: setup test test-all sim bench bench-sim eval figures lint synth netlist-sim tools pattern clean help
+.PHONY: setup test test-all sim bench bench-sim eval figures lint synth netlist-sim tools pattern clean help \
+	bitstream board-estimate board-dryrun
 
 help:
 	@echo "make setup   create .venv and install the project with test extras (idempotent)"
@@ -25,6 +26,10 @@ help:
 	@echo "             CONFIG=1920x1080x2 TOP=orb_accel_top|orb_accel_zynq, STA=1 adds the slow logic-delay pass)"
 	@echo "make netlist-sim  unit tests on GHDL's synthesised netlists (~15 min; K=entity, QUICK=1; docs/netlist-sim.md)"
 	@echo "make tools   which of ghdl, yosys, python3 are installed, and how to install the rest"
+	@echo "make bitstream  the Zybo Z7-20 design in Vivado (CONFIG=640x480|1280x720|1920x1080, VIVADO_LIBRARY=DIR,"
+	@echo "             BOARD_REPO=DIR, VIVADO=; outputs in build/vivado/<config>; docs/board.md)"
+	@echo "make board-dryrun  the Vivado build's TCL in tclsh against recording stubs, checked, with its table"
+	@echo "make board-estimate  yosys estimate of orb_accel_zynq for each board configuration (slow, cached)"
 
 $(STAMP): pyproject.toml
 	@$(PYTHON) -c 'import sys; sys.exit(sys.version_info < (3, 10))' || \
@@ -71,6 +76,9 @@ lint: $(STAMP)
 	PYTHONPATH=tb $(BIN)/lint-imports
 	@sh scripts/flow/check_tools.sh ghdl
 	$(BIN)/python scripts/flow/lint_hdl.py
+	$(BIN)/tclint vivado scripts/board/vivado_stub.tcl
+	@sh scripts/flow/check_tools.sh tclsh
+	$(BIN)/python scripts/board/dryrun.py
 
 # Resource estimate (GHDL + yosys, no Vivado; docs/synthesis.md), checked against scripts/flow/synth_expected.json.
 # CONFIG=1920x1080x2 (or a list) runs those configurations, TOP= another top, STA=1 adds the logic-delay pass.
@@ -96,6 +104,26 @@ tools:
 pattern: $(STAMP)
 	$(BIN)/python scripts/gen/gen_pattern.py
 	$(BIN)/python scripts/gen/gen_pattern_vhdl.py
+
+# The Zybo Z7-20 build (docs/board.md). CONFIG here is a board configuration (vivado/board.json), default
+# 1280x720; VIVADO_LIBRARY is a checkout of Digilent's vivado-library (the pinned commit is in board.json);
+# BOARD_REPO optionally Digilent's vivado-boards board_files. Plain python3: stops at once, one line, when
+# Vivado or the library is missing.
+VIVADO_LIBRARY ?=
+BOARD_REPO ?=
+VIVADO ?= vivado
+bitstream:
+	@$(PYTHON) scripts/board/bitstream.py $(if $(CONFIG),--config $(CONFIG)) --vivado $(VIVADO) \
+		$(if $(VIVADO_LIBRARY),--vivado-library $(VIVADO_LIBRARY)) $(if $(BOARD_REPO),--board-repo $(BOARD_REPO)) \
+		--jobs $(JOBS)
+
+board-dryrun:
+	@sh scripts/flow/check_tools.sh tclsh
+	$(PYTHON) scripts/board/dryrun.py --table $(foreach c,$(CONFIG),--config $(c))
+
+board-estimate:
+	@sh scripts/flow/check_tools.sh ghdl yosys python3
+	$(PYTHON) scripts/board/estimate.py --jobs $(JOBS)
 
 clean:
 	rm -rf build .pytest_cache

@@ -548,12 +548,43 @@ def table(d: Design) -> str:
     return "\n".join(lines) + "\n"
 
 
+DOC_BEGIN = "<!-- dry-run table: scripts/board/dryrun.py --update-doc writes this section -->"
+DOC_END = "<!-- end of the dry-run table -->"
+
+
+def doc_table() -> str:
+    """The docs/board.md section: the default configuration's dry run without board files."""
+    with tempfile.TemporaryDirectory() as tmp:
+        return table(run(board()["default_config"], Path(tmp)))
+
+
+def doc_section(doc: str) -> str:
+    """The text between docs/board.md's dry-run markers (ValueError if they are missing)."""
+    i, j = doc.find(DOC_BEGIN), doc.find(DOC_END)
+    if i < 0 or j < i:
+        raise ValueError(f"docs/board.md lacks the markers {DOC_BEGIN!r} ... {DOC_END!r}")
+    return doc[i + len(DOC_BEGIN) : j].strip("\n") + "\n"
+
+
+def update_doc(path: Path = BOARD_DOC) -> None:
+    doc = path.read_text()
+    doc_section(doc)  # the markers are there
+    head, _, rest = doc.partition(DOC_BEGIN)
+    _, _, tail = rest.partition(DOC_END)
+    path.write_text(f"{head}{DOC_BEGIN}\n{doc_table()}{DOC_END}{tail}")
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--config", action="append", help="configuration(s) (default: all of vivado/board.json)")
     ap.add_argument("--board-files", action="store_true", help="dry-run as if Digilent's board files were found")
     ap.add_argument("--table", action="store_true", help="print the block-design table of docs/board.md")
+    ap.add_argument("--update-doc", action="store_true", help="rewrite the dry-run table of docs/board.md")
     args = ap.parse_args(argv)
+    if args.update_doc:
+        update_doc()
+        print(f"wrote the dry-run table of {BOARD_DOC.relative_to(ROOT)}")
+        return 0
     configs = args.config or list(board()["configs"])
     part = board()["vivado_boards"]["board_part"] if args.board_files else ""
     failed = 0
@@ -565,9 +596,10 @@ def main(argv: list[str] | None = None) -> int:
                 print(f"{cfg}: {exc}", file=sys.stderr)
                 failed += 1
                 continue
+            results = check_all(d)  # while the build's files (the timing XDC) exist
         if args.table:
             print(table(d))
-        for name, errs in check_all(d).items():
+        for name, errs in results.items():
             for e in errs:
                 print(f"{cfg}: {name}: {e}", file=sys.stderr)
             failed += bool(errs)

@@ -6,7 +6,7 @@
 #   scripts/flow/check_tools.sh              report every tool; exit 0 (`make tools`)
 #   scripts/flow/check_tools.sh ghdl yosys   require these; print the install command and exit 1 if one
 #                                       is missing (used by `make synth` / `make lint`)
-# Tool names: ghdl (any back end), ghdl-mcode, ghdl-llvm, yosys, python3.
+# Tool names: ghdl (any back end), ghdl-mcode, ghdl-llvm, yosys, tclsh, dtc, python3.
 
 first_line() { "$@" 2>/dev/null | head -n 1; }
 
@@ -28,6 +28,12 @@ version_of() {
     yosys)
       command -v yosys >/dev/null 2>&1 || return 1
       first_line yosys -V ;;
+    tclsh)
+      command -v tclsh >/dev/null 2>&1 || return 1
+      echo "puts [info patchlevel]" | tclsh ;;
+    dtc)
+      command -v dtc >/dev/null 2>&1 || return 1
+      first_line dtc --version ;;
     python3)
       command -v python3 >/dev/null 2>&1 || return 1
       python3 -c 'import sys; sys.exit(sys.version_info < (3, 10))' 2>/dev/null || {
@@ -43,6 +49,8 @@ install_cmd() {
     ghdl-mcode) echo "apt-get install ghdl-mcode" ;;
     yosys) echo "apt-get install yosys" ;;
     python3) echo "apt-get install python3 python3-venv" ;;
+    tclsh) echo "apt-get install tcl" ;;
+    dtc) echo "apt-get install device-tree-compiler" ;;
   esac
 }
 
@@ -78,6 +86,8 @@ check_optional ghdl-mcode
 check_optional ghdl-llvm
 version_of ghdl >/dev/null || missing="$missing ghdl"
 check yosys
+check tclsh
+check dtc
 check python3
 venv="$(dirname "$0")/../.venv/bin"
 for t in ruff vsg; do

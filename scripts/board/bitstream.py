@@ -1,0 +1,120 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: MIT
+"""`make bitstream`: the Zybo Z7-20 build of one configuration (docs/board.md).
+
+1. Checks before anything starts, all reported in one line, exit 2: Vivado on PATH (or VIVADO=),
+   Digilent's vivado-library at VIVADO_LIBRARY (with the exact commands to fetch the pinned commit),
+   a known configuration.
+2. vivado -mode batch -source vivado/build.tcl (log: build/vivado/<config>/vivado.log).
+3. scripts/board/bit2bin.py: the byte-swapped .bit.bin that Linux's fpga_manager loads.
+4. The yosys estimate of the same orb_accel_zynq (build/vivado/estimate/report.json, from
+   `make board-estimate`) beside Vivado's figures, if it has been run.
+5. scripts/board/vivado_summary.py: summary.json, printed; exit 1 when timing is not met.
+
+Usage: scripts/board/bitstream.py [--config NAME] [--vivado-library DIR] [--board-repo DIR]
+       [--vivado PATH] [--jobs N]   (plain python3)
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+from typing import Any
+
+ROOT = Path(__file__).resolve().parents[2]
+BOARD = ROOT / "vivado" / "board.json"
+OUT = ROOT / "build" / "vivado"
+ESTIMATE = OUT / "estimate" / "report.json"
+HERE = Path(__file__).resolve().parent
+
+
+def board() -> dict[str, Any]:
+    data: dict[str, Any] = json.loads(BOARD.read_text())
+    return data
+
+
+def fetch_hint(lib: dict[str, str], where: str) -> str:
+    return (
+        f"git clone {lib['url']} {where} && git -C {where} checkout {lib['commit']}"
+        f" (then VIVADO_LIBRARY={where})"
+    )
+
+
+def missing(config: str, vivado: str, library: str) -> list[str]:
+    """What stops the build before Vivado starts (empty: nothing)."""
+    b = board()
+    out = []
+    if config not in b["configs"]:
+        out.append(f"configuration {config!r} (known: {', '.join(b['configs'])})")
+    if shutil.which(vivado) is None:
+        out.append(f"Vivado ({vivado!r} not on PATH; Vivado {b['vivado_version']} ML Standard, or set VIVADO=)")
+    lib = b["vivado_library"]
+    where = library or "../vivado-library"
+    if not library:
+        out.append(f"Digilent's vivado-library: VIVADO_LIBRARY is not set; fetch it: {fetch_hint(lib, where)}")
+    elif not all((Path(library) / p).exists() for p in ("ip/dvi2rgb/component.xml", "ip/rgb2dvi/component.xml")):
+        out.append(f"Digilent's vivado-library at {library} (no ip/dvi2rgb or ip/rgb2dvi): {fetch_hint(lib, where)}")
+    return out
+
+
+def write_estimate(config: str, path: Path) -> Path | None:
+    """The yosys record of this configuration's orb_accel_zynq, if `make board-estimate` ran."""
+    if not ESTIMATE.exists():
+        return None
+    cfg = board()["configs"][config]
+    for rec in json.loads(ESTIMATE.read_text()):
+        key = (rec.get("top"), rec.get("width"), rec.get("height"), rec.get("scales"))
+        if key == ("orb_accel_zynq", cfg["width"], cfg["height"], cfg["scales"]):
+            path.write_text(json.dumps(rec, indent=1) + "\n")
+            return path
+    return None
+
+
+def main(argv: list[str] | None = None) -> int:
+    b = board()
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--config", default=b["default_config"], help=f"one of {', '.join(b['configs'])}")
+    ap.add_argument("--vivado-library", default=os.environ.get("VIVADO_LIBRARY", ""))
+    ap.add_argument("--board-repo", default=os.environ.get("BOARD_REPO", ""), help="Digilent vivado-boards/new/board_files")
+    ap.add_argument("--vivado", default=os.environ.get("VIVADO", "vivado"))
+    ap.add_argument("--jobs", type=int, default=2)
+    args = ap.parse_args(argv)
+
+    stop = missing(args.config, args.vivado, args.vivado_library)
+    if stop:
+        print("make bitstream: missing " + "; ".join(stop), file=sys.stderr)
+        return 2
+    out = OUT / args.config
+    out.mkdir(parents=True, exist_ok=True)
+    cmd = [
+        args.vivado, "-mode", "batch", "-notrace", "-log", str(out / "vivado.log"), "-journal", str(out / "vivado.jou"),
+        "-source", str(ROOT / "vivado" / "build.tcl"), "-tclargs",
+        "--config", args.config, "--vivado-library", str(Path(args.vivado_library).resolve()),
+        "--out", str(out), "--jobs", str(args.jobs),
+        *(["--board-repo", args.board_repo] if args.board_repo else []),
+    ]  # fmt: skip
+    print(" ".join(cmd))
+    if subprocess.run(cmd, check=False).returncode != 0:
+        print(f"make bitstream: Vivado failed, see {out / 'vivado.log'}", file=sys.stderr)
+        return 1
+    base = f"{b['design_name']}_{args.config}"
+    rc = subprocess.run([sys.executable, str(HERE / "bit2bin.py"), str(out / f"{base}.bit"), str(out / f"{base}.bit.bin")])
+    if rc.returncode != 0:
+        return 1
+    summary = [sys.executable, str(HERE / "vivado_summary.py"), str(out / "reports"), "--config", args.config]
+    summary += ["--out", str(out / "summary.json")]
+    est = write_estimate(args.config, out / "estimate.json")
+    if est is not None:
+        summary += ["--estimate", str(est)]
+    else:
+        print("(no yosys estimate beside it: run `make board-estimate` first)")
+    return subprocess.run(summary, check=False).returncode
+
+
+if __name__ == "__main__":
+    sys.exit(main())
