@@ -1,0 +1,271 @@
+# SPDX-License-Identifier: MIT
+"""The Zybo Z7-20 build checked without Vivado (docs/board.md, "Checked without Vivado").
+
+- vivado/board.json's generated views are fresh; the device-tree overlays compile with dtc and
+  carry the address map and the interrupt;
+- tclint passes over every TCL and XDC file with the Vivado command spec;
+- vivado/build.tcl runs in tclsh against the recording stubs for every configuration, with and
+  without board files, and every check of scripts/board/dryrun.py passes on the record (sources =
+  hdl/manifest.txt, accelerator ports read from the VHDL, IP facts, nets, pins = Digilent's master
+  XDC, clocks, addresses, overlay, documented VLNVs); docs/board.md's table is this dry run;
+- the checks can fail: a wrong pin, a connection to a port the wrapper does not have, an
+  overlapping address segment, an IP property value outside its choices, a switch Vivado does not
+  know and a bad argument each make the dry run or a check fail;
+- the build's TCL helpers: the kClkRange choice-list extension, the manifest reader;
+- make bitstream without Vivado stops at once with one line naming what is missing.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+from collections.abc import Callable
+from pathlib import Path
+
+import pytest
+from orbtb.views import assert_view_fresh, load_script
+
+ROOT = Path(__file__).resolve().parents[2]
+dryrun = load_script(ROOT / "scripts" / "board" / "dryrun.py")
+GEN = ROOT / "scripts" / "gen" / "gen_board.py"
+BOARD = json.loads((ROOT / "vivado" / "board.json").read_text())
+CONFIGS = list(BOARD["configs"])
+BOARD_PART = BOARD["vivado_boards"]["board_part"]
+
+
+def need(tool: str, package: str) -> str:
+    path = shutil.which(tool)
+    assert path is not None, f"{tool} is not installed: apt-get install {package}"
+    return path
+
+
+# --- generated views and the overlays ------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "view",
+    ["vivado/gen/board.tcl", "docs/board-configs.md", *(f"vivado/linux/orb-accel-{c}.dtso" for c in CONFIGS)],
+)
+def test_board_views_fresh(view: str, tmp_path: Path) -> None:
+    assert_view_fresh(GEN, Path(view), ROOT, tmp_path)
+
+
+@pytest.mark.parametrize("config", CONFIGS)
+def test_overlay_compiles_with_address_and_interrupt(config: str, tmp_path: Path) -> None:
+    dtc = need("dtc", "device-tree-compiler")
+    src = ROOT / "vivado" / "linux" / f"orb-accel-{config}.dtso"
+    dtbo = tmp_path / "o.dtbo"
+    subprocess.run([dtc, "-@", "-I", "dts", "-O", "dtb", "-o", str(dtbo), str(src)], check=True, capture_output=True)
+    back = subprocess.run([dtc, "-I", "dtb", "-O", "dts", str(dtbo)], check=True, capture_output=True, text=True).stdout
+    acc = BOARD["accel"]
+    base, size = int(acc["base"], 16), int(acc["range"], 16)
+    assert f"reg = <0x{base:x} 0x{size:x}>;" in back, back
+    assert f"interrupts = <0x00 0x{acc['gic_spi']:02x} 0x04>;" in back, back
+    assert 'compatible = "generic-uio";' in back
+    assert f'firmware-name = "{BOARD["design_name"]}_{config}.bit.bin";' in back
+    assert acc["gic_spi"] == 29 + acc["irq_f2p"], "IRQ_F2P[n] is GIC SPI 29 + n (SPI IDs 61..68 - 32)"
+
+
+def test_board_json_rules(tmp_path: Path) -> None:
+    gen = load_script(GEN)
+    bad = json.loads(json.dumps(BOARD))
+    bad["accel"]["range"] = "0x00080000"
+    (tmp_path / "b.json").write_text(json.dumps(bad))
+    with pytest.raises(ValueError, match="2\\*\\*addr_width"):
+        gen.load(tmp_path / "b.json")
+    bad = json.loads(json.dumps(BOARD))
+    bad["configs"]["1920x1080"]["core_mhz"] = 100
+    (tmp_path / "b.json").write_text(json.dumps(bad))
+    with pytest.raises(ValueError, match="at least the pixel clock"):
+        gen.load(tmp_path / "b.json")
+
+
+# --- tclint -----------------------------------------------------------------------------------------
+
+
+def test_tclint_clean() -> None:
+    tclint = Path(sys.executable).parent / "tclint"
+    proc = subprocess.run([str(tclint), "vivado", "scripts/board/vivado_stub.tcl"], cwd=ROOT, capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+
+
+def test_tclint_knows_the_vivado_switches(tmp_path: Path) -> None:
+    """The command spec is in force: a switch UG835 does not list is reported."""
+    tclint = Path(sys.executable).parent / "tclint"
+    bad = tmp_path / "bad.tcl"
+    bad.write_text("create_bd_cell -type ip -vnlv xilinx.com:ip:v_tc vtc\n")
+    proc = subprocess.run([str(tclint), "-c", str(ROOT / "tclint.toml"), str(bad)], cwd=ROOT, capture_output=True, text=True)
+    assert proc.returncode != 0 and "-vnlv" in proc.stdout, proc.stdout
+
+
+# --- the dry run --------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("board_files", [False, True], ids=["explicit-ps7", "board-files"])
+@pytest.mark.parametrize("config", CONFIGS)
+def test_dry_run_checks(config: str, board_files: bool, tmp_path: Path) -> None:
+    need("tclsh", "tcl")
+    d = dryrun.run(config, tmp_path, board_part=BOARD_PART if board_files else "")
+    errors = {name: errs for name, errs in dryrun.check_all(d).items() if errs}
+    assert not errors, json.dumps(errors, indent=1)
+    launched = [r for r in d.records if r["cmd"] == "launch_runs"]
+    assert [r["run"] for r in launched] == ["synth_1", "impl_1"] and launched[1]["to_step"] == "write_bitstream"
+    assert {r["what"] for r in d.records if r["cmd"] == "report"} >= {"utilization", "timing_summary", "power"}
+    assert any(r["cmd"] == "write_hw_platform" for r in d.records)
+    ps7 = d.cells["ps7"].config
+    if board_files:
+        assert any(r["cmd"] == "apply_bd_automation" and 'apply_board_preset "1"' in r["config"] for r in d.records)
+    else:
+        assert ps7["CONFIG.PCW_UIPARAM_DDR_PARTNO"] == "MT41K256M16 RE-125"
+
+
+def test_dry_run_table_in_docs(tmp_path: Path) -> None:
+    need("tclsh", "tcl")
+    doc = (ROOT / "docs" / "board.md").read_text()
+    assert dryrun.doc_section(doc) == dryrun.doc_table(), "docs/board.md: run scripts/board/dryrun.py --update-doc"
+
+
+def test_accel_sources_from_manifest(tmp_path: Path) -> None:
+    d = dryrun.run("1280x720", tmp_path)
+    hdl = [Path(f).relative_to(ROOT / "hdl").as_posix() for fs, f in d.sources if fs == "sources_1" and "/hdl/" in f]
+    assert hdl == dryrun.manifest()
+    assert d.file_types[str(ROOT / "hdl" / "top" / "orb_accel_zynq.vhd")] == "VHDL"
+
+
+def test_interface_attributes_set_from_tcl(tmp_path: Path) -> None:
+    """orb_accel_zynq's commented interface attributes are set on the module reference's pins."""
+    d = dryrun.run("1920x1080", tmp_path)
+    aclk, aresetn = d.pin_props["orb_accel/aclk"], d.pin_props["orb_accel/aresetn"]
+    assert set(aclk["CONFIG.ASSOCIATED_BUSIF"].split(":")) == set(dryrun.module_interfaces(dryrun.read_entity().ports))
+    assert aclk["CONFIG.ASSOCIATED_RESET"] == "aresetn" and aresetn["CONFIG.POLARITY"] == "ACTIVE_LOW"
+
+
+def test_entity_reader() -> None:
+    ent = dryrun.read_entity()
+    assert {"aclk", "aresetn", "irq", "s_axi_ctrl_awaddr", "m_axis_video_tlast"} <= set(ent.ports)
+    assert ent.ports["irq"] == "out" and ent.ports["s_axis_video_tdata"] == "in"
+    assert {"WIDTH_g", "MEM_DEPTH_g", "C_S_AXI_CTRL_ADDR_WIDTH"} <= set(ent.generics)
+    assert sorted(dryrun.module_interfaces(ent.ports)) == ["m_axis_video", "s_axi_ctrl", "s_axis_video"]
+
+
+# --- the checks can fail --------------------------------------------------------------------------------
+
+
+def mutated_run(tmp_path: Path, edit: Callable[[Path], None], config: str = "1280x720") -> object:
+    """The dry run of a copy of vivado/ changed by `edit` (hdl/ linked in, as the TCL finds it)."""
+    repo = tmp_path / "repo"
+    shutil.copytree(ROOT / "vivado", repo / "vivado")
+    os.symlink(ROOT / "hdl", repo / "hdl")
+    edit(repo / "vivado")
+    return dryrun.run(config, tmp_path / "work", vivado_dir=repo / "vivado")
+
+
+def replace_in(path: Path, old: str, new: str) -> None:
+    text = path.read_text()
+    assert text.count(old) == 1, f"{old!r} not once in {path}"
+    path.write_text(text.replace(old, new))
+
+
+def test_wrong_pin_fails(tmp_path: Path) -> None:
+    d = mutated_run(tmp_path, lambda v: replace_in(v / "xdc" / "zybo_z7_20.xdc", "PACKAGE_PIN U18", "PACKAGE_PIN U17"))
+    assert dryrun.check_xdc(d) == ["port hdmi_rx_clk_p: PACKAGE_PIN U17 but the master XDC says U18"]
+
+
+def test_wrong_iostandard_and_unknown_port_fail(tmp_path: Path) -> None:
+    def edit(v: Path) -> None:
+        replace_in(v / "xdc" / "zybo_z7_20.xdc", "PACKAGE_PIN D18 IOSTANDARD LVCMOS33", "PACKAGE_PIN D18 IOSTANDARD LVCMOS18")
+        with (v / "xdc" / "zybo_z7_20.xdc").open("a") as f:
+            f.write("set_property -dict { PACKAGE_PIN K18 IOSTANDARD LVCMOS33 } [get_ports { btn[0] }]\n")
+
+    errs = dryrun.check_xdc(mutated_run(tmp_path, edit))
+    assert "XDC constrains port btn[0], which the block design's top does not have" in errs
+    assert "port led[3]: IOSTANDARD LVCMOS18 but the master XDC says LVCMOS33" in errs
+
+
+def test_connection_to_missing_wrapper_port_fails(tmp_path: Path) -> None:
+    d = mutated_run(tmp_path, lambda v: replace_in(v / "lib" / "bd.tcl", "orb_net $accel/irq ps7/IRQ_F2P", "orb_net $accel/interrupt ps7/IRQ_F2P"))
+    errs = dryrun.check_accel(d)
+    assert "connection to orb_accel/interrupt: orb_accel_zynq has no port interrupt" in errs
+    assert "orb_accel/irq (out) is not connected" in errs
+
+
+def test_overlapping_address_fails(tmp_path: Path) -> None:
+    extra = (
+        "  assign_bd_address -offset 0x43C80000 -range 0x00010000 -target_address_space "
+        "[get_bd_addr_spaces ps7/Data] [get_bd_addr_segs vtc/ctrl/Reg]\n  validate_bd_design\n"
+    )
+    d = mutated_run(tmp_path, lambda v: replace_in(v / "lib" / "bd.tcl", "  validate_bd_design\n", extra))
+    errs = dryrun.check_addresses(d)
+    assert errs == ["address segments overlap: /orb_accel/s_axi_ctrl/reg0 at 0x43C00000+0x100000 and /vtc/ctrl/Reg at 0x43C80000"]
+
+
+def test_ip_property_checks_fail(tmp_path: Path) -> None:
+    def edit(v: Path) -> None:
+        replace_in(v / "lib" / "bd.tcl", "CONFIG.kDebug {false}", "CONFIG.kDebug {false} CONFIG.kNoSuchThing {1}")
+        replace_in(v / "lib" / "bd.tcl", "orb_net vid_out/locked leds/In1", "orb_net vid_out/lock leds/In1")
+
+    errs = dryrun.check_ip(mutated_run(tmp_path, edit))
+    assert "hdmi_in (digilentinc.com:ip:dvi2rgb): CONFIG.kNoSuchThing is not a property of this IP" in errs
+    assert "connection to vid_out/lock: xilinx.com:ip:v_axi4s_vid_out has no pin lock" in errs
+
+
+def test_clk_range_outside_choices_fails(tmp_path: Path) -> None:
+    """kClkRange 5 is legal only where the build extends the choice list (pixel clock < 40 MHz)."""
+    d = mutated_run(tmp_path, lambda v: replace_in(v / "gen" / "board.tcl", "kClkRange 2", "kClkRange 5"))
+    assert "hdmi_in: CONFIG.kClkRange = '5' is not one of ['1', '2', '3']" in dryrun.check_ip(d)
+
+
+def test_unknown_switch_and_bad_arguments_fail(tmp_path: Path) -> None:
+    with pytest.raises(RuntimeError, match="unknown switch -vnlv"):
+        mutated_run(tmp_path / "a", lambda v: replace_in(v / "lib" / "bd.tcl", "create_bd_cell -type ip -vlnv", "create_bd_cell -type ip -vnlv"))
+    with pytest.raises(RuntimeError, match=r"unknown configuration 800x600 \(known: 640x480 1280x720 1920x1080\)"):
+        dryrun.run("800x600", tmp_path / "b")
+    with pytest.raises(RuntimeError, match="--jobs must be a positive integer"):
+        dryrun.run("1280x720", tmp_path / "c", extra_args=("--jobs", "0"))
+    with pytest.raises(RuntimeError, match="is not Digilent's vivado-library"):
+        dryrun.run("1280x720", tmp_path / "d", library=tmp_path)
+
+
+# --- TCL helpers ---------------------------------------------------------------------------------------
+
+
+def tcl(script: str) -> subprocess.CompletedProcess[str]:
+    return subprocess.run([need("tclsh", "tcl"), "/dev/stdin"], input=script, capture_output=True, text=True)
+
+
+def test_clk_range_extension() -> None:
+    lib = ROOT / "vivado" / "lib" / "ip_repo.tcl"
+    item = '<spirit:enumeration spirit:text="&lt; 80 MHz (720p)">3</spirit:enumeration>'
+    proc = tcl(f"source {{{lib}}}\nputs [orb_extend_clk_range {{<c>\n  {item}\n</c>}}]\n")
+    assert proc.returncode == 0, proc.stderr
+    values = re.findall(r">(\d)</spirit:enumeration>", proc.stdout)
+    assert values == ["3", "4", "5"] and "&gt;=25 MHz (640x480)" in proc.stdout, proc.stdout
+    for text in ("<c></c>", f"<c>{item}{item}</c>"):
+        bad = tcl(f"source {{{lib}}}\norb_extend_clk_range {{{text}}}\n")
+        assert bad.returncode != 0 and "not found exactly once" in bad.stderr
+
+
+def test_manifest_reader_matches_python() -> None:
+    args = ROOT / "vivado" / "lib" / "args.tcl"
+    proc = tcl(f"source {{{args}}}\nputs [join [orb_read_manifest {{{ROOT / 'hdl' / 'manifest.txt'}}}] \\n]\n")
+    assert proc.stdout.split() == dryrun.manifest()
+
+
+# --- make bitstream without Vivado -------------------------------------------------------------------
+
+
+def test_bitstream_without_vivado_stops_at_once(tmp_path: Path) -> None:
+    env = {**os.environ, "VIVADO_LIBRARY": "", "PATH": "/usr/bin:/bin"}
+    proc = subprocess.run(
+        [sys.executable, str(ROOT / "scripts" / "board" / "bitstream.py"), "--vivado", "no-vivado-here"],
+        capture_output=True, text=True, env=env, timeout=30,
+    )  # fmt: skip
+    assert proc.returncode == 2
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1, proc.stderr
+    assert "Vivado ('no-vivado-here' not on PATH" in lines[0]
+    assert f"git -C ../vivado-library checkout {BOARD['vivado_library']['commit']}" in lines[0]
