@@ -9,6 +9,26 @@ names (aclk, aresetn active low, s_axi_ctrl_* AXI4-Lite, s_axis_video_* / m_axis
   m_axis_video carries frame 0 unchanged and frame 1 with frame 0's features drawn on it
   (render_marker_overlay). Then aresetn is pulled low in mid-frame: the registers return to their
   reset values, the interrupt drops, and the next good frame is published as frame 0, bit-exact.
+- board_events: what the Zybo's HDMI input (v_vid_in_axi4s) does when the cable is pulled, the
+  source is switched off or changes resolution, with frame_done and error interrupts enabled.
+  (a) Cable unplugged: frame B stops in mid-line after about half its lines and the source stays
+  silent for 24,000 clocks; meanwhile the CPU reads ID, STATUS, IRQ_STATUS, every counter, writes
+  and reads back THRESHOLD, reads the feature memory (raw words of both banks and, through the
+  driver, bank 0, which must still hold frame A), each access bounded (a hang fails with the
+  access's name); irq never rises, nothing is published (STATUS.bank_ready 0, last_bank
+  unchanged) and no counter moves (the cut frame is still open). (b) Cable back: the next frame's
+  start of frame closes B as bad (docs/video-input.md: too few lines / early start of frame, padded,
+  nothing discarded), so PROTO_ERRORS + 1, DISCARDED + 0, the error interrupt, B's frame number used
+  up: the new frame is published as frame 2 in bank 1, bit-exact with the threshold written during
+  the silence. (c) Resolution change: a frame with shorter and fewer lines and one with longer and
+  more lines (short line / long line: padded, aborted, never published, PROTO_ERRORS + 1 each,
+  DISCARDED + all pixels after the first forwarded line part), then a frame of the right line
+  length but more lines (too many lines: its first HEIGHT_g lines are a good frame, published;
+  the extra lines are discarded) and a frame of the right format, both bit-exact with the frame
+  numbers the rules give; FRAME_COUNT, DROPPED, OVERRUN, OVERFLOW_COUNT, DESC_LOST checked too.
+  m_axis_video: every beat taken on s_axis_video leaves in order with its tuser and tlast (wrong
+  sizes pass as they came), unchanged or in a marker colour, and the last frame shows the previous
+  published frame's features exactly (render_marker_overlay).
 """
 
 from __future__ import annotations
@@ -17,12 +37,14 @@ import warnings
 
 import cocotb
 import numpy as np
-from cocotb.triggers import ClockCycles, ReadOnly, RisingEdge
+from cocotb.triggers import ClockCycles, ReadOnly, RisingEdge, SimTimeoutError, with_timeout
 
 from golden_model import regs
 from golden_model.luma import rgb_to_luma
-from golden_model.overlay import render_marker_overlay
-from orb_sim.accel_bench import AccelBench
+from golden_model.overlay import SCALE_COLOURS, render_marker_overlay
+from orb_accel.driver import COUNTERS
+from orb_sim.accel_bench import OKAY, AccelBench
+from orb_sim.cocotb_bus import PERIOD_NS
 from orb_sim.video import Gaps
 from orbtb.images import colour_photo
 from orbtb.runner import run
@@ -86,6 +108,267 @@ async def wrapper(dut) -> None:
     check_frame(feats, exps[0], "frame after aresetn")
     for reg in (regs.DROPPED, regs.PROTO_ERRORS, regs.DISCARDED, regs.OVERRUN):
         assert await b.read_reg(reg) == 0, f"{reg.name} after aresetn"
+
+
+# ---- board events: cable unplugged, cable back, resolution change ------------------------------
+ACCESS_CLOCKS = 2000  # bound of one CPU access (below CocotbBus's own OP_TIMEOUT_CLOCKS of 5000)
+GAP_CLOCKS = 24_000  # the source is silent this long after the cut (about two 128x96 frames)
+SETTLE_CLOCKS = 2000  # after the last pixel of a wrong frame: its end-of-frame beat has long left
+
+
+async def bounded(coro, what: str, clocks: int = ACCESS_CLOCKS):
+    """Await a CPU access (or a series of them), failing with `what` instead of hanging."""
+    try:
+        return await with_timeout(coro, clocks * PERIOD_NS, "ns")
+    except SimTimeoutError:
+        raise AssertionError(f"{what}: no AXI4-Lite response within {clocks} clocks (the bus hung)") from None
+
+
+Beat = tuple[int, int, int]  # (tdata, tuser, tlast)
+
+
+class StreamLog:
+    """Every beat taken on s_axis_video and on m_axis_video, and the clocks at which irq rose
+    (one Python step per clock)."""
+
+    def __init__(self, dut) -> None:
+        self.dut = dut
+        self.taken_in: list[Beat] = []
+        self.taken_out: list[Beat] = []
+        self.irq_rises: list[int] = []
+        self.clock = 0
+
+    async def run(self) -> None:
+        d = self.dut
+        ports = [
+            (log, *(getattr(d, f"{prefix}_{n}") for n in ("tdata", "tvalid", "tready", "tuser", "tlast")))
+            for log, prefix in ((self.taken_in, "s_axis_video"), (self.taken_out, "m_axis_video"))
+        ]
+        irq_was = 0
+        while True:
+            await RisingEdge(d.aclk)
+            await ReadOnly()
+            self.clock += 1
+            for log, data, valid, ready, user, last in ports:
+                if valid.value == 1 and ready.value == 1:
+                    log.append((int(data.value), int(user.value), int(last.value)))
+            irq = int(d.irq.value)
+            if irq and not irq_was:
+                self.irq_rises.append(self.clock)
+            irq_was = irq
+
+
+def split_frames(beats: list[Beat]) -> list[list[list[int]]]:
+    """Frames (split at tuser) of lines (split after tlast) of tdata words."""
+    frames: list[list[list[int]]] = []
+    for data, user, last in beats:
+        if user or not frames:
+            frames.append([[]])
+        frames[-1][-1].append(data)
+        if last:
+            frames[-1].append([])
+    return [[line for line in f if line] for f in frames]
+
+
+def place(beats: list[Beat], i: int) -> str:
+    """Where beat i lies: frame (counted by tuser), line (counted by tlast) and pixel."""
+    frame, line, x, after_last = -1, 0, -1, False
+    for _, user, last in beats[: i + 1]:
+        if user:
+            frame, line, x = frame + 1, 0, 0
+        elif after_last:
+            line, x = line + 1, 0
+        else:
+            x += 1
+        after_last = bool(last)
+    return f"video frame {frame} of this test, line {line}, pixel {x}"
+
+
+@cocotb.test()
+async def board_events(dut) -> None:
+    """Board events on the HDMI input (docs/video-input.md fault table, docs/feature-memory.md
+    protocol): (a) the cable unplugged in mid-frame, a long silence with CPU traffic; (b) the
+    cable back; (c) a resolution change; the overlay output through all of them."""
+    b = AccelBench(dut, "aclk", "aresetn", reset_active_low=True, axil_prefix="s_axi_ctrl")
+    await b.start()
+    log = StreamLog(dut)
+    cocotb.start_soon(log.run())
+    w, h, t, t2 = b.width, b.height, 25, 30
+    irq_both = regs.IRQ_ENABLE.field("frame_done").put(1, regs.IRQ_ENABLE.field("error").put(1))
+    await b.configure(threshold=t, irq=irq_both)
+    error_bit = regs.IRQ_STATUS.field("error").put(1)
+
+    def expect(rgb: np.ndarray, threshold: int):
+        return expected_features(rgb_to_luma(rgb), b.scales, threshold, "orb", b.sectors)
+
+    frame_a = colour_photo("astronaut", w, h)  # published as frame 0
+    frame_b = colour_photo("coffee", w, h)  # cut in mid-frame by the unplugged cable: frame 1, bad
+    frame_c = colour_photo("chelsea", w, h)  # the cable is back: frame 2 (threshold t2)
+    ws, hs = 3 * w // 4, 3 * h // 4  # a smaller format: shorter lines, fewer lines (frame 3, bad)
+    frame_d = colour_photo("rocket", ws, hs)
+    wl, hl = 5 * w // 4, 5 * h // 4  # a larger format: longer lines, more lines (frame 4, bad)
+    frame_e = colour_photo("coffee", wl, hl)
+    frame_g = colour_photo("astronaut", w, hl)  # the right line length but more lines (frame 5, good)
+    frame_f = colour_photo("coffee", w, h)  # the right format again (frame 6)
+    exp_a, exp_c = expect(frame_a, t), expect(frame_c, t2)
+    exp_g, exp_f = expect(frame_g[:h], t2), expect(frame_f, t2)
+    for name, e in (("A", exp_a), ("C", exp_c), ("G", exp_g), ("F", exp_f)):
+        assert 0 < len(e) < b.depth - 1, f"frame {name} has {len(e)} features: none, or more than a bank holds"
+
+    want = dict.fromkeys(COUNTERS, 0)  # the counters the rules give, kept up to date below
+
+    async def check_counters(when: str) -> None:
+        got = {n: await bounded(b.read_reg(getattr(regs, n)), f"{n} read {when}") for n in COUNTERS}
+        bad = [f"{n} = {got[n]}, expected {want[n]}" for n in COUNTERS if got[n] != want[n]]
+        assert not bad, f"{when}: " + "; ".join(bad)
+
+    async def check_status(when: str, last_bank: int) -> None:
+        """No bank READY (each published one was released) and last_bank as the rule gives."""
+        status = await bounded(b.read_reg(regs.STATUS), f"STATUS read {when}")
+        got = (regs.STATUS.field("bank_ready").get(status), regs.STATUS.field("last_bank").get(status))
+        assert got == (0, last_bank), f"{when}: STATUS.bank_ready, last_bank = {got}, expected (0, {last_bank})"
+
+    async def next_published(what: str):
+        """The driver's steps (docs/driver.md) with every IRQ_STATUS bit recorded: wait for the
+        interrupt, acknowledge it, until frame_done; then STATUS.last_bank, BANKn_INFO, the bank,
+        BANK_RELEASE. Returns (bank, features, record, IRQ_STATUS bits seen)."""
+        seen = 0
+        while not regs.IRQ_STATUS.field("frame_done").get(seen):
+            await b.wait_irq(b.frame_timeout_clocks)
+            st = await bounded(b.read_reg(regs.IRQ_STATUS), f"IRQ_STATUS read, {what}")
+            await bounded(b.write_reg(regs.IRQ_STATUS, st), f"IRQ_STATUS write, {what}")
+            seen |= st
+        status = await bounded(b.read_reg(regs.STATUS), f"STATUS read, {what}")
+        bank = regs.STATUS.field("last_bank").get(status)
+        assert regs.STATUS.field("bank_ready").get(status) >> bank & 1, f"{what}: STATUS {status:#x}, bank not ready"
+        info_reg = regs.BANK0_INFO if bank == 0 else regs.BANK1_INFO
+        info = await bounded(b.read_reg(info_reg), f"{info_reg.name} read, {what}")
+        feats, record = await bounded(b.read_bank(bank), f"bank {bank} read, {what}", 200_000)
+        info_got = (info_reg.field("frame").get(info), info_reg.field("count").get(info))
+        assert info_got == (record.frame, record.count), f"{what}: {info_reg.name} (frame, count) {info_got}, {record}"
+        await bounded(b.release(bank), f"BANK_RELEASE write, {what}")
+        return bank, feats, record, seen
+
+    async def published_as(what: str, frame: int, bank: int, exp, error: bool) -> None:
+        got_bank, feats, record, seen = await next_published(what)
+        assert (record.frame, got_bank) == (frame, bank), (
+            f"{what}: published as frame {record.frame} in bank {got_bank}, expected frame {frame} in bank {bank}"
+        )
+        assert (record.dropped, record.truncated) == (0, 0), f"{what}: {record}"
+        got_error = bool(regs.IRQ_STATUS.field("error").get(seen))
+        assert got_error == error, f"{what}: IRQ_STATUS.error seen {got_error}, expected {error} (one per bad frame)"
+        check_frame(feats, exp, what)
+
+    # frame A: a normal frame before the events (frame 0, bank 0; the next frame goes to bank 1)
+    await b.send(frame_a)
+    await published_as("frame A", 0, 0, exp_a, error=False)
+    want["FRAME_COUNT"] = 1
+    await check_counters("after frame A")
+    await check_status("after frame A", last_bank=0)
+
+    # (a) the cable is unplugged: frame B stops in mid-line after about half its lines
+    before = len(log.taken_in)
+    task = cocotb.start_soon(b.send(frame_b, Gaps()))
+    await ClockCycles(dut.aclk, w * (h // 2) + w // 3)
+    task.cancel()
+    b.video.idle()
+    gap_start = log.clock
+    await ClockCycles(dut.aclk, 8)
+    cut = len(log.taken_in) - before
+    assert w * h // 4 < cut < w * h and cut % w != 0, f"frame B was cut after {cut} pixels, not in mid-line near half"
+    assert len(log.taken_out) == len(log.taken_in), (
+        f"m_axis_video: {len(log.taken_out)} beats out for {len(log.taken_in)} taken in: the overlay holds pixels"
+    )
+    # the CPU keeps working while the source is silent; nothing changes, no interrupt
+    mem = [regs.MEM_BASE + off for off in (0, 4, 36, b.depth * 64, b.depth * 64 + 40, 2 * b.depth * 64 - 4)]
+    thresholds = (40, 7, 255, t2)  # t2 stays: the next frame (C) is detected with it
+    for k, thr in enumerate(thresholds):
+        await ClockCycles(dut.aclk, GAP_CLOCKS // len(thresholds))
+        when = f"{(k + 1) * GAP_CLOCKS // len(thresholds)} clocks into the silence"
+        assert await bounded(b.read_reg(regs.ID), f"ID read {when}") == regs.ORB_ID, f"ID {when}"
+        await check_status(when, last_bank=0)
+        irq_status = await bounded(b.read_reg(regs.IRQ_STATUS), f"IRQ_STATUS read {when}")
+        assert irq_status == 0, f"{when}: IRQ_STATUS = {irq_status:#x}: the cut frame raised an interrupt"
+        await bounded(b.write_reg(regs.THRESHOLD, thr), f"THRESHOLD write {when}")
+        got = await bounded(b.read_reg(regs.THRESHOLD), f"THRESHOLD read-back {when}")
+        assert got == thr, f"{when}: THRESHOLD wrote {thr}, read back {got}"
+        await check_counters(when)  # the cut frame is still open: no fault is known yet
+        for addr in mem:
+            resp, _ = await bounded(b.read(addr), f"feature-memory read at {addr:#x} {when}")
+            assert resp == OKAY, f"{when}: feature-memory read at {addr:#x} answered {resp}"
+        if k == 0:
+            # bank 0 is not written while frame B goes to bank 1 (w changes only on publishing)
+            feats, record = await bounded(b.read_bank(0), f"bank 0 read {when}", 200_000)
+            assert record.frame == 0, f"{when}: bank 0 holds frame {record.frame}, not frame A (0)"
+            check_frame(feats, exp_a, f"bank 0 read back {when}")
+    late = [c - gap_start for c in log.irq_rises if c >= gap_start]
+    assert not late, f"irq rose {late[0]} clocks after the cut, before the source came back"
+    assert dut.irq.value == 0, "irq high at the end of the silence"
+
+    # (b) the cable is back: frame C's start of frame closes B (too few lines or a start of frame in
+    # mid-line: padded, PROTO_ERRORS + 1, no pixel discarded, frame_abort: never published, its
+    # number 1 used up); C is frame 2, in bank 1 (the bank B was using stays free)
+    await b.send(frame_c)
+    await published_as("frame C (the cable back)", 2, 1, exp_c, error=True)
+    want["FRAME_COUNT"] += 2
+    want["PROTO_ERRORS"] += 1
+    await check_counters("after frame C")
+    await check_status("after frame C", last_bank=1)
+
+    # (c) a resolution change: D (shorter lines) and E (longer lines) back to back. D: tlast at
+    # x = ws - 1 < W - 1 on line 0 (short line): that pixel is forwarded, the frame padded and
+    # aborted, the rest of D (ws * (hs - 1) pixels) discarded. E: no tlast at x = W - 1 of line 0
+    # (long line): W pixels forwarded, the frame padded and aborted, the other wl * hl - W
+    # discarded. Frames 3 and 4, never published.
+    rises = len(log.irq_rises)
+    await b.send(frame_d)
+    await b.send(frame_e)
+    await ClockCycles(dut.aclk, SETTLE_CLOCKS)
+    want["FRAME_COUNT"] += 2
+    want["PROTO_ERRORS"] += 2
+    want["DISCARDED"] += ws * (hs - 1) + (wl * hl - w)
+    await check_counters("after frames D and E (other formats)")
+    await check_status("after frames D and E", last_bank=1)
+    irq_status = await bounded(b.read_reg(regs.IRQ_STATUS), "IRQ_STATUS read after D and E")
+    assert irq_status == error_bit, f"after frames D and E: IRQ_STATUS = {irq_status:#x}, expected the error bit only"
+    assert len(log.irq_rises) == rises + 1, f"irq rose {len(log.irq_rises) - rises} times for D and E (level: once)"
+    await bounded(b.write_reg(regs.IRQ_STATUS, irq_status), "IRQ_STATUS write after D and E")
+    # G: W pixels per line but hl > H lines: lines 0..H-1 make a complete, good frame (frame 5,
+    # bank 0); the extra lines are discarded (too many lines); then F, the right format (frame 6)
+    await b.send(frame_g)
+    await published_as("frame G (more lines)", 5, 0, exp_g, error=False)
+    want["FRAME_COUNT"] += 1
+    want["DISCARDED"] += (hl - h) * w
+    await b.send(frame_f)
+    await published_as("frame F (the right format again)", 6, 1, exp_f, error=False)
+    want["FRAME_COUNT"] += 1
+    await check_counters("after frame F")
+    await check_status("after frame F", last_bank=1)
+
+    # the overlay output: every beat taken on s_axis_video left m_axis_video, in order, with its
+    # tuser and tlast, unchanged or a marker colour (what the overlay shows after a cut or
+    # wrong-sized frame is not part of spec 13; docs/spec.md 13.3)
+    await ClockCycles(dut.aclk, 8)
+    ins, outs = log.taken_in, log.taken_out
+    markers = {int(b.pack(np.array([[c]], dtype=np.uint8))[0, 0]) for c in SCALE_COLOURS[: b.scales]}
+    for i, (beat_in, beat_out) in enumerate(zip(ins, outs, strict=False)):
+        if beat_in[1:] != beat_out[1:] or (beat_out[0] != beat_in[0] and beat_out[0] not in markers):
+            raise AssertionError(
+                f"m_axis_video beat {i} ({place(ins, i)}): (tdata, tuser, tlast) out {beat_out}, in {beat_in}"
+            )
+    assert len(outs) == len(ins), f"m_axis_video: {len(outs)} beats out for {len(ins)} taken in"
+    shapes = [(len(f), len(f[0]), len(f[-1])) for f in split_frames(outs)]
+    sent = [frame_a, None, frame_c, frame_d, frame_e, frame_g, frame_f]
+    assert len(shapes) == len(sent), f"m_axis_video: {len(shapes)} frames (by tuser), {len(sent)} sent: {shapes}"
+    for k, (rgb, shape) in enumerate(zip(sent, shapes, strict=True)):
+        if rgb is not None:
+            full = (rgb.shape[0], rgb.shape[1], rgb.shape[1])
+            assert shape == full, f"m_axis_video frame {k}: (lines, first, last line length) {shape}, sent {full}"
+    # F shows G's features exactly: the banks were cleared by the complete frames E and G
+    got_f = b.unpack_out(np.array(split_frames(outs)[-1], dtype=np.int64))
+    bad = np.argwhere(np.any(got_f != render_marker_overlay(frame_f, exp_g, scales=b.scales), axis=-1))
+    first = tuple(int(v) for v in bad[0]) if len(bad) else None
+    assert first is None, f"overlay of frame F (G's features): first differing pixel (y, x) = {first}"
 
 
 def test_accel_zynq() -> None:
