@@ -39,10 +39,7 @@ def board() -> dict[str, Any]:
 
 
 def fetch_hint(lib: dict[str, str], where: str) -> str:
-    return (
-        f"git clone {lib['url']} {where} && git -C {where} checkout {lib['commit']}"
-        f" (then VIVADO_LIBRARY={where})"
-    )
+    return f"git clone {lib['url']} {where} && git -C {where} checkout {lib['commit']} (then VIVADO_LIBRARY={where})"
 
 
 def missing(config: str, vivado: str, library: str) -> list[str]:
@@ -80,7 +77,9 @@ def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--config", default=b["default_config"], help=f"one of {', '.join(b['configs'])}")
     ap.add_argument("--vivado-library", default=os.environ.get("VIVADO_LIBRARY", ""))
-    ap.add_argument("--board-repo", default=os.environ.get("BOARD_REPO", ""), help="Digilent vivado-boards/new/board_files")
+    ap.add_argument(
+        "--board-repo", default=os.environ.get("BOARD_REPO", ""), help="Digilent vivado-boards/new/board_files"
+    )
     ap.add_argument("--vivado", default=os.environ.get("VIVADO", "vivado"))
     ap.add_argument("--jobs", type=int, default=2)
     args = ap.parse_args(argv)
@@ -103,7 +102,9 @@ def main(argv: list[str] | None = None) -> int:
         print(f"make bitstream: Vivado failed, see {out / 'vivado.log'}", file=sys.stderr)
         return 1
     base = f"{b['design_name']}_{args.config}"
-    rc = subprocess.run([sys.executable, str(HERE / "bit2bin.py"), str(out / f"{base}.bit"), str(out / f"{base}.bit.bin")])
+    rc = subprocess.run(
+        [sys.executable, str(HERE / "bit2bin.py"), str(out / f"{base}.bit"), str(out / f"{base}.bit.bin")]
+    )
     if rc.returncode != 0:
         return 1
     summary = [sys.executable, str(HERE / "vivado_summary.py"), str(out / "reports"), "--config", args.config]

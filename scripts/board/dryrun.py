@@ -48,8 +48,17 @@ COMMANDS = VIVADO / "tclint" / "vivado_commands.json"
 IIC_MEMBERS = ("scl_io", "sda_io")
 # external ports that are the PS7's own (fixed MIO and DDR pins, no XDC)
 PS_PORTS = ("DDR", "FIXED_IO")
-# our XDC's names for master-XDC ports where the block-design wrapper forces another name
-XDC_ALIASES = {"hdmi_rx_ddc_scl_io": "hdmi_rx_scl", "hdmi_rx_ddc_sda_io": "hdmi_rx_sda"}
+# Digilent's tmds_rtl interface (vivado-library if/tmds_v1_0; the portMaps of dvi2rgb's and rgb2dvi's
+# component.xml): logical ports CLK_P, CLK_N and the 3-bit DATA_P, DATA_N
+TMDS_MEMBERS = (("clk_p", 0), ("clk_n", 0), ("data_p", 3), ("data_n", 3))
+
+
+def master_name(port: str) -> str:
+    """The master XDC's name of a wrapper port: hdmi_rx_data_p[0] -> hdmi_rx_p[0],
+    hdmi_rx_ddc_scl_io -> hdmi_rx_scl; other names are the same."""
+    port = re.sub(r"^(hdmi_(?:rx|tx))_data_([pn])\[(\d)\]$", r"\1_\2[\3]", port)
+    return re.sub(r"^(hdmi_(?:rx|tx))_ddc_(scl|sda)_io$", r"\1_\2", port)
+
 
 # A fake vivado-library for the dry run: only what vivado/lib/ip_repo.tcl reads (the folders it
 # checks and the kClkRange choice entries it extends), written here, not copied from Digilent.
@@ -142,6 +151,11 @@ class Design:
                 continue
             if p["vlnv"].startswith("xilinx.com:interface:iic_rtl"):
                 out |= {f"{name}_{m}": "IO" for m in IIC_MEMBERS}
+            elif p["vlnv"].startswith("digilentinc.com:interface:tmds_rtl"):
+                direction = "I" if p["mode"] == "Slave" else "O"
+                for m, width in TMDS_MEMBERS:
+                    bits = [f"{name}_{m}[{i}]" for i in range(width)] if width else [f"{name}_{m}"]
+                    out |= dict.fromkeys(bits, direction)
             else:
                 out[name] = "intf:" + p["vlnv"]
         return out
@@ -385,6 +399,9 @@ def check_ip(d: Design) -> list[str]:
                         errs.append(f"connection to {e}: {cell.vlnv} has no {kind} {name}")
                     elif not _confirmed(table[name]):
                         errs.append(f"connection to {e}: {kind} {name} of {cell.vlnv} is not confirmed")
+                    elif kind == "pin" and table[name].get("bd_pin_visible") is False:
+                        via = ", ".join(table[name].get("in_interfaces", []))
+                        errs.append(f"connection to {e}: pin {name} belongs to the bus interface {via}; connect that")
     return errs
 
 
@@ -425,7 +442,7 @@ def check_xdc(d: Design) -> list[str]:
         if not props or "PACKAGE_PIN" not in props:
             errs.append(f"port {port} has no PACKAGE_PIN")
             continue
-        ref = master.get(XDC_ALIASES.get(port, port))
+        ref = master.get(master_name(port))
         if ref is None:
             errs.append(f"port {port} is not in Digilent's Zybo Z7 master XDC")
             continue
@@ -498,10 +515,37 @@ def check_vlnvs(d: Design) -> list[str]:
     ]
 
 
+# the PS7 settings that are the design's own (vivado/lib/ps7.tcl orb_ps7_design_settings); every
+# other PCW_* value must be the Zybo Z7-20's, as Digilent's Vivado-written HDMI demo sets it
+PS7_DESIGN_KEYS = {
+    "PCW_USE_M_AXI_GP0", "PCW_FPGA_FCLK0_ENABLE", "PCW_FPGA0_PERIPHERAL_FREQMHZ", "PCW_EN_CLK1_PORT",
+    "PCW_FPGA_FCLK1_ENABLE", "PCW_FPGA1_PERIPHERAL_FREQMHZ", "PCW_USE_FABRIC_INTERRUPT", "PCW_IRQ_F2P_INTR",
+}  # fmt: skip
+
+
+def check_ps7_board_values(d: Design) -> list[str]:
+    """The explicit PS7 settings (no board files) equal the board's (facts: zybo_z7_20_values)."""
+    ps7 = [c for c in d.cells.values() if c.vlnv.endswith(":processing_system7")]
+    if len(ps7) != 1:
+        return [f"expected one processing_system7, got {len(ps7)}"]
+    board_values = ip_facts(ps7[0].vlnv)["zybo_z7_20_values"]["values"]
+    errs = []
+    for k, v in ps7[0].config.items():
+        name = k.removeprefix("CONFIG.")
+        if name in PS7_DESIGN_KEYS:
+            continue
+        if name not in board_values:
+            errs.append(f"ps7: {name} is not among the Zybo Z7-20's PS7 settings")
+        elif str(v) != board_values[name]:
+            errs.append(f"ps7: {name} = {v!r}, the Zybo Z7-20 has {board_values[name]!r}")
+    return errs
+
+
 CHECKS = {
     "sources": check_sources,
     "accelerator": check_accel,
     "ip": check_ip,
+    "ps7": check_ps7_board_values,
     "nets": check_nets,
     "xdc": check_xdc,
     "clocks": check_clocks,

@@ -27,6 +27,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 import pytest
+
 from orbtb.views import assert_view_fresh, load_script
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -89,7 +90,9 @@ def test_board_json_rules(tmp_path: Path) -> None:
 
 def test_tclint_clean() -> None:
     tclint = Path(sys.executable).parent / "tclint"
-    proc = subprocess.run([str(tclint), "vivado", "scripts/board/vivado_stub.tcl"], cwd=ROOT, capture_output=True, text=True)
+    proc = subprocess.run(
+        [str(tclint), "vivado", "scripts/board/vivado_stub.tcl"], cwd=ROOT, capture_output=True, text=True
+    )
     assert proc.returncode == 0, proc.stdout + proc.stderr
 
 
@@ -98,7 +101,9 @@ def test_tclint_knows_the_vivado_switches(tmp_path: Path) -> None:
     tclint = Path(sys.executable).parent / "tclint"
     bad = tmp_path / "bad.tcl"
     bad.write_text("create_bd_cell -type ip -vnlv xilinx.com:ip:v_tc vtc\n")
-    proc = subprocess.run([str(tclint), "-c", str(ROOT / "tclint.toml"), str(bad)], cwd=ROOT, capture_output=True, text=True)
+    proc = subprocess.run(
+        [str(tclint), "-c", str(ROOT / "tclint.toml"), str(bad)], cwd=ROOT, capture_output=True, text=True
+    )
     assert proc.returncode != 0 and "-vnlv" in proc.stdout, proc.stdout
 
 
@@ -177,7 +182,9 @@ def test_wrong_pin_fails(tmp_path: Path) -> None:
 
 def test_wrong_iostandard_and_unknown_port_fail(tmp_path: Path) -> None:
     def edit(v: Path) -> None:
-        replace_in(v / "xdc" / "zybo_z7_20.xdc", "PACKAGE_PIN D18 IOSTANDARD LVCMOS33", "PACKAGE_PIN D18 IOSTANDARD LVCMOS18")
+        replace_in(
+            v / "xdc" / "zybo_z7_20.xdc", "PACKAGE_PIN D18 IOSTANDARD LVCMOS33", "PACKAGE_PIN D18 IOSTANDARD LVCMOS18"
+        )
         with (v / "xdc" / "zybo_z7_20.xdc").open("a") as f:
             f.write("set_property -dict { PACKAGE_PIN K18 IOSTANDARD LVCMOS33 } [get_ports { btn[0] }]\n")
 
@@ -187,7 +194,12 @@ def test_wrong_iostandard_and_unknown_port_fail(tmp_path: Path) -> None:
 
 
 def test_connection_to_missing_wrapper_port_fails(tmp_path: Path) -> None:
-    d = mutated_run(tmp_path, lambda v: replace_in(v / "lib" / "bd.tcl", "orb_net $accel/irq ps7/IRQ_F2P", "orb_net $accel/interrupt ps7/IRQ_F2P"))
+    d = mutated_run(
+        tmp_path,
+        lambda v: replace_in(
+            v / "lib" / "bd.tcl", "orb_net $accel/irq ps7/IRQ_F2P", "orb_net $accel/interrupt ps7/IRQ_F2P"
+        ),
+    )
     errs = dryrun.check_accel(d)
     assert "connection to orb_accel/interrupt: orb_accel_zynq has no port interrupt" in errs
     assert "orb_accel/irq (out) is not connected" in errs
@@ -200,7 +212,9 @@ def test_overlapping_address_fails(tmp_path: Path) -> None:
     )
     d = mutated_run(tmp_path, lambda v: replace_in(v / "lib" / "bd.tcl", "  validate_bd_design\n", extra))
     errs = dryrun.check_addresses(d)
-    assert errs == ["address segments overlap: /orb_accel/s_axi_ctrl/reg0 at 0x43C00000+0x100000 and /vtc/ctrl/Reg at 0x43C80000"]
+    assert errs == [
+        "address segments overlap: /orb_accel/s_axi_ctrl/reg0 at 0x43C00000+0x100000 and /vtc/ctrl/Reg at 0x43C80000"
+    ]
 
 
 def test_ip_property_checks_fail(tmp_path: Path) -> None:
@@ -221,7 +235,12 @@ def test_clk_range_outside_choices_fails(tmp_path: Path) -> None:
 
 def test_unknown_switch_and_bad_arguments_fail(tmp_path: Path) -> None:
     with pytest.raises(RuntimeError, match="unknown switch -vnlv"):
-        mutated_run(tmp_path / "a", lambda v: replace_in(v / "lib" / "bd.tcl", "create_bd_cell -type ip -vlnv", "create_bd_cell -type ip -vnlv"))
+        mutated_run(
+            tmp_path / "a",
+            lambda v: replace_in(
+                v / "lib" / "bd.tcl", "create_bd_cell -type ip -vlnv", "create_bd_cell -type ip -vnlv"
+            ),
+        )
     with pytest.raises(RuntimeError, match=r"unknown configuration 800x600 \(known: 640x480 1280x720 1920x1080\)"):
         dryrun.run("800x600", tmp_path / "b")
     with pytest.raises(RuntimeError, match="--jobs must be a positive integer"):

@@ -116,17 +116,13 @@ proc orb_create_bd {design cfg board_part} {
   orb_cell xilinx.com:ip:axi_interconnect ctrl_ic [list CONFIG.NUM_MI {1}]
   orb_cell xilinx.com:ip:xlconcat leds [list CONFIG.NUM_PORTS {4}]
 
-  # --- external ports: names as in Digilent's Zybo Z7 master XDC (vivado/xdc/zybo_z7_20.xdc) ------
-  create_bd_port -dir I -type clk -freq_hz [expr {round([dict get $cfg pixel_mhz] * 1e6)}] hdmi_rx_clk_p
-  create_bd_port -dir I -type clk -freq_hz [expr {round([dict get $cfg pixel_mhz] * 1e6)}] hdmi_rx_clk_n
-  create_bd_port -dir I -from 2 -to 0 hdmi_rx_p
-  create_bd_port -dir I -from 2 -to 0 hdmi_rx_n
-  create_bd_port -dir O hdmi_rx_hpd
+  # --- external ports (vivado/xdc/zybo_z7_20.xdc) ---------------------------------------------------
+  # (the wrapper names an interface port's members <port>_<member>: hdmi_rx_clk_p, hdmi_rx_data_p[0],
+  # hdmi_rx_ddc_scl_io, as in Digilent's own HDMI demo; the XDC uses those names)
+  create_bd_intf_port -mode Slave -vlnv digilentinc.com:interface:tmds_rtl:1.0 hdmi_rx
   create_bd_intf_port -mode Master -vlnv xilinx.com:interface:iic_rtl:1.0 hdmi_rx_ddc
-  create_bd_port -dir O hdmi_tx_clk_p
-  create_bd_port -dir O hdmi_tx_clk_n
-  create_bd_port -dir O -from 2 -to 0 hdmi_tx_p
-  create_bd_port -dir O -from 2 -to 0 hdmi_tx_n
+  create_bd_port -dir O hdmi_rx_hpd
+  create_bd_intf_port -mode Master -vlnv digilentinc.com:interface:tmds_rtl:1.0 hdmi_tx
   create_bd_port -dir O -from 3 -to 0 led
 
   # --- connections ------------------------------------------------------------------------------
@@ -151,15 +147,9 @@ proc orb_create_bd {design cfg board_part} {
   orb_net one/dout vid_in/vid_io_in_ce vid_in/aclken vid_in/axis_enable vtc/clken vtc/det_clken \
     vid_out/aclken vid_out/vid_io_out_ce port:hdmi_rx_hpd
   orb_net vid_out/vtg_ce vtc/gen_clken
-  # HDMI pins (pin by pin: the port names follow the master XDC, not the TMDS interface's)
-  orb_net port:hdmi_rx_clk_p hdmi_in/TMDS_Clk_p
-  orb_net port:hdmi_rx_clk_n hdmi_in/TMDS_Clk_n
-  orb_net port:hdmi_rx_p hdmi_in/TMDS_Data_p
-  orb_net port:hdmi_rx_n hdmi_in/TMDS_Data_n
-  orb_net port:hdmi_tx_clk_p hdmi_out/TMDS_Clk_p
-  orb_net port:hdmi_tx_clk_n hdmi_out/TMDS_Clk_n
-  orb_net port:hdmi_tx_p hdmi_out/TMDS_Data_p
-  orb_net port:hdmi_tx_n hdmi_out/TMDS_Data_n
+  # HDMI: the TMDS pins belong to the IPs' TMDS bus interfaces, so they are reached through them
+  orb_intf port:hdmi_rx hdmi_in/TMDS
+  orb_intf hdmi_out/TMDS port:hdmi_tx
   orb_intf port:hdmi_rx_ddc hdmi_in/DDC
   # video
   orb_intf hdmi_in/RGB vid_in/vid_io_in
