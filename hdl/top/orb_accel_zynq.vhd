@@ -74,10 +74,10 @@ entity orb_accel_zynq is
   -- Interface attributes for Vivado's IP integrator (UG994, "HDL Parameters for Interface
   -- Inference"). GHDL 2.0's synthesis crashes on any attribute of an input port
   -- (synth-vhdl_decls.adb:224, an assertion; output ports are fine), and `make lint` synthesises
-  -- every entity with GHDL, so the two input-port pairs are left as comments below. Vivado infers
-  -- them from the names anyway (aclk: clock; aresetn: reset, POLARITY ACTIVE_LOW from the trailing
-  -- n, UG1118); with a newer GHDL, or if the block design does not associate aclk with the three
-  -- interfaces, uncomment them (or set CONFIG.ASSOCIATED_BUSIF on the cell's aclk pin in the TCL).
+  -- every entity with GHDL, and VHDL allows port attributes only here, so the two input-port
+  -- pairs are left as comments below. The board build sets the same parameters on the module
+  -- reference's pins instead (vivado/lib/bd.tcl: CONFIG.ASSOCIATED_BUSIF and ASSOCIATED_RESET on
+  -- aclk, CONFIG.POLARITY ACTIVE_LOW on aresetn; docs/board.md), and tb/board checks they are set.
   --
   -- attribute x_interface_info of aclk         : signal is "xilinx.com:signal:clock:1.0 aclk CLK";
   -- attribute x_interface_parameter of aclk    : signal is

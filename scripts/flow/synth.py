@@ -288,7 +288,7 @@ class Check:
 
 def check_record(rec: dict[str, Any], expected: dict[str, Any]) -> Check:
     """Compare a record's figures with its expectation (load_expected's data)."""
-    name = f"{rec['top']} {rec['width']}x{rec['height']}x{rec['scales']}"
+    name = rec.get("job") or f"{rec['top']} {rec['width']}x{rec['height']}x{rec['scales']}"
     entry = expected["jobs"].get(name)
     if entry is None:
         return Check("no expectation", ())
@@ -560,6 +560,7 @@ def synth_sta(yosys: str, top: str, cdir: Path, rec: dict[str, Any], timeout: fl
 def new_record(job: Job, key: str) -> dict[str, Any]:
     return {
         "top": job.top,
+        "job": job.name,  # with any --generic overrides: the key of synth_expected.json
         "width": job.cfg.width,
         "height": job.cfg.height,
         "scales": job.cfg.scales,
@@ -830,6 +831,8 @@ def main(argv: list[str] | None = None) -> int:
         key = cache_key(j.top, j.generics, files, tools)
         cached = None if args.no_cache else load_cached(cdir, key)
         need = [p for p in wanted if cached is None or p not in cached.get("passes", [])]
+        if cached is not None:
+            cached["job"] = j.name  # records cached before the field existed
         if cached is not None and not need:
             print(f"  {j.name:<28} cached (measured {cached.get('date', '?')}, hdl/ at {cached.get('hdl_revision')})")
             run.publish(cached)
