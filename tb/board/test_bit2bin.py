@@ -5,29 +5,20 @@ and the error messages on bad input."""
 
 from __future__ import annotations
 
-import importlib.util
 import struct
 import subprocess
 import sys
 from pathlib import Path
-from types import ModuleType
 
 import pytest
+
+from orbtb.views import load_script
 
 ROOT = Path(__file__).resolve().parents[2]
 SCRIPT = ROOT / "scripts" / "board" / "bit2bin.py"
 
 
-def _load() -> ModuleType:
-    spec = importlib.util.spec_from_file_location("orb_bit2bin_script", SCRIPT)
-    assert spec is not None and spec.loader is not None
-    mod = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = mod  # dataclasses look their module up while the class is built
-    spec.loader.exec_module(mod)
-    return mod
-
-
-b2b = _load()
+b2b = load_script(SCRIPT)
 
 # raw configuration data as Vivado writes it (big-endian words)
 WORDS = [

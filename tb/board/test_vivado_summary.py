@@ -6,30 +6,21 @@ and the yosys estimate beside Vivado's figures."""
 
 from __future__ import annotations
 
-import importlib.util
 import json
 import subprocess
 import sys
 from pathlib import Path
-from types import ModuleType
 from typing import Any
 
 import pytest
+
+from orbtb.views import load_script
 
 ROOT = Path(__file__).resolve().parents[2]
 SCRIPT = ROOT / "scripts" / "board" / "vivado_summary.py"
 
 
-def _load() -> ModuleType:
-    spec = importlib.util.spec_from_file_location("orb_vivado_summary_script", SCRIPT)
-    assert spec is not None and spec.loader is not None
-    mod = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = mod  # dataclasses look their module up while the class is built
-    spec.loader.exec_module(mod)
-    return mod
-
-
-vs = _load()
+vs = load_script(SCRIPT)
 
 # report_utilization, Vivado 2022+ layout (Fixed and Prohibited columns), placed design
 UTILIZATION = """\
