@@ -359,6 +359,18 @@ def _names(facts: dict[str, Any], key: str) -> dict[str, Any]:
     return entries
 
 
+def absent_because(entry: Any, config: dict[str, str]) -> str | None:
+    """The term of an entry's `when_config` (terms "(NAME == value)" joined by "and") that the
+    cell's explicit CONFIG makes false, or None. Terms of another form, and names the cell does not
+    set, are not judged: only what is certainly false counts."""
+    cond = entry.get("when_config") if isinstance(entry, dict) else None
+    for term in re.split(r"\band\b", cond or ""):
+        m = re.fullmatch(r"\s*\(?\s*(\w+)\s*==\s*(\w+)\s*\)?\s*", term)
+        if m and f"CONFIG.{m.group(1)}" in config and config[f"CONFIG.{m.group(1)}"].lower() != m.group(2).lower():
+            return f"{m.group(1)} == {m.group(2)}"
+    return None
+
+
 def check_ip(d: Design) -> list[str]:
     """Every pin, interface and CONFIG property used on an IP exists in its published definition;
     values with a choice list are in it."""
@@ -399,9 +411,20 @@ def check_ip(d: Design) -> list[str]:
                         errs.append(f"connection to {e}: {cell.vlnv} has no {kind} {name}")
                     elif not _confirmed(table[name]):
                         errs.append(f"connection to {e}: {kind} {name} of {cell.vlnv} is not confirmed")
+                    elif (why := absent_because(table[name], cell.config)) is not None:
+                        errs.append(f"connection to {e}: {kind} {name} exists only when {why}")
                     elif kind == "pin" and table[name].get("bd_pin_visible") is False:
                         via = ", ".join(table[name].get("in_interfaces", []))
                         errs.append(f"connection to {e}: pin {name} belongs to the bus interface {via}; connect that")
+        for a in d.addresses:
+            owner, _, rest = a["segment"].strip("/").partition("/")
+            if owner != cell.name:
+                continue
+            intf = rest.partition("/")[0]
+            if intf not in intfs:
+                errs.append(f"address segment {a['segment']}: {cell.vlnv} has no interface {intf}")
+            elif (why := absent_because(intfs[intf], cell.config)) is not None:
+                errs.append(f"address segment {a['segment']}: interface {intf} exists only when {why}")
     return errs
 
 

@@ -211,6 +211,7 @@ def test_overlapping_address_fails(tmp_path: Path) -> None:
         "[get_bd_addr_spaces ps7/Data] [get_bd_addr_segs vtc/ctrl/Reg]\n  validate_bd_design\n"
     )
     d = mutated_run(tmp_path, lambda v: replace_in(v / "lib" / "bd.tcl", "  validate_bd_design\n", extra))
+    assert "address segment /vtc/ctrl/Reg: interface ctrl exists only when HAS_AXI4_LITE == true" in dryrun.check_ip(d)
     errs = dryrun.check_addresses(d)
     assert errs == [
         "address segments overlap: /orb_accel/s_axi_ctrl/reg0 at 0x43C00000+0x100000 and /vtc/ctrl/Reg at 0x43C80000"
