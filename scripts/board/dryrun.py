@@ -96,7 +96,6 @@ class Design:
     xdc_ports: list[str] = field(default_factory=list)
     clocks: list[dict[str, Any]] = field(default_factory=list)
     clock_groups: list[list[str]] = field(default_factory=list)
-    lookups: list[tuple[str, str]] = field(default_factory=list)
 
     @classmethod
     def from_records(cls, config: str, records: list[dict[str, Any]]) -> Design:
@@ -133,8 +132,6 @@ class Design:
                 d.clocks.append(r)
             elif cmd == "set_clock_groups":
                 d.clock_groups.append(r["groups"])
-            elif cmd == "lookup":
-                d.lookups.append((r["kind"], r["path"].strip("/")))
         return d
 
     def wrapper_ports(self) -> dict[str, str]:

@@ -214,7 +214,6 @@ proc ::orb_stub::getter {kind args} {
   foreach n $p {
     set path [expr {[string match /* $n] ? $n : "/$n"}]
     lappend out $path
-    ::orb_stub::emit lookup kind $kind path $path
   }
   return $out
 }
