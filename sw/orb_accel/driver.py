@@ -1,22 +1,23 @@
 # SPDX-License-Identifier: MIT
 """The accelerator's driver: configure, wait for a frame, read its bank, release it.
 
-Plain blocking Python against a `Bus` (orb_accel.bus), so the same code runs on the board and
-against the simulated RTL (every top-level cocotb test drives the accelerator through it). The
-register map is golden_model.regs, the feature-memory layout golden_model.featmem (both
-generated or defined once; docs/registers.md, docs/feature-memory.md). numpy only.
+Plain blocking Python against a `Bus` (orb_accel.bus), so the same code runs on the board (UIO,
+/dev/mem), against the simulator in another process (orb_accel.socket_bus) and inside a cocotb
+test (every top-level test drives the accelerator through it). The register map is
+golden_model.regs, the feature-memory layout golden_model.featmem (both generated or defined
+once; docs/registers.md, docs/feature-memory.md). numpy only. docs/driver.md has the API.
 
     accel = OrbAccel(bus)
     accel.configure(threshold=20, mode="orb")
     with accel.frame(timeout_s=0.1) as frame:   # the bank is released on leaving the block
-        print(frame.number, len(frame.features))
+        print(frame.number, len(frame), frame.x, frame.descriptors.shape)
 """
 
 from __future__ import annotations
 
 from collections.abc import Iterator
 from contextlib import contextmanager
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -55,15 +56,70 @@ class HwConfig:
 
 @dataclass(frozen=True)
 class Frame:
-    """One published frame: its bank, features (canonical order) and end-of-frame record."""
+    """One published frame: its bank, features (canonical order: scale, row, column), end-of-frame
+    record, the mode it was decoded in, the configuration, and the counters read with it (the
+    cumulative registers of COUNTERS, lower-case names; empty when not read)."""
 
     bank: int
     features: Features
     record: EndOfFrame
+    mode: str = "orb"
+    hw: HwConfig | None = None
+    counters: dict[str, int] = field(default_factory=dict)
+
+    def __len__(self) -> int:
+        return len(self.features)
 
     @property
     def number(self) -> int:
+        """The accelerator's frame number (16 bits, wraps)."""
         return self.record.frame
+
+    @property
+    def dropped(self) -> int:
+        """Features of this frame lost before the feature memory (its record)."""
+        return self.record.dropped
+
+    @property
+    def truncated(self) -> int:
+        """Features of this frame not stored because its bank was full (its record)."""
+        return self.record.truncated
+
+    @property
+    def scale(self) -> np.ndarray:
+        return self.features.scale
+
+    @property
+    def scale_x(self) -> np.ndarray:
+        """Column in the pixels of the feature's own scale."""
+        return self.features.x
+
+    @property
+    def scale_y(self) -> np.ndarray:
+        return self.features.y
+
+    @property
+    def x(self) -> np.ndarray:
+        """Feature centre in full-resolution pixels: (scale_x + 0.5) * 2^scale - 0.5."""
+        return self.features.full_res()[0]
+
+    @property
+    def y(self) -> np.ndarray:
+        return self.features.full_res()[1]
+
+    @property
+    def score(self) -> np.ndarray:
+        return self.features.score
+
+    @property
+    def angle(self) -> np.ndarray:
+        """Orientation in degrees (sector * 360 / sectors); NaN in fast mode."""
+        return self.features.angle_deg()
+
+    @property
+    def descriptors(self) -> np.ndarray:
+        """(N, 32) uint8 in OpenCV's ORB byte and bit order; (N, 0) in fast mode."""
+        return self.features.descriptor
 
 
 class OrbAccel:
@@ -80,14 +136,31 @@ class OrbAccel:
         self.hw = self.read_config()
         # the mode frames are decoded in: CTRL's (another program may have configured the device),
         # then whatever configure() sets; a frame keeps the mode that was set when it started
-        self.mode = MODES[regs.CTRL.field("mode").get(self.read(regs.CTRL))]
+        ctrl = self.read(regs.CTRL)
+        self.mode = MODES[regs.CTRL.field("mode").get(ctrl)]
+        self.enabled = bool(regs.CTRL.field("enable").get(ctrl))
+        self.threshold = regs.THRESHOLD.field("threshold").get(self.read(regs.THRESHOLD))
 
     # ---- registers -----------------------------------------------------------------------------
     def read(self, reg: regs.Register) -> int:
+        if reg.access == "wo":
+            raise ValueError(f"{reg.name} is write-only")
         return self.bus.read32(reg.offset)
 
     def write(self, reg: regs.Register, value: int) -> None:
-        self.bus.write32(reg.offset, value)
+        """Write a register; a write the register bank would refuse (SLVERR: a read-only register,
+        a reserved bit, a field above its maximum) raises ValueError before it reaches the bus (on
+        the board an error response to a CPU store is a SIGBUS, not an exception: docs/uio.md)."""
+        if reg.access == "ro":
+            raise ValueError(f"{reg.name} is read-only")
+        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not 0 <= value <= 0xFFFFFFFF:
+            raise ValueError(f"{reg.name}: {value!r} is not a 32-bit value")
+        if reg.access != "w1c" and not reg.legal(int(value)):
+            allowed = ", ".join(f"{f.name} 0..{f.max if f.max is not None else (1 << f.width) - 1}" for f in reg.fields)
+            raise ValueError(
+                f"{reg.name}: {int(value):#x} sets a reserved bit or a field above its maximum ({allowed})"
+            )
+        self.bus.write32(reg.offset, int(value))
 
     def read_config(self) -> HwConfig:
         size, orb, mem = self.read(regs.CFG_SIZE), self.read(regs.CFG_ORB), self.read(regs.CFG_MEM)
@@ -123,7 +196,7 @@ class OrbAccel:
         self.write(regs.IRQ_ENABLE, irq_word)
         ctrl = regs.CTRL.field("mode").put(MODES.index(mode))
         self.write(regs.CTRL, regs.CTRL.field("enable").put(int(enable), ctrl))
-        self.mode = mode
+        self.mode, self.enabled, self.threshold = mode, bool(enable), int(threshold)
 
     def soft_reset(self) -> None:
         """Restart the data path and the counters (the registers keep their values)."""
@@ -160,8 +233,13 @@ class OrbAccel:
             raise AccelError(f"frame-done interrupt but bank {bank} is not ready: STATUS = {status:#x}")
         return bank
 
-    def read_bank(self, bank: int) -> Frame:
-        """A ready bank's features and record (the bank stays held: see release)."""
+    def read_bank(self, bank: int, mode: str | None = None, counters: bool = True) -> Frame:
+        """A ready bank's features and record (the bank stays held: see release), decoded in `mode`
+        (default: the mode last configured; a frame keeps the mode that was set when it started),
+        with the counters when `counters` (len(COUNTERS) more reads)."""
+        mode = self.mode if mode is None else mode
+        if mode not in MODES:
+            raise ValueError(f"mode {mode!r} not one of {MODES}")
         if bank not in range(regs.BANKS):
             raise ValueError(f"bank {bank} outside 0..{regs.BANKS - 1}")
         info = self.read(regs.BANK0_INFO if bank == 0 else regs.BANK1_INFO)
@@ -173,8 +251,8 @@ class OrbAccel:
         record = decode_record(self.bus.read_block(base + count * SLOT_BYTES, SLOT_RECORD_WORDS))
         if record.count != count:
             raise AccelError(f"bank {bank}: record count {record.count}, BANK{bank}_INFO count {count}")
-        feats = decode_features(words, self.hw.sectors, descriptors=self.mode == "orb")
-        return Frame(bank, feats, record)
+        feats = decode_features(words, self.hw.sectors, descriptors=mode == "orb")
+        return Frame(bank, feats, record, mode, self.hw, self.counters() if counters else {})
 
     def release(self, bank: int) -> None:
         """Give a bank back to the accelerator (after reading it)."""
@@ -184,11 +262,18 @@ class OrbAccel:
 
     @contextmanager
     def holding(self, bank: int) -> Iterator[int]:
-        """Hold `bank` for the block; it is released on leaving, also when the block raises."""
+        """Hold `bank` for the block; it is released on leaving, also when the block raises (then
+        the block's exception propagates, with a note if the release failed too)."""
         try:
             yield bank
-        finally:
-            self.release(bank)
+        except BaseException as exc:
+            try:
+                self.release(bank)
+            except Exception as release_exc:  # e.g. the connection went with the block's error
+                if hasattr(exc, "add_note"):  # Python 3.11+
+                    exc.add_note(f"bank {bank} could not be released: {release_exc}")
+            raise
+        self.release(bank)
 
     @contextmanager
     def frame(self, timeout_s: float) -> Iterator[Frame]:

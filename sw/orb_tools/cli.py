@@ -20,7 +20,7 @@ from golden_model.config import Config, ConfigError
 from golden_model.features import Features, write_csv
 from golden_model.images import DEFAULT_IMAGE, ImageError, to_luma
 from orb_sim.rtl_backend import RtlUnavailable
-from orb_tools.images import load_luma, load_rgb_or_grey
+from orb_tools import board_cli
 
 BACKENDS = ("model", "opencv", "rtl")
 
@@ -98,6 +98,7 @@ def build_parser() -> argparse.ArgumentParser:
     rb.add_argument("--threshold", type=_threshold, default=20)
     rb.add_argument("--scales", type=_scales, default=1)
     rb.add_argument("--out-dir", type=Path, default=Path("build/rotation-bench"))
+    board_cli.add_parsers(sub)
     return p
 
 
@@ -128,6 +129,8 @@ def run_backend(backend: str, img: np.ndarray, cfg: Config) -> Features:
 
 
 def cmd_extract(args: argparse.Namespace) -> int:
+    from orb_tools.images import load_rgb_or_grey
+
     path = DEFAULT_IMAGE if args.default_image else args.image
     original = load_rgb_or_grey(path)
     img = to_luma(original)
@@ -155,6 +158,8 @@ def cmd_extract(args: argparse.Namespace) -> int:
 
 
 def _load_images(paths: Sequence[Path]) -> list[tuple[str, np.ndarray]]:
+    from orb_tools.images import load_luma
+
     out = []
     for path in paths:
         img = load_luma(path)
@@ -177,14 +182,38 @@ def cmd_rotation_bench(args: argparse.Namespace) -> int:
     )
 
 
-COMMANDS = {"extract": cmd_extract, "compare-fast": cmd_compare_fast, "rotation-bench": cmd_rotation_bench}
+COMMANDS = {"extract": cmd_extract, "compare-fast": cmd_compare_fast, "rotation-bench": cmd_rotation_bench,
+            "ros-env": board_cli.cmd_ros_env, "sim-server": board_cli.cmd_sim_server,
+            "bag": board_cli.cmd_bag}  # fmt: skip
+BOARD_COMMANDS = {"info": board_cli.cmd_info, "stream": board_cli.cmd_stream}
+
+
+def _run(argv: list[str]) -> int:
+    ours, ros_args = board_cli.split_ros_args(argv)
+    args = build_parser().parse_args(ours if ours[:1] == ["ros"] else argv)
+    if args.command == "ros":
+        return board_cli.cmd_ros(args, ros_args)
+    if args.command == "board":
+        return BOARD_COMMANDS[args.board_command](args)
+    return COMMANDS[args.command](args)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
+    from orb_accel.driver import AccelError
+    from orb_ros.msgs import RosUnavailable
+    from orb_sim.sim_server import SimServerError
+
+    argv = list(sys.argv[1:] if argv is None else argv)
+    board_like = argv[:1] in (["board"], ["ros"], ["sim-server"], ["bag"], ["ros-env"])
     try:
-        args = build_parser().parse_args(argv)
-        return COMMANDS[args.command](args)
-    except (UsageError, ImageError, ConfigError, OSError, RtlUnavailable) as exc:
+        return _run(argv)
+    except (UsageError, ImageError, ConfigError, OSError, RtlUnavailable, AccelError, RosUnavailable,
+            SimServerError) as exc:  # fmt: skip
+        print(f"orb-accel: error: {exc}", file=sys.stderr)
+        return 2
+    except ValueError as exc:  # the driver's and the board commands' refusals of a bad value
+        if not board_like:
+            raise
         print(f"orb-accel: error: {exc}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:

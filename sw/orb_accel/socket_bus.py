@@ -1,0 +1,148 @@
+# SPDX-License-Identifier: MIT
+"""The driver's bus over a local socket: the simulated accelerator served by another process
+(orb_sim.bus_server inside a cocotb simulation; `orb-accel sim-server`), a drop-in for the board's
+UioBus. A user's script, the CLI and the ROS node run unchanged against the simulator:
+
+    with SocketBus("127.0.0.1:5555") as bus:
+        accel = OrbAccel(bus)
+
+The protocol (this module defines it once; the server imports it) is a request-response exchange
+over one TCP connection, little-endian:
+
+- request: REQUEST (op u8, addr u32, arg u64). Ops: READ (arg unused), WRITE (arg = value),
+  BLOCK (arg = word count), WAIT_IRQ (arg = timeout in nanoseconds of simulated time), HELLO
+  (server information), SHUTDOWN (ends the simulation).
+- response: RESPONSE (status u8, length u32) and `length` payload bytes. Status OK: READ gives 4
+  bytes, BLOCK 4 x count, WAIT_IRQ one byte (1: the interrupt line is high, 0: timeout), HELLO a
+  UTF-8 JSON object, WRITE and SHUTDOWN nothing. BUS_ERROR: one byte, the AXI response (2 SLVERR,
+  3 DECERR), raised here as orb_accel.bus.BusError. BAD_REQUEST: a UTF-8 message.
+
+Time: the simulation advances only inside bus operations, so `wait_irq(timeout_s)` counts
+simulated seconds (as in orb_accel.bus.Bus); the wall-clock limit of one operation is
+`op_timeout_s` (a simulated frame takes seconds to minutes of wall time). numpy only.
+"""
+
+from __future__ import annotations
+
+import json
+import socket
+import struct
+from types import TracebackType
+
+import numpy as np
+
+from .bus import BusError
+
+PROTOCOL = 1
+MAGIC = "orb-accel-sim"
+REQUEST = struct.Struct("<BIQ")
+RESPONSE = struct.Struct("<BI")
+READ, WRITE, BLOCK, WAIT_IRQ, HELLO, SHUTDOWN = 1, 2, 3, 4, 5, 6
+OK, BUS_ERROR, BAD_REQUEST = 0, 1, 2
+MAX_BLOCK_WORDS = 1 << 20
+
+
+def parse_address(address: str) -> tuple[str, int]:
+    """("host", port) of "host:port" or ":port" / "port" (host 127.0.0.1); ValueError otherwise."""
+    host, _, port = address.rpartition(":")
+    try:
+        number = int(port)
+    except ValueError:
+        raise ValueError(f"simulator address {address!r} is not HOST:PORT") from None
+    if not 0 < number < 65536:
+        raise ValueError(f"simulator address {address!r}: port {number} outside 1..65535")
+    return host or "127.0.0.1", number
+
+
+def recv_exact(sock: socket.socket, n: int) -> bytes:
+    """Exactly n bytes; ConnectionError when the peer closes first."""
+    buf = bytearray()
+    while len(buf) < n:
+        chunk = sock.recv(n - len(buf))
+        if not chunk:
+            raise ConnectionError(f"connection closed after {len(buf)} of {n} bytes")
+        buf += chunk
+    return bytes(buf)
+
+
+class SocketBus:
+    """orb_accel.bus.Bus over a connection to a simulation bus server."""
+
+    def __init__(self, address: str, op_timeout_s: float = 600.0, connect_timeout_s: float = 10.0) -> None:
+        self.address = address
+        host, port = parse_address(address)
+        self.reads = self.writes = 0
+        self._broken = False
+        try:
+            self._sock = socket.create_connection((host, port), timeout=connect_timeout_s)
+        except OSError as exc:
+            raise ConnectionError(
+                f"no simulator at {host}:{port} ({exc}); start one with `orb-accel sim-server`"
+            ) from None
+        self._sock.settimeout(op_timeout_s)
+        self._sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+        self.info: dict = json.loads(self._call(HELLO, 0, 0).decode())
+        if self.info.get("magic") != MAGIC or self.info.get("protocol") != PROTOCOL:
+            self.close()
+            raise ConnectionError(f"{address} is not an orb-accel simulator of protocol {PROTOCOL}: {self.info}")
+
+    def _call(self, op: int, addr: int, arg: int) -> bytes:
+        if self._broken:
+            raise ConnectionError(f"the connection to {self.address} is out of step after an interrupted operation")
+        self._broken = True  # until the answer is complete (a KeyboardInterrupt may cut it)
+        try:
+            self._sock.sendall(REQUEST.pack(op, addr, arg))
+            status, length = RESPONSE.unpack(recv_exact(self._sock, RESPONSE.size))
+            payload = recv_exact(self._sock, length)
+            self._broken = False
+        except TimeoutError:
+            raise TimeoutError(
+                f"the simulator at {self.address} did not answer within {self._sock.gettimeout()} s"
+            ) from None
+        except (ConnectionError, OSError) as exc:
+            raise ConnectionError(f"the simulator at {self.address} went away ({exc})") from None
+        if status == BUS_ERROR:
+            raise BusError({WRITE: "write"}.get(op, "read"), addr, payload[0], arg if op == WRITE else None)
+        if status != OK:
+            raise ValueError(f"the simulator refused the request: {payload.decode(errors='replace')}")
+        return payload
+
+    @staticmethod
+    def _check(addr: int) -> None:
+        if addr < 0 or addr % 4 or addr >= 1 << 32:
+            raise ValueError(f"address {addr:#x} is not a 32-bit aligned offset")
+
+    def read32(self, addr: int) -> int:
+        self._check(addr)
+        self.reads += 1
+        return int.from_bytes(self._call(READ, addr, 0), "little")
+
+    def write32(self, addr: int, value: int) -> None:
+        self._check(addr)
+        if not 0 <= value <= 0xFFFFFFFF:
+            raise ValueError(f"value {value!r} is not a 32-bit value")
+        self.writes += 1
+        self._call(WRITE, addr, value)
+
+    def read_block(self, addr: int, count: int) -> np.ndarray:
+        self._check(addr)
+        if not 0 < count <= MAX_BLOCK_WORDS:
+            raise ValueError(f"block of {count} words outside 1..{MAX_BLOCK_WORDS}")
+        self.reads += count
+        return np.frombuffer(self._call(BLOCK, addr, count), dtype="<u4").astype(np.uint32)
+
+    def wait_irq(self, timeout_s: float) -> bool:
+        return self._call(WAIT_IRQ, 0, max(0, round(timeout_s * 1e9)))[0] == 1
+
+    def shutdown_server(self) -> None:
+        """End the simulation (the server answers, then stops)."""
+        self._call(SHUTDOWN, 0, 0)
+
+    def close(self) -> None:
+        self._sock.close()
+
+    def __enter__(self) -> SocketBus:
+        return self
+
+    def __exit__(self, kind: type[BaseException] | None, exc: BaseException | None, tb: TracebackType | None) -> None:
+        self.close()

@@ -1,0 +1,316 @@
+# SPDX-License-Identifier: MIT
+"""The ROS 1 node of the accelerator (docs/ros.md): one orb_accel_msgs/Features message per frame
+on ~features (/orb_accel/features), parameters, a reset service and diagnostics.
+
+The node owns the bus: one loop waits for the frame-done interrupt, stamps the frame, applies the
+parameter changes that services queued (written right after the interrupt, so that on a live
+stream they land in the vertical blanking and the next frame to start is the first one to use
+them; the hardware samples threshold and mode at a frame's first pixel), reads the bank, releases
+it, publishes. A service call returns once its change is written, with the number of the last
+frame published under the old values (`after_frame`). Runs on the board (UioBus) and against the
+simulator (SocketBus) unchanged; needs numpy and Debian's ROS packages only.
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+from dataclasses import dataclass, field, replace
+from types import ModuleType
+
+import numpy as np
+
+from golden_model import limits, regs
+from golden_model.config import MODES
+from orb_accel.bus import Bus
+from orb_accel.driver import Frame, OrbAccel
+
+NODE_NAME = "orb_accel"
+KEEP_THRESHOLD, KEEP_MODE, KEEP_ENABLE = -1, "", -1
+FAST_ANGLE = -1.0  # cv2.KeyPoint's "no orientation"
+PATCH_DIAMETER = 31  # size = 31 * 2^octave (OpenCV ORB's patchSize at each level)
+
+
+@dataclass(frozen=True)
+class Params:
+    threshold: int = 20
+    mode: str = "orb"
+    enable: bool = True
+
+
+def check_params(threshold: object, mode: object, enable: object) -> str | None:
+    """None when legal, else a sentence naming the allowed values."""
+    if (
+        isinstance(threshold, bool)
+        or not isinstance(threshold, (int, np.integer))
+        or not limits.THRESHOLD.legal(int(threshold))
+    ):
+        return f"threshold must be an integer {limits.THRESHOLD.text}, got {threshold!r}"
+    if mode not in MODES:
+        return f"mode must be one of {', '.join(MODES)}, got {mode!r}"
+    if not isinstance(enable, (bool, np.bool_)):
+        return f"enable must be true or false, got {enable!r}"
+    return None
+
+
+class WireArray(np.ndarray):
+    """A numpy array as rospy.numpy_msg serialises it: genpy's generated serialize_numpy calls
+    `tostring()`, which numpy 2 removed (numpy 1.x deprecates it); here it is `tobytes()`."""
+
+    def tostring(self) -> bytes:
+        return self.tobytes()
+
+
+def _wire(values: np.ndarray, dtype: type) -> WireArray:
+    return np.ascontiguousarray(values, dtype=dtype).view(WireArray)
+
+
+def message_arrays(frame: Frame) -> dict[str, np.ndarray | bytes]:
+    """The Features message's per-feature arrays of a frame (numpy, the message's types)."""
+    octave = frame.scale.astype(np.int32)
+    angle = frame.angle
+    return {
+        "x": _wire(frame.x, np.float32),
+        "y": _wire(frame.y, np.float32),
+        "size": _wire(PATCH_DIAMETER * np.ldexp(1.0, octave), np.float32),
+        "angle": _wire(np.where(np.isnan(angle), FAST_ANGLE, angle), np.float32),
+        "response": _wire(frame.score, np.float32),
+        "octave": _wire(octave, np.int32),
+        "scale_x": _wire(frame.scale_x, np.uint16),
+        "scale_y": _wire(frame.scale_y, np.uint16),
+        "descriptors": np.ascontiguousarray(frame.descriptors, dtype=np.uint8).tobytes(),
+    }
+
+
+def build_message(msg_cls: type, frame: Frame, threshold: int, stamp: object, frame_id: str) -> object:
+    """An orb_accel_msgs/Features message (`msg_cls`: the generated class, or its numpy_msg form)
+    of a frame detected with `threshold`."""
+    hw = frame.hw
+    assert hw is not None, "a frame read by OrbAccel.read_bank carries its configuration"
+    msg = msg_cls(**message_arrays(frame))
+    msg.header.stamp = stamp
+    msg.header.frame_id = frame_id
+    msg.width, msg.height, msg.frame = hw.width, hw.height, frame.number
+    msg.threshold, msg.mode, msg.scales, msg.sectors = threshold, frame.mode, hw.scales, hw.sectors
+    msg.dropped, msg.truncated = frame.dropped, frame.truncated
+    c = frame.counters
+    msg.frames_total, msg.dropped_total = c.get("frame_count", 0), c.get("dropped", 0)
+    msg.overflow_total, msg.overrun_total = c.get("overflow_count", 0), c.get("overrun", 0)
+    msg.protocol_errors_total, msg.desc_lost_total = c.get("proto_errors", 0), c.get("desc_lost", 0)
+    msg.discarded_total = c.get("discarded", 0)
+    return msg
+
+
+@dataclass
+class Request:
+    """A change queued by a service for the loop: new parameters, or a soft reset."""
+
+    params: Params | None = None
+    reset: bool = False
+    done: threading.Event = field(default_factory=threading.Event)
+    success: bool = False
+    message: str = ""
+    after_frame: int = 0
+
+
+class FeatureNode:
+    """The node's loop and services (rospy initialised by the caller)."""
+
+    def __init__(self, rospy: ModuleType, msgs: ModuleType, srvs: ModuleType, accel: OrbAccel, params: Params,
+                 frame_id: str, timeout_s: float, diag_period_s: float = 1.0, hardware_id: str = "orb-accel",
+                 service_timeout_s: float = 600.0) -> None:  # fmt: skip
+        from diagnostic_msgs.msg import DiagnosticArray  # Debian's python3-diagnostic-msgs
+        from rospy.numpy_msg import numpy_msg
+        from std_srvs.srv import Trigger, TriggerResponse
+
+        self.rospy, self.srvs, self.accel = rospy, srvs, accel
+        self.params, self.frame_id, self.timeout_s = params, frame_id, timeout_s
+        self.diag_period_s, self.hardware_id, self.service_timeout_s = diag_period_s, hardware_id, service_timeout_s
+        self._trigger_response = TriggerResponse
+        self._diag_array = DiagnosticArray
+        self.msg_cls = numpy_msg(msgs.Features)
+        self.lock = threading.Lock()
+        self.requests: list[Request] = []
+        self.last_frame = 0
+        self.published = 0
+        self.timeouts = 0
+        self.last_counters: dict[str, int] = {}
+        self.pub = rospy.Publisher("~features", self.msg_cls, queue_size=16)
+        self.diag_pub = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=4)
+        self._stats = {"t": time.monotonic(), "published": 0, "features": 0}
+        self._next_diag = time.monotonic() + diag_period_s
+        accel.soft_reset()  # a predecessor killed while holding a bank leaves it held: start clean
+        accel.write(regs.IRQ_STATUS, 0xFFFFFFFF)
+        accel.configure(params.threshold, params.mode, params.enable)
+        rospy.Service("~set_params", srvs.SetParams, self._on_set_params)
+        rospy.Service("~reset", Trigger, self._on_reset)
+
+    # ---- services (rospy's threads): queue, wait until the loop has written the change ---------
+    def _submit(self, request: Request) -> Request:
+        with self.lock:
+            self.requests.append(request)
+        if not request.done.wait(self.service_timeout_s):
+            with self.lock:
+                if request in self.requests:
+                    self.requests.remove(request)
+                    request.message = f"not applied: no frame boundary within {self.service_timeout_s:g} s"
+                    request.done.set()
+            request.done.wait()
+        return request
+
+    def _on_set_params(self, req: object) -> object:
+        p = self.params
+        with self.lock:
+            queued = [r.params for r in self.requests if r.params is not None]
+        base = queued[-1] if queued else p
+        threshold = base.threshold if req.threshold == KEEP_THRESHOLD else int(req.threshold)  # type: ignore[attr-defined]
+        mode = base.mode if req.mode == KEEP_MODE else req.mode  # type: ignore[attr-defined]
+        if req.enable not in (KEEP_ENABLE, 0, 1):  # type: ignore[attr-defined]
+            return self.srvs.SetParamsResponse(False, f"enable must be 1, 0 or -1 (keep), got {req.enable}", 0)  # type: ignore[attr-defined]
+        enable = base.enable if req.enable == KEEP_ENABLE else bool(req.enable)  # type: ignore[attr-defined]
+        error = check_params(threshold, mode, enable)
+        if error is not None:
+            self.rospy.logwarn(f"set_params refused: {error}")
+            return self.srvs.SetParamsResponse(False, error, self.last_frame)
+        r = self._submit(Request(params=Params(threshold, mode, enable)))
+        return self.srvs.SetParamsResponse(r.success, r.message, r.after_frame)
+
+    def _on_reset(self, _req: object) -> object:
+        r = self._submit(Request(reset=True))
+        return self._trigger_response(r.success, r.message)
+
+    def _take(self) -> list[Request]:
+        with self.lock:
+            taken, self.requests = self.requests, []
+        return taken
+
+    def _apply_params(self, requests: list[Request]) -> Params:
+        """Write the newest queued parameters (the frame in flight keeps the old ones)."""
+        new = [r.params for r in requests if r.params is not None]
+        if new and new[-1] != self.params:
+            p = new[-1]
+            self.accel.configure(p.threshold, p.mode, p.enable)
+            self.params = p
+        return self.params
+
+    def _finish(self, requests: list[Request], after_frame: int) -> None:
+        for r in requests:
+            r.success, r.after_frame = True, after_frame
+            if r.reset:
+                r.message = f"soft reset after frame {after_frame}: frame numbers and counters restart at 0"
+            else:
+                p = r.params
+                assert p is not None
+                r.message = (f"threshold {p.threshold}, mode {p.mode}, enable {str(p.enable).lower()}: "
+                             f"applied from the first frame after frame {after_frame}")  # fmt: skip
+            r.done.set()
+
+    # ---- the loop ------------------------------------------------------------------------------
+    def step(self) -> Frame | None:
+        """Wait for one frame and publish it (None after a timeout). Queued changes are written."""
+        accel = self.accel
+        try:
+            bank = accel.wait_frame(self.timeout_s)
+        except TimeoutError:
+            self.timeouts += 1
+            requests = self._take()  # no frame in flight that could see half of a change
+            if requests:
+                self._apply_params(requests)
+                if any(r.reset for r in requests):
+                    accel.soft_reset()
+                self._finish(requests, self.last_frame)
+            self._diagnostics(force=False)
+            return None
+        stamp = self.rospy.Time.now()
+        frame_params = self.params  # in force when this frame started
+        requests = self._take()
+        self._apply_params(requests)  # right after the interrupt: from the next frame on
+        with accel.holding(bank):
+            frame = accel.read_bank(bank, mode=frame_params.mode)
+        if any(r.reset for r in requests):
+            accel.soft_reset()
+        self.last_frame = frame.number
+        self._finish(requests, frame.number)
+        self.pub.publish(build_message(self.msg_cls, frame, frame_params.threshold, stamp, self.frame_id))
+        self.published += 1
+        self._stats["published"] += 1
+        self._stats["features"] += len(frame)
+        self.last_counters = frame.counters
+        self._diagnostics(force=False)
+        return frame
+
+    def run(self) -> None:
+        while not self.rospy.is_shutdown():
+            self.step()
+
+    def shutdown(self) -> None:
+        """Answer any waiting service call (the loop has stopped)."""
+        for r in self._take():
+            r.message = "the node is shutting down"
+            r.done.set()
+
+    # ---- diagnostics ---------------------------------------------------------------------------
+    def _diagnostics(self, force: bool) -> None:
+        now = time.monotonic()
+        if not force and now < self._next_diag:
+            return
+        from diagnostic_msgs.msg import DiagnosticStatus, KeyValue
+
+        span = max(now - self._stats["t"], 1e-9)
+        fps = self._stats["published"] / span
+        per_frame = self._stats["features"] / max(self._stats["published"], 1)
+        c = self.last_counters
+        errors = {k: c.get(k, 0) for k in ("dropped", "overflow_count", "overrun", "proto_errors", "desc_lost")}
+        level = DiagnosticStatus.OK if not any(errors.values()) else DiagnosticStatus.WARN
+        if self.published == 0 and self.timeouts:
+            level = DiagnosticStatus.WARN
+        warning = ", ".join(f"{k} {v}" for k, v in errors.items() if v)
+        warning = f": counters {warning}" if warning else (": no frames" if level != DiagnosticStatus.OK else "")
+        p = self.params
+        values = {"frames_per_second": f"{fps:.2f}", "features_per_frame": f"{per_frame:.1f}",
+                  "published": self.published, "timeouts": self.timeouts, "last_frame": self.last_frame,
+                  "threshold": p.threshold, "mode": p.mode, "enable": str(p.enable).lower(), **c}  # fmt: skip
+        status = DiagnosticStatus(
+            level=level, name=f"{NODE_NAME}: accelerator", hardware_id=self.hardware_id,
+            message=f"{fps:.1f} fps, {per_frame:.0f} features per frame" + warning,
+            values=[KeyValue(str(k), str(v)) for k, v in values.items()],
+        )  # fmt: skip
+        arr = self._diag_array()
+        arr.header.stamp = self.rospy.Time.now()
+        arr.status = [status]
+        self.diag_pub.publish(arr)
+        self._stats = {"t": now, "published": 0, "features": 0}
+        self._next_diag = now + self.diag_period_s
+
+
+def private_params(rospy: ModuleType, defaults: Params) -> tuple[Params, str | None]:
+    """The start-up parameters ~threshold, ~mode, ~enable (defaults where unset) and an error."""
+    threshold = rospy.get_param("~threshold", defaults.threshold)
+    mode = rospy.get_param("~mode", defaults.mode)
+    enable = rospy.get_param("~enable", defaults.enable)
+    return replace(defaults, threshold=threshold, mode=mode, enable=enable), check_params(threshold, mode, enable)
+
+
+def run_node(bus: Bus, msgs: ModuleType, srvs: ModuleType, rospy: ModuleType, defaults: Params,
+             timeout_s: float, hardware_id: str, argv: list[str] | None = None) -> int:  # fmt: skip
+    """Initialise rospy as node `orb_accel`, run until shut down; 0, or 2 for bad parameters."""
+    rospy.init_node(NODE_NAME, argv=argv, disable_signals=True)
+    params, error = private_params(rospy, defaults)
+    if error is not None:
+        rospy.logfatal(f"illegal start-up parameter: {error}")
+        rospy.signal_shutdown("illegal parameter")
+        raise ValueError(error)
+    frame_id = str(rospy.get_param("~frame_id", "orb_accel"))
+    timeout_s = float(rospy.get_param("~timeout", timeout_s))
+    diag_period_s = float(rospy.get_param("~diagnostics_period", 1.0))
+    accel = OrbAccel(bus)
+    node = FeatureNode(rospy, msgs, srvs, accel, params, frame_id, timeout_s, diag_period_s, hardware_id)
+    rospy.loginfo(f"{NODE_NAME}: {accel.hw.width}x{accel.hw.height}, {accel.hw.scales} scales, "
+                  f"{accel.hw.sectors} sectors; threshold {params.threshold}, mode {params.mode}; "
+                  f"publishing on {rospy.resolve_name('~features')}")  # fmt: skip
+    try:
+        node.run()
+    finally:
+        node.shutdown()
+        rospy.signal_shutdown("done")
+    return 0

@@ -1,0 +1,79 @@
+# SPDX-License-Identifier: MIT
+"""The simulator's side of orb_accel.socket_bus: serve the driver's bus operations, received over
+a socket from another process, on the simulated AXI4-Lite bus (orb_sim.cocotb_bus.CocotbBus).
+
+`serve` is blocking Python: the cocotb job runs it with `cocotb.task.bridge`, and each operation
+goes into the simulation through CocotbBus (`cocotb.task.resume`). Simulated time advances only
+inside an operation, so the simulation waits, frozen, while no client asks for anything: what a
+client sees is the same whether it is fast or slow. One client at a time; the next connection is
+accepted when the present one closes. The protocol is orb_accel.socket_bus's.
+"""
+
+from __future__ import annotations
+
+import json
+import socket
+
+from orb_accel.bus import BusError
+from orb_accel.socket_bus import (
+    BAD_REQUEST,
+    BLOCK,
+    BUS_ERROR,
+    HELLO,
+    MAX_BLOCK_WORDS,
+    OK,
+    READ,
+    REQUEST,
+    RESPONSE,
+    SHUTDOWN,
+    WAIT_IRQ,
+    WRITE,
+    recv_exact,
+)
+
+from .cocotb_bus import CocotbBus
+
+
+def handle(bus: CocotbBus, info: dict, op: int, addr: int, arg: int) -> tuple[int, bytes]:
+    """(status, payload) of one request."""
+    try:
+        if op == READ:
+            return OK, bus.read32(addr).to_bytes(4, "little")
+        if op == WRITE:
+            if arg > 0xFFFFFFFF:
+                return BAD_REQUEST, f"write value {arg:#x} is wider than 32 bits".encode()
+            bus.write32(addr, arg)
+            return OK, b""
+        if op == BLOCK:
+            if not 0 < arg <= MAX_BLOCK_WORDS:
+                return BAD_REQUEST, f"block of {arg} words outside 1..{MAX_BLOCK_WORDS}".encode()
+            return OK, bus.read_block(addr, arg).astype("<u4").tobytes()
+        if op == WAIT_IRQ:
+            return OK, bytes([int(bus.wait_irq(arg * 1e-9))])
+        if op == HELLO:
+            return OK, json.dumps(info).encode()
+        if op == SHUTDOWN:
+            return OK, b""
+    except BusError as exc:
+        return BUS_ERROR, bytes([exc.resp])
+    return BAD_REQUEST, f"unknown operation {op}".encode()
+
+
+def serve(listener: socket.socket, bus: CocotbBus, info: dict) -> None:
+    """Serve clients of `listener` one after another until one sends SHUTDOWN."""
+    while True:
+        conn, _ = listener.accept()
+        with conn:
+            conn.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+            while True:
+                try:
+                    op, addr, arg = REQUEST.unpack(recv_exact(conn, REQUEST.size))
+                except OSError:  # the client closed (or reset) the connection
+                    break
+                status, payload = handle(bus, info, op, addr, arg)
+                try:
+                    conn.sendall(RESPONSE.pack(status, len(payload)) + payload)
+                except OSError:
+                    break
+                if op == SHUTDOWN:
+                    return

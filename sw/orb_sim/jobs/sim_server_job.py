@@ -1,0 +1,75 @@
+# SPDX-License-Identifier: MIT
+"""Job (not a test): the simulated accelerator as a server for another process's driver
+(orb_sim.sim_server starts it; orb_sim.bus_server serves the bus).
+
+The frames of ORB_JOB_DIR/frames.npy ((N, H, W, 3) RGB or (N, H, W) luma) stream into the
+accelerator one after another, round and round, with horizontal and vertical blanking
+(config.json: h_blank clocks per line, v_blank clocks per frame), as a camera would send them; the
+CPU side is whoever connects to the socket. The job writes ORB_JOB_DIR/address ("127.0.0.1:PORT")
+once it listens, and frames.log (one line per frame sent: sequence number, index in frames.npy,
+clock of its first pixel). It ends when a client sends SHUTDOWN.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import socket
+from pathlib import Path
+
+import cocotb
+import numpy as np
+from cocotb.task import bridge
+from cocotb.triggers import RisingEdge
+
+from orb_accel.socket_bus import MAGIC, PROTOCOL
+from orb_sim.accel_bench import AccelBench
+from orb_sim.bus_server import serve
+from orb_sim.cocotb_bus import PERIOD_NS
+from orb_sim.video import Gaps
+
+
+@cocotb.test()
+async def sim_server(dut) -> None:
+    job = Path(os.environ["ORB_JOB_DIR"])
+    cfg = json.loads((job / "config.json").read_text())
+    frames = np.load(job / "frames.npy")
+    if cfg["toplevel"] == "orb_accel_zynq":
+        b = AccelBench(dut, "aclk", "aresetn", reset_active_low=True, axil_prefix="s_axi_ctrl")
+    else:
+        b = AccelBench(dut)
+    await b.start()
+    clk = b.clk
+    clock = {"n": 0}
+
+    async def count_clocks() -> None:
+        while True:
+            await RisingEdge(clk)
+            clock["n"] += 1
+
+    gaps = Gaps("blanking", h_blank=cfg["h_blank"], v_blank=cfg["v_blank"])
+    log = open(job / "frames.log", "w", buffering=1)
+
+    async def feed() -> None:
+        seq = 0
+        while True:
+            k = seq % len(frames)
+            log.write(f"{seq} {k} {clock['n']}\n")
+            await b.send(frames[k], gaps)
+            seq += 1
+
+    cocotb.start_soon(count_clocks())
+    cocotb.start_soon(feed())
+    listener = socket.create_server((cfg["host"], cfg["port"]))
+    host, port = listener.getsockname()[:2]
+    tmp = job / "address.tmp"
+    tmp.write_text(f"{host}:{port}\n")
+    tmp.replace(job / "address")
+    info = {"magic": MAGIC, "protocol": PROTOCOL, "toplevel": cfg["toplevel"], "generics": cfg["generics"],
+            "period_ns": PERIOD_NS, "frames": len(frames), "h_blank": cfg["h_blank"],
+            "v_blank": cfg["v_blank"]}  # fmt: skip
+    try:
+        await bridge(serve)(listener, b.bus, info)
+    finally:
+        listener.close()
+        log.close()

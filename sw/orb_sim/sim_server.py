@@ -1,0 +1,154 @@
+# SPDX-License-Identifier: MIT
+"""Start and stop the simulated accelerator as a bus server (orb_sim.jobs.sim_server_job) in its
+own process group, so that a driver in any other process reaches it through
+orb_accel.socket_bus.SocketBus exactly as it reaches the board through UIO:
+
+    with SimServer(frames, scales=2) as server:          # frames: (N, H, W, 3) RGB or (N, H, W) luma
+        with SocketBus(server.address) as bus:
+            accel = OrbAccel(bus)
+
+The bitstream-like configuration (WIDTH_g, HEIGHT_g from the frames; SCALES_g, SECTORS_g,
+MEM_DEPTH_g) is fixed when the server starts; the frames stream in round and round with blanking
+(h_blank clocks per line, v_blank_lines blank lines per frame). `python -m orb_sim.sim_server JOB`
+is the child process (it runs the job through orb_sim.runner).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+from types import TracebackType
+
+import numpy as np
+
+from golden_model import limits
+
+from .hdl import MANIFEST
+from .runner import run
+
+TOPLEVELS = ("orb_accel_top", "orb_accel_zynq")
+
+
+class SimServerError(RuntimeError):
+    """The simulation server did not start (no simulator, a failed build); the message says why."""
+
+
+class SimServer:
+    def __init__(self, frames: np.ndarray, scales: int = 2, sectors: int = 32, mem_depth: int = 2048,
+                 toplevel: str = "orb_accel_top", port: int = 0, h_blank: int = 16, v_blank_lines: int = 20,
+                 job_dir: Path | None = None) -> None:  # fmt: skip
+        frames = np.asarray(frames)
+        if frames.dtype != np.uint8 or frames.ndim not in (3, 4) or (frames.ndim == 4 and frames.shape[3] != 3):
+            raise ValueError(f"frames must be (N, H, W, 3) or (N, H, W) uint8, got {frames.shape} {frames.dtype}")
+        if len(frames) == 0:
+            raise ValueError("no frames to stream")
+        if toplevel not in TOPLEVELS:
+            raise ValueError(f"toplevel {toplevel!r} not one of {TOPLEVELS}")
+        height, width = frames.shape[1:3]
+        for lim, value in ((limits.WIDTH, width), (limits.HEIGHT, height), (limits.SCALES, scales),
+                           (limits.SECTORS, sectors), (limits.MEM_DEPTH, mem_depth)):  # fmt: skip
+            if not lim.legal(value):
+                raise ValueError(f"{lim.name} must be {lim.text}, got {value}")
+        if toplevel == "orb_accel_zynq" and frames.ndim != 4:
+            raise ValueError("orb_accel_zynq takes colour frames (N, H, W, 3)")
+        self.frames = frames
+        self.generics: dict[str, int | str] = {
+            "WIDTH_g": int(width), "HEIGHT_g": int(height), "SCALES_g": scales, "SECTORS_g": sectors,
+            "MEM_DEPTH_g": mem_depth,
+            "INPUT_g": ("RBG" if toplevel == "orb_accel_zynq" else "RGB") if frames.ndim == 4 else "LUMA",
+        }  # fmt: skip
+        self.toplevel = toplevel
+        self.config = {"toplevel": toplevel, "generics": self.generics, "host": "127.0.0.1", "port": port,
+                       "h_blank": h_blank, "v_blank": v_blank_lines * (int(width) + h_blank)}  # fmt: skip
+        self._tmp: tempfile.TemporaryDirectory | None = None
+        self.job = None if job_dir is None else Path(job_dir).resolve()
+        self.address = ""
+        self.proc: subprocess.Popen | None = None
+
+    @property
+    def log(self) -> Path:
+        assert self.job is not None
+        return self.job / "sim.log"
+
+    def start(self, timeout_s: float = 900.0) -> str:
+        """Build and start the simulation; returns its address once it listens."""
+        if not MANIFEST.is_file():
+            raise SimServerError(f"the simulator needs the source checkout ({MANIFEST} is missing)")
+        if self.job is None:
+            self._tmp = tempfile.TemporaryDirectory(prefix="orb-sim-server-")
+            self.job = Path(self._tmp.name)
+        self.job.mkdir(parents=True, exist_ok=True)
+        (self.job / "address").unlink(missing_ok=True)
+        np.save(self.job / "frames.npy", np.ascontiguousarray(self.frames))
+        (self.job / "config.json").write_text(json.dumps(self.config, indent=1) + "\n")
+        with open(self.log, "w") as log:
+            self.proc = subprocess.Popen([sys.executable, "-m", "orb_sim.sim_server", str(self.job)],
+                                         stdout=log, stderr=subprocess.STDOUT, start_new_session=True)  # fmt: skip
+        deadline = time.monotonic() + timeout_s
+        address = self.job / "address"
+        while not address.exists():
+            if self.proc.poll() is not None:
+                tail = "\n".join(self.log.read_text(errors="replace").splitlines()[-15:])
+                raise SimServerError(f"the simulation server exited ({self.proc.returncode}); {self.log}:\n{tail}")
+            if time.monotonic() > deadline:
+                self.stop()
+                raise SimServerError(f"the simulation server did not listen within {timeout_s:g} s; see {self.log}")
+            time.sleep(0.1)
+        self.address = address.read_text().strip()
+        return self.address
+
+    def frames_sent(self) -> list[tuple[int, int, int]]:
+        """(sequence number, index in the frames, clock of its first pixel) of every frame started."""
+        assert self.job is not None
+        path = self.job / "frames.log"
+        rows = path.read_text().split("\n") if path.exists() else []
+        return [tuple(int(v) for v in r.split()) for r in rows if r.count(" ") == 2]  # type: ignore[misc]
+
+    def stop(self) -> None:
+        """Stop the simulation and everything it started (its process group)."""
+        if self.proc is not None and self.proc.poll() is None:
+            for sig, wait_s in ((signal.SIGTERM, 5.0), (signal.SIGKILL, 5.0)):
+                try:
+                    os.killpg(self.proc.pid, sig)
+                except ProcessLookupError:
+                    break
+                try:
+                    self.proc.wait(wait_s)
+                    break
+                except subprocess.TimeoutExpired:
+                    continue
+        if self.proc is not None:
+            try:  # a child (ghdl) may outlive the leader: the group goes too
+                os.killpg(self.proc.pid, signal.SIGKILL)
+            except (ProcessLookupError, PermissionError):
+                pass
+        self.proc = None
+
+    def close(self) -> None:
+        self.stop()
+        if self._tmp is not None:
+            self._tmp.cleanup()
+            self._tmp = None
+
+    def __enter__(self) -> SimServer:
+        self.start()
+        return self
+
+    def __exit__(self, kind: type[BaseException] | None, exc: BaseException | None, tb: TracebackType | None) -> None:
+        self.close()
+
+
+def _child(job: Path) -> int:
+    cfg = json.loads((job / "config.json").read_text())
+    run(cfg["toplevel"], "orb_sim.jobs.sim_server_job", cfg["generics"], env={"ORB_JOB_DIR": str(job)})
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(_child(Path(sys.argv[1])))

@@ -1,0 +1,255 @@
+# SPDX-License-Identifier: MIT
+"""The CPU-side commands of `orb-accel` (docs/driver.md, docs/ros.md): `board info`, `board
+stream`, `ros`, `ros-env`, `sim-server` and `bag`. `board` and `ros` take one bus:
+
+- `--uio [NAME]` (the default: UIO device "orb-accel" of the device-tree overlay), `--devmem BASE`:
+  the board;
+- `--connect HOST:PORT`: a simulator already serving (`orb-accel sim-server`);
+- `--sim IMAGE_OR_VIDEO...`: start a simulator on those frames (streamed round and round) for the
+  command's lifetime.
+
+On the board these need numpy and Debian's packages only: OpenCV, cocotb and the simulator are
+imported only for --sim, sim-server and bag.
+"""
+
+from __future__ import annotations
+
+import argparse
+import signal
+import sys
+import time
+from collections.abc import Iterator
+from contextlib import ExitStack, contextmanager
+from pathlib import Path
+
+from golden_model import limits
+from golden_model.config import MODES
+from orb_accel.bus import Bus
+from orb_accel.driver import OrbAccel
+
+BOARD_TIMEOUT_S = 1.0  # a frame at 24 fps and more, with margin
+SIM_TIMEOUT_FRAMES = 3  # in simulation: three frame periods of simulated time
+
+
+def add_bus_options(p: argparse.ArgumentParser) -> None:
+    g = p.add_mutually_exclusive_group()
+    g.add_argument("--uio", metavar="NAME", nargs="?", const="orb-accel",
+                   help="the board, through UIO device NAME (default when no bus is given: orb-accel)")  # fmt: skip
+    g.add_argument("--devmem", metavar="BASE", type=lambda t: int(t, 0),
+                   help="the board through /dev/mem at physical address BASE (0x43C00000; root; polls)")  # fmt: skip
+    g.add_argument("--connect", metavar="HOST:PORT", help="a running simulator (orb-accel sim-server)")
+    g.add_argument("--sim", metavar="IMAGE_OR_VIDEO", nargs="+", type=Path,
+                   help="start a simulator streaming these images or videos (one size) round and round")  # fmt: skip
+    p.add_argument("--sim-scales", type=int, default=2, help="simulated bitstream: scales (default 2)")
+    p.add_argument("--sim-sectors", type=int, default=32, help="simulated bitstream: sectors (default 32)")
+    p.add_argument("--sim-mem-depth", type=int, default=2048, help="simulated bitstream: slots per bank (2048)")
+    p.add_argument("--sim-size", metavar="WxH", help="resize every simulated frame to WxH")
+    p.add_argument("--sim-max-frames", type=int, default=50, help="at most this many frames from a video (50)")
+    p.add_argument("--timeout", type=float, help=f"seconds to wait for a frame (board: {BOARD_TIMEOUT_S:g}; "
+                   f"simulator: {SIM_TIMEOUT_FRAMES} frame periods of simulated time)")  # fmt: skip
+
+
+def add_parsers(sub: argparse._SubParsersAction) -> None:
+    board = sub.add_parser("board", help="first look at the accelerator: identity, configuration, frames")
+    bsub = board.add_subparsers(dest="board_command", required=True, parser_class=type(board))
+    info = bsub.add_parser("info", help="identity, configuration, control registers and counters")
+    add_bus_options(info)
+    stream = bsub.add_parser("stream", help="read frames: frames per second, features per frame, counters")
+    add_bus_options(stream)
+    stream.add_argument("--frames", type=int, default=10, help="frames to read (default 10; 0: until Ctrl-C)")
+    stream.add_argument("--csv", type=Path, metavar="DIR", help="write each frame as DIR/frame_NNNNNN.csv")
+    stream.add_argument("--threshold", type=int, default=20, help=f"FAST threshold {limits.THRESHOLD.text} (20)")
+    stream.add_argument("--mode", choices=MODES, default="orb")
+
+    ros = sub.add_parser("ros", help="the ROS 1 node: /orb_accel/features (docs/ros.md); NAME:=VALUE remaps")
+    add_bus_options(ros)
+    ros.add_argument("--threshold", type=int, default=20, help="start-up threshold (private parameter ~threshold wins)")
+    ros.add_argument("--mode", choices=MODES, default="orb", help="start-up mode (~mode wins)")
+    sub.add_parser("ros-env", help="print shell exports under which rostopic/rosbag know orb_accel_msgs")
+
+    srv = sub.add_parser("sim-server", help="serve a simulated accelerator on a local socket (docs/driver.md)")
+    srv.add_argument("frames", nargs="+", type=Path, metavar="IMAGE_OR_VIDEO")
+    srv.add_argument("--port", type=int, default=5555, help="TCP port on 127.0.0.1 (default 5555; 0: any)")
+    srv.add_argument("--scales", type=int, default=2)
+    srv.add_argument("--sectors", type=int, default=32)
+    srv.add_argument("--mem-depth", type=int, default=2048)
+    srv.add_argument("--size", metavar="WxH")
+    srv.add_argument("--max-frames", type=int, default=50)
+
+    bag = sub.add_parser("bag", help="convert a ROS 1 bag of /orb_accel/features (docs/ros-bags.md)")
+    bsub2 = bag.add_subparsers(dest="bag_command", required=True, parser_class=type(bag))
+    to_csv = bsub2.add_parser("csv", help="one CSV per frame plus index.csv")
+    to_ros2 = bsub2.add_parser("ros2", help="a ROS 2 bag (sqlite3 or mcap)")
+    for q in (to_csv, to_ros2):
+        q.add_argument("bag", type=Path)
+        q.add_argument("--out", type=Path, required=True)
+        q.add_argument("--topic", default="/orb_accel/features")
+    to_ros2.add_argument("--storage", choices=("sqlite3", "mcap"), default="mcap")
+
+
+def _size(text: str | None) -> tuple[int, int] | None:
+    if text is None:
+        return None
+    try:
+        w, h = (int(v) for v in text.lower().split("x"))
+    except ValueError:
+        raise ValueError(f"size {text!r} is not WxH") from None
+    return w, h
+
+
+def _start_sim(stack: ExitStack, paths: list[Path], scales: int, sectors: int, mem_depth: int, size: str | None,
+               max_frames: int, port: int = 0) -> str:  # fmt: skip
+    from orb_sim.sim_server import SimServer
+    from orb_tools.images import load_frames
+
+    frames = load_frames(paths, _size(size), max_frames)
+    h, w = frames.shape[1:3]
+    print(f"starting the simulator: orb_accel_top {w}x{h}, {scales} scales, {sectors} sectors, "
+          f"{len(frames)} frame(s) round and round ...", flush=True)  # fmt: skip
+    server = SimServer(frames, scales=scales, sectors=sectors, mem_depth=mem_depth, port=port)
+    stack.enter_context(server)
+    print(f"simulator listening on {server.address} (log: {server.log})", flush=True)
+    return server.address
+
+
+@contextmanager
+def open_bus(args: argparse.Namespace) -> Iterator[tuple[Bus, str, float]]:
+    """(bus, description, frame timeout in the bus's seconds) for the command's bus options."""
+    from orb_accel.socket_bus import SocketBus
+
+    with ExitStack() as stack:
+        if args.sim or args.connect:
+            address = args.connect or _start_sim(stack, args.sim, args.sim_scales, args.sim_sectors,
+                                                 args.sim_mem_depth, args.sim_size, args.sim_max_frames)  # fmt: skip
+            bus = stack.enter_context(SocketBus(address))
+            g = bus.info["generics"]
+            period_s = (g["WIDTH_g"] + bus.info["h_blank"]) * g["HEIGHT_g"] + bus.info["v_blank"]
+            timeout = args.timeout or SIM_TIMEOUT_FRAMES * period_s * bus.info["period_ns"] * 1e-9
+            yield bus, f"simulator {address} ({bus.info['toplevel']})", timeout
+        elif args.devmem is not None:
+            from orb_accel.devmem import DevMemBus
+
+            yield (
+                stack.enter_context(DevMemBus(args.devmem)),
+                f"/dev/mem at {args.devmem:#x}",
+                args.timeout or BOARD_TIMEOUT_S,
+            )
+        else:
+            from orb_accel.uio import UioBus
+
+            name = args.uio or "orb-accel"
+            bus = stack.enter_context(UioBus.open(name))
+            yield bus, f"UIO device {name!r}", args.timeout or BOARD_TIMEOUT_S
+
+
+def _counters_line(counters: dict[str, int]) -> str:
+    return ", ".join(f"{k} {v}" for k, v in counters.items())
+
+
+def cmd_info(args: argparse.Namespace) -> int:
+    from golden_model import regs
+
+    with open_bus(args) as (bus, what, _):
+        accel = OrbAccel(bus)
+        major, minor = accel.version()
+        hw = accel.hw
+        status = accel.read(regs.STATUS)
+        print(f"accelerator on {what}: ID {accel.read(regs.ID):#010x} ('ORB1'), register map {major}.{minor}")
+        print(f"configuration: {hw.width}x{hw.height}, {hw.scales} scales, {hw.sectors} sectors, "
+              f"{hw.mem_depth} slots per bank ({hw.mem_depth - 1} features per frame at most)")  # fmt: skip
+        print(f"control: {'enabled' if accel.enabled else 'disabled'}, mode {accel.mode}, threshold {accel.threshold}; "
+              f"STATUS {status:#x}, IRQ_STATUS {accel.read(regs.IRQ_STATUS):#x}")  # fmt: skip
+        print(f"counters: {_counters_line(accel.counters())}")
+    return 0
+
+
+def cmd_stream(args: argparse.Namespace) -> int:
+    if not limits.THRESHOLD.legal(args.threshold):
+        raise ValueError(f"threshold must be {limits.THRESHOLD.text}, got {args.threshold}")
+    if args.frames < 0:
+        raise ValueError(f"--frames must be 0 or more, got {args.frames}")
+    with open_bus(args) as (bus, what, timeout), ExitStack() as stack:
+        accel = OrbAccel(bus)
+        accel.configure(args.threshold, args.mode)
+        csv = None
+        if args.csv is not None:
+            from orb_accel.csvdir import CsvDir
+
+            csv = stack.enter_context(CsvDir(args.csv))
+        hw = accel.hw
+        print(f"streaming from {what}: {hw.width}x{hw.height}, {hw.scales} scales, threshold {args.threshold}, "
+              f"mode {args.mode} (frame timeout {timeout:g} s of the bus's time)", flush=True)  # fmt: skip
+        t0 = time.monotonic()
+        n = total = 0
+        frame = None
+        for frame in accel.frames(args.frames or None, timeout):
+            n += 1
+            total += len(frame)
+            per_scale = "/".join(str(int((frame.scale == s).sum())) for s in range(hw.scales))
+            print(f"frame {frame.number}: {len(frame)} features (per scale {per_scale}), dropped {frame.dropped}, "
+                  f"truncated {frame.truncated}; {n / (time.monotonic() - t0):.2f} frames/s", flush=True)  # fmt: skip
+            if csv is not None:
+                csv.write(frame.features, frame=frame.number, stamp=time.time(), threshold=args.threshold,
+                          mode=frame.mode, width=hw.width, height=hw.height, dropped=frame.dropped,
+                          truncated=frame.truncated)  # fmt: skip
+        wall = time.monotonic() - t0
+        print(f"{n} frames in {wall:.2f} s: {n / wall if wall else 0:.2f} frames/s, "
+              f"{total / max(n, 1):.1f} features per frame, {bus.reads} bus reads")  # fmt: skip
+        if frame is not None:
+            print(f"counters: {_counters_line(frame.counters)}")
+        if csv is not None:
+            print(f"CSV -> {args.csv}/")
+    return 0
+
+
+def _raise_interrupt(_sig: int, _frame: object) -> None:
+    raise KeyboardInterrupt
+
+
+def cmd_ros(args: argparse.Namespace, ros_args: list[str]) -> int:
+    from orb_ros import msgs as rosmsgs
+    from orb_ros.node import Params, run_node
+
+    rospy = rosmsgs.import_rospy()
+    msg_mod, srv_mod = rosmsgs.load()
+    if not limits.THRESHOLD.legal(args.threshold):
+        raise ValueError(f"threshold must be {limits.THRESHOLD.text}, got {args.threshold}")
+    signal.signal(signal.SIGTERM, _raise_interrupt)  # rospy's handlers are off: stop the loop at once
+    with open_bus(args) as (bus, what, timeout):
+        return run_node(bus, msg_mod, srv_mod, rospy, Params(args.threshold, args.mode, True), timeout, what,
+                        argv=[sys.argv[0], *ros_args])  # fmt: skip
+
+
+def cmd_ros_env(_args: argparse.Namespace) -> int:
+    import shlex
+
+    from orb_ros.msgs import ros_env
+
+    env = ros_env({})
+    for name in ("PYTHONPATH", "ROS_PACKAGE_PATH"):
+        print(f"export {name}={shlex.quote(env[name])}${{{name}:+:${name}}}")
+    return 0
+
+
+def cmd_sim_server(args: argparse.Namespace) -> int:
+    with ExitStack() as stack:
+        _start_sim(stack, args.frames, args.scales, args.sectors, args.mem_depth, args.size, args.max_frames, args.port)
+        print("serving until Ctrl-C", flush=True)
+        while True:
+            time.sleep(3600)
+
+
+def cmd_bag(args: argparse.Namespace) -> int:
+    from orb_tools import rosbag_convert
+
+    if args.bag_command == "csv":
+        print(rosbag_convert.main_csv(args.bag, args.out, args.topic))
+    else:
+        print(rosbag_convert.main_ros2(args.bag, args.out, args.storage, args.topic))
+    return 0
+
+
+def split_ros_args(argv: list[str]) -> tuple[list[str], list[str]]:
+    """(our arguments, ROS remappings and private parameters: NAME:=VALUE, _param:=value)."""
+    ours = [a for a in argv if ":=" not in a]
+    return ours, [a for a in argv if ":=" in a]
