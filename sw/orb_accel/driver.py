@@ -37,6 +37,8 @@ from .bus import Bus
 
 COUNTERS = ("FRAME_COUNT", "DROPPED", "PROTO_ERRORS", "OVERRUN", "OVERFLOW_COUNT", "DESC_LOST", "DISCARDED")
 IRQ_SOURCES = ("frame_done", "error")
+PATCH_DIAMETER = 31  # a keypoint's size at octave 0 (OpenCV ORB's patchSize): 31 * 2^octave
+NO_ANGLE = -1.0  # cv2.KeyPoint's angle when there is no orientation (fast mode)
 
 
 class AccelError(RuntimeError):
@@ -116,6 +118,18 @@ class Frame:
         """Orientation in degrees (sector * 360 / sectors); NaN in fast mode."""
         return self.features.angle_deg()
 
+    def keypoint_arrays(self) -> dict[str, np.ndarray]:
+        """cv2.KeyPoint's fields for every feature, as arrays: x, y (full resolution), size =
+        PATCH_DIAMETER * 2^octave, angle in degrees (-1: none, fast mode), response = score,
+        octave = scale. orb_accel.opencv and the ROS message are built from these."""
+        octave = self.scale.astype(np.int32)
+        angle = self.angle
+        return {
+            "x": self.x, "y": self.y, "size": PATCH_DIAMETER * np.ldexp(1.0, octave),
+            "angle": np.where(np.isnan(angle), NO_ANGLE, angle), "response": self.score.astype(np.float64),
+            "octave": octave,
+        }  # fmt: skip
+
     @property
     def descriptors(self) -> np.ndarray:
         """(N, 32) uint8 in OpenCV's ORB byte and bit order; (N, 0) in fast mode."""
@@ -139,6 +153,7 @@ class OrbAccel:
         ctrl = self.read(regs.CTRL)
         self.mode = MODES[regs.CTRL.field("mode").get(ctrl)]
         self.enabled = bool(regs.CTRL.field("enable").get(ctrl))
+        self._mode_before = self.mode
         self.threshold = regs.THRESHOLD.field("threshold").get(self.read(regs.THRESHOLD))
 
     # ---- registers -----------------------------------------------------------------------------
@@ -196,7 +211,20 @@ class OrbAccel:
         self.write(regs.IRQ_ENABLE, irq_word)
         ctrl = regs.CTRL.field("mode").put(MODES.index(mode))
         self.write(regs.CTRL, regs.CTRL.field("enable").put(int(enable), ctrl))
+        self._mode_before = self.mode  # the frame in flight keeps it (settle)
         self.mode, self.enabled, self.threshold = mode, bool(enable), int(threshold)
+
+    def settle(self, timeout_s: float) -> Frame:
+        """Let the frame in flight pass after configure(): the accelerator samples threshold and
+        mode at a frame's first pixel, so the first frame to finish after a change may have
+        started before it. Acknowledges pending interrupts, then reads and releases the next
+        frame (returned, in the mode of its start); every later frame uses the new values."""
+        old_mode = self._mode_before
+        self.write(regs.IRQ_STATUS, 0xFFFFFFFF)
+        with self.holding(self.wait_frame(timeout_s)) as bank:
+            frame = self.read_bank(bank, mode=old_mode)
+        self._mode_before = self.mode
+        return frame
 
     def soft_reset(self) -> None:
         """Restart the data path and the counters (the registers keep their values)."""

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import threading
 import time
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 from types import ModuleType
 
 import numpy as np
@@ -27,8 +27,7 @@ from orb_accel.driver import Frame, OrbAccel
 
 NODE_NAME = "orb_accel"
 KEEP_THRESHOLD, KEEP_MODE, KEEP_ENABLE = -1, "", -1
-FAST_ANGLE = -1.0  # cv2.KeyPoint's "no orientation"
-PATCH_DIAMETER = 31  # size = 31 * 2^octave (OpenCV ORB's patchSize at each level)
+FLOAT_FIELDS = ("x", "y", "size", "angle", "response")
 
 
 @dataclass(frozen=True)
@@ -67,19 +66,13 @@ def _wire(values: np.ndarray, dtype: type) -> WireArray:
 
 def message_arrays(frame: Frame) -> dict[str, np.ndarray | bytes]:
     """The Features message's per-feature arrays of a frame (numpy, the message's types)."""
-    octave = frame.scale.astype(np.int32)
-    angle = frame.angle
-    return {
-        "x": _wire(frame.x, np.float32),
-        "y": _wire(frame.y, np.float32),
-        "size": _wire(PATCH_DIAMETER * np.ldexp(1.0, octave), np.float32),
-        "angle": _wire(np.where(np.isnan(angle), FAST_ANGLE, angle), np.float32),
-        "response": _wire(frame.score, np.float32),
-        "octave": _wire(octave, np.int32),
-        "scale_x": _wire(frame.scale_x, np.uint16),
-        "scale_y": _wire(frame.scale_y, np.uint16),
-        "descriptors": np.ascontiguousarray(frame.descriptors, dtype=np.uint8).tobytes(),
-    }
+    k = frame.keypoint_arrays()
+    arrays: dict[str, np.ndarray | bytes] = {name: _wire(k[name], np.float32) for name in FLOAT_FIELDS}
+    arrays["octave"] = _wire(k["octave"], np.int32)
+    arrays["scale_x"] = _wire(frame.scale_x, np.uint16)
+    arrays["scale_y"] = _wire(frame.scale_y, np.uint16)
+    arrays["descriptors"] = np.ascontiguousarray(frame.descriptors, dtype=np.uint8).tobytes()
+    return arrays
 
 
 def build_message(msg_cls: type, frame: Frame, threshold: int, stamp: object, frame_id: str) -> object:
@@ -283,31 +276,50 @@ class FeatureNode:
         self._next_diag = now + self.diag_period_s
 
 
-def private_params(rospy: ModuleType, defaults: Params) -> tuple[Params, str | None]:
-    """The start-up parameters ~threshold, ~mode, ~enable (defaults where unset) and an error."""
+@dataclass(frozen=True)
+class Settings:
+    """The node's start-up parameters (private: ~threshold, ~mode, ~enable, ~frame_id, ~timeout,
+    ~diagnostics_period); timeout_s None: the caller's default for its bus."""
+
+    params: Params
+    frame_id: str = "orb_accel"
+    timeout_s: float | None = None
+    diag_period_s: float = 1.0
+
+
+def init_node(rospy: ModuleType, defaults: Params, argv: list[str] | None = None) -> Settings:
+    """Initialise rospy as node `orb_accel` and read its private parameters; ValueError (after a
+    logfatal) for an illegal one, before any bus is opened."""
+    rospy.init_node(NODE_NAME, argv=argv, disable_signals=True)
     threshold = rospy.get_param("~threshold", defaults.threshold)
     mode = rospy.get_param("~mode", defaults.mode)
     enable = rospy.get_param("~enable", defaults.enable)
-    return replace(defaults, threshold=threshold, mode=mode, enable=enable), check_params(threshold, mode, enable)
-
-
-def run_node(bus: Bus, msgs: ModuleType, srvs: ModuleType, rospy: ModuleType, defaults: Params,
-             timeout_s: float, hardware_id: str, argv: list[str] | None = None) -> int:  # fmt: skip
-    """Initialise rospy as node `orb_accel`, run until shut down; 0, or 2 for bad parameters."""
-    rospy.init_node(NODE_NAME, argv=argv, disable_signals=True)
-    params, error = private_params(rospy, defaults)
+    error = check_params(threshold, mode, enable)
+    timeout = rospy.get_param("~timeout", None)
+    period = rospy.get_param("~diagnostics_period", 1.0)
+    for name, value in (("timeout", timeout), ("diagnostics_period", period)):
+        if value is not None and (isinstance(value, bool) or not isinstance(value, (int, float)) or not value > 0):
+            error = error or f"{name} must be a positive number of seconds, got {value!r}"
     if error is not None:
         rospy.logfatal(f"illegal start-up parameter: {error}")
         rospy.signal_shutdown("illegal parameter")
         raise ValueError(error)
     frame_id = str(rospy.get_param("~frame_id", "orb_accel"))
-    timeout_s = float(rospy.get_param("~timeout", timeout_s))
-    diag_period_s = float(rospy.get_param("~diagnostics_period", 1.0))
+    return Settings(Params(int(threshold), mode, bool(enable)), frame_id,
+                    None if timeout is None else float(timeout), float(period))  # fmt: skip
+
+
+def run_node(rospy: ModuleType, msgs: ModuleType, srvs: ModuleType, bus: Bus, settings: Settings,
+             default_timeout_s: float, hardware_id: str) -> int:  # fmt: skip
+    """Run the initialised node on `bus` until it is shut down."""
     accel = OrbAccel(bus)
-    node = FeatureNode(rospy, msgs, srvs, accel, params, frame_id, timeout_s, diag_period_s, hardware_id)
-    rospy.loginfo(f"{NODE_NAME}: {accel.hw.width}x{accel.hw.height}, {accel.hw.scales} scales, "
-                  f"{accel.hw.sectors} sectors; threshold {params.threshold}, mode {params.mode}; "
-                  f"publishing on {rospy.resolve_name('~features')}")  # fmt: skip
+    timeout_s = settings.timeout_s or default_timeout_s
+    node = FeatureNode(rospy, msgs, srvs, accel, settings.params, settings.frame_id, timeout_s,
+                       settings.diag_period_s, hardware_id)  # fmt: skip
+    hw, p = accel.hw, settings.params
+    rospy.loginfo(f"{NODE_NAME}: {hw.width}x{hw.height}, {hw.scales} scales, {hw.sectors} sectors; threshold "
+                  f"{p.threshold}, mode {p.mode}; frame timeout {timeout_s:g} s; publishing on "
+                  f"{rospy.resolve_name('~features')}")  # fmt: skip
     try:
         node.run()
     finally:

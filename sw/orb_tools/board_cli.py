@@ -171,6 +171,7 @@ def cmd_stream(args: argparse.Namespace) -> int:
     with open_bus(args) as (bus, what, timeout), ExitStack() as stack:
         accel = OrbAccel(bus)
         accel.configure(args.threshold, args.mode)
+        accel.settle(timeout)  # the frame in flight may have started with the old values
         csv = None
         if args.csv is not None:
             from orb_accel.csvdir import CsvDir
@@ -208,16 +209,14 @@ def _raise_interrupt(_sig: int, _frame: object) -> None:
 
 def cmd_ros(args: argparse.Namespace, ros_args: list[str]) -> int:
     from orb_ros import msgs as rosmsgs
-    from orb_ros.node import Params, run_node
+    from orb_ros.node import Params, init_node, run_node
 
     rospy = rosmsgs.import_rospy()
     msg_mod, srv_mod = rosmsgs.load()
-    if not limits.THRESHOLD.legal(args.threshold):
-        raise ValueError(f"threshold must be {limits.THRESHOLD.text}, got {args.threshold}")
+    settings = init_node(rospy, Params(args.threshold, args.mode, True), argv=[sys.argv[0], *ros_args])
     signal.signal(signal.SIGTERM, _raise_interrupt)  # rospy's handlers are off: stop the loop at once
     with open_bus(args) as (bus, what, timeout):
-        return run_node(bus, msg_mod, srv_mod, rospy, Params(args.threshold, args.mode, True), timeout, what,
-                        argv=[sys.argv[0], *ros_args])  # fmt: skip
+        return run_node(rospy, msg_mod, srv_mod, bus, settings, timeout, what)
 
 
 def cmd_ros_env(_args: argparse.Namespace) -> int:

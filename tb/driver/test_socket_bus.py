@@ -1,0 +1,238 @@
+# SPDX-License-Identifier: MIT
+"""The driver against the simulator in another process: orb_sim.sim_server runs orb_accel_top in
+GHDL and serves its AXI4-Lite bus on a socket; orb_accel.socket_bus.SocketBus is the driver's bus,
+as UioBus is on the board. One server for the module (128x96 colour photographs, 2 scales).
+
+- frames read through the public API are bit-exact with the golden model (features, scores,
+  angles, descriptors), with full-resolution and per-scale coordinates, counters and record;
+- cv2 conversion: keypoints and a descriptor array that cv2.BFMatcher(NORM_HAMMING) takes;
+- errors: an AXI error response (SLVERR) raises BusError; illegal values raise ValueError naming
+  the range before anything reaches the bus; a frame that never comes raises TimeoutError with the
+  status registers; the bank is released when the caller's block raises;
+- the CLI (`orb-accel board info/stream --connect`), also with OpenCV, cocotb and the simulator
+  packages unimportable (as on the board);
+- the protocol: a client that goes away mid-stream, a bad request, a second client afterwards.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import socket
+import subprocess
+import sys
+from collections.abc import Iterator
+from pathlib import Path
+
+import cv2
+import numpy as np
+import pytest
+
+from golden_model import regs
+from golden_model.features import Features, first_difference
+from golden_model.luma import rgb_to_luma
+from orb_accel import BusError, OrbAccel
+from orb_accel.csvdir import read_csv_dir
+from orb_accel.opencv import to_cv2
+from orb_accel.socket_bus import REQUEST, RESPONSE, SocketBus, recv_exact
+from orb_sim.sim_server import SimServer
+from orbtb.images import colour_photo
+from orbtb.scoreboard import expected_features
+
+W, H, SCALES, SECTORS, DEPTH = 128, 96, 2, 32, 512
+PHOTOS = ("astronaut", "coffee", "chelsea")
+CLI = [sys.executable, "-m", "orb_tools.cli"]
+
+
+@pytest.fixture(scope="module")
+def frames() -> np.ndarray:
+    return np.stack([colour_photo(name, W, H) for name in PHOTOS])
+
+
+@pytest.fixture(scope="module")
+def server(frames: np.ndarray, tmp_path_factory: pytest.TempPathFactory) -> Iterator[SimServer]:
+    with SimServer(frames, scales=SCALES, sectors=SECTORS, mem_depth=DEPTH,
+                   job_dir=tmp_path_factory.mktemp("sim-server")) as s:  # fmt: skip
+        yield s
+
+
+def model(frames: np.ndarray, k: int, threshold: int, mode: str = "orb") -> Features:
+    return expected_features(rgb_to_luma(frames[k]), SCALES, threshold, mode, SECTORS)
+
+
+def which_photo(frames: np.ndarray, feats: Features, threshold: int, mode: str = "orb") -> int:
+    """The index of the photograph whose model features equal `feats` exactly."""
+    diffs = {k: first_difference(feats, model(frames, k, threshold, mode)) for k in range(len(frames))}
+    found = [k for k, d in diffs.items() if d is None]
+    assert len(found) == 1, f"the frame equals no photograph at threshold {threshold} ({mode}): {diffs}"
+    return found[0]
+
+
+def test_frames_bit_exact(server: SimServer, frames: np.ndarray) -> None:
+    with SocketBus(server.address) as bus:
+        accel = OrbAccel(bus)
+        assert accel.hw.width == W and accel.hw.height == H and accel.hw.scales == SCALES
+        accel.configure(threshold=20, mode="orb")
+        got = list(accel.frames(3, timeout_s=0.01))
+        ks = [which_photo(frames, f.features, 20) for f in got]
+        numbers = [f.number for f in got]
+        assert numbers == list(range(numbers[0], numbers[0] + 3)), f"frame numbers {numbers} not consecutive"
+        assert [(k - ks[0]) % len(PHOTOS) for k in ks] == [0, 1, 2], f"photographs {ks} out of stream order"
+        f = got[0]
+        assert f.descriptors.shape == (len(f), 32) and f.descriptors.dtype == np.uint8
+        sx, sy = f.scale_x.astype(float), f.scale_y.astype(float)
+        np.testing.assert_array_equal(f.x, (sx + 0.5) * 2.0**f.scale - 0.5)
+        np.testing.assert_array_equal(f.y, (sy + 0.5) * 2.0**f.scale - 0.5)
+        np.testing.assert_array_equal(f.angle, f.features.sector * 360.0 / SECTORS)
+        assert set(f.counters) == {"frame_count", "dropped", "proto_errors", "overrun", "overflow_count",
+                                   "desc_lost", "discarded"}  # fmt: skip
+        assert f.counters["frame_count"] >= f.number + 1 and f.counters["overrun"] == 0
+        assert f.dropped == 0 and f.truncated == 0
+
+        # fast mode from the next frame: no angles, no descriptors
+        accel.configure(threshold=30, mode="fast")
+        accel.settle(0.01)
+        fast = accel.next_frame(0.01)
+        which_photo(frames, fast.features, 30, "fast")
+        assert fast.mode == "fast" and fast.descriptors.shape == (len(fast), 0)
+        assert np.all(fast.keypoint_arrays()["angle"] == -1.0)
+        kps, des = to_cv2(fast)
+        assert des is None and len(kps) == len(fast)
+
+
+def test_opencv_conversion(server: SimServer, frames: np.ndarray) -> None:
+    with SocketBus(server.address) as bus:
+        accel = OrbAccel(bus)
+        accel.configure(threshold=20)
+        accel.settle(0.01)
+        frame = accel.next_frame(0.01)
+        which_photo(frames, frame.features, 20)
+        kps, des = to_cv2(frame)
+        assert len(kps) == len(frame) > 50
+        assert des is not None and des.shape == (len(frame), 32) and des.dtype == np.uint8
+        for i in (0, len(kps) // 2, len(kps) - 1):
+            kp = kps[i]
+            assert kp.pt == pytest.approx((frame.x[i], frame.y[i]))
+            assert kp.octave == frame.scale[i] and kp.size == 31 * 2 ** int(frame.scale[i])
+            assert kp.angle == pytest.approx(frame.angle[i], abs=1e-4) and kp.response == frame.score[i]
+        matches = cv2.BFMatcher(cv2.NORM_HAMMING, crossCheck=True).match(des, des)
+        assert len(matches) == len(kps) and all(m.distance == 0 for m in matches)
+
+
+def test_errors(server: SimServer) -> None:
+    with SocketBus(server.address) as bus:
+        accel = OrbAccel(bus)
+        reads = bus.reads
+        with pytest.raises(BusError, match="SLVERR"):
+            bus.read32(0x2C)  # an offset below MEM_BASE that names no register
+        with pytest.raises(BusError, match="SLVERR"):
+            bus.write32(regs.ID.offset, 1)
+        for bad, text in ((256, "0..255"), (-1, "0..255"), (True, "0..255")):
+            with pytest.raises(ValueError, match=text):
+                accel.configure(threshold=bad)  # type: ignore[arg-type]
+        with pytest.raises(ValueError, match="mode"):
+            accel.configure(threshold=20, mode="brief")
+        with pytest.raises(ValueError, match="read-only"):
+            accel.write(regs.STATUS, 0)
+        with pytest.raises(ValueError, match=r"bank 0\.\.1"):
+            accel.write(regs.BANK_RELEASE, 2)
+        with pytest.raises(ValueError, match="write-only"):
+            accel.read(regs.BANK_RELEASE)
+        assert bus.reads == reads + 1 and bus.writes == 1, "a refused value reached the bus"
+
+        # the bank goes back also when the caller's code raises; the stream goes on
+        accel.configure(threshold=20)
+        with pytest.raises(RuntimeError, match="caller"), accel.frame(0.01) as frame:
+            held = frame.bank
+            assert regs.STATUS.field("bank_ready").get(accel.read(regs.STATUS)) >> held & 1
+            raise RuntimeError("the caller's code failed")
+        assert not regs.STATUS.field("bank_ready").get(accel.read(regs.STATUS)) >> held & 1, "bank not released"
+        after = accel.next_frame(0.01)
+        assert after.number == frame.number + 1
+
+        # a frame that never comes: disabled (the frame in flight, if any, still finishes), then
+        # 0.4 ms of simulated time (2.4 frame periods)
+        accel.configure(threshold=20, enable=False)
+        with pytest.raises(TimeoutError, match=r"no interrupt within 0.0004 s: STATUS = 0x.*IRQ_STATUS"):
+            for _ in range(2):
+                accel.next_frame(0.0004)
+        accel.configure(threshold=20)
+
+
+def test_protocol(server: SimServer) -> None:
+    host, port = server.address.rsplit(":", 1)
+    with socket.create_connection((host, int(port)), timeout=60) as s:
+        s.sendall(REQUEST.pack(99, 0, 0))
+        status, length = RESPONSE.unpack(recv_exact(s, RESPONSE.size))
+        assert status == 2 and b"unknown operation 99" in recv_exact(s, length)
+        s.sendall(REQUEST.pack(1, 0, 0)[:5])  # half a request, then gone
+    with SocketBus(server.address) as bus:  # the next client is served
+        assert bus.read32(regs.ID.offset) == regs.ORB_ID
+        with pytest.raises(ValueError, match=r"1\.\.1048576"):
+            bus.read_block(regs.MEM_BASE, 0)
+    with pytest.raises(ConnectionError, match="no simulator"):
+        SocketBus("127.0.0.1:1")
+    with pytest.raises(ValueError, match="HOST:PORT"):
+        SocketBus("localhost")
+
+
+def _png(frames: np.ndarray, tmp: Path) -> None:
+    for k, rgb in enumerate(frames):
+        cv2.imwrite(str(tmp / f"{k}.png"), cv2.cvtColor(rgb, cv2.COLOR_RGB2BGR))
+
+
+def test_cli_board(server: SimServer, frames: np.ndarray, tmp_path: Path) -> None:
+    info = subprocess.run([*CLI, "board", "info", "--connect", server.address], capture_output=True, text=True)
+    assert info.returncode == 0, info.stderr
+    assert "ID 0x4f524231" in info.stdout and f"{W}x{H}, {SCALES} scales, {SECTORS} sectors" in info.stdout
+    out = tmp_path / "csv"
+    stream = subprocess.run([*CLI, "board", "stream", "--connect", server.address, "--frames", "2", "--threshold",
+                             "25", "--csv", str(out)], capture_output=True, text=True)  # fmt: skip
+    assert stream.returncode == 0, stream.stderr
+    assert "2 frames in" in stream.stdout and "features per frame" in stream.stdout
+    rows = read_csv_dir(out)
+    assert len(rows) == 2 and all(r["threshold"] == 25 for r, _ in rows)
+    for _, feats in rows:
+        which_photo(frames, feats, 25)
+    bad = subprocess.run([*CLI, "board", "stream", "--connect", server.address, "--threshold", "300"],
+                         capture_output=True, text=True)  # fmt: skip
+    assert bad.returncode == 2 and "0..255" in bad.stderr and "Traceback" not in bad.stderr
+    gone = subprocess.run([*CLI, "board", "info", "--connect", "127.0.0.1:1"], capture_output=True, text=True)
+    assert gone.returncode == 2 and "no simulator" in gone.stderr
+
+
+BLOCKER = """
+import importlib.abc, sys
+class Block(importlib.abc.MetaPathFinder):
+    def find_spec(self, name, path, target=None):
+        if name.split(".")[0] in {"cv2", "cocotb", "cocotb_tools", "cocotbext", "skimage", "matplotlib", "scipy"}:
+            raise ImportError(f"{name} is not on the board")
+sys.meta_path.insert(0, Block())
+"""
+
+
+def test_board_needs_numpy_only(server: SimServer, tmp_path: Path) -> None:
+    """The board commands, the driver and the node with OpenCV, cocotb, scikit-image, matplotlib
+    and scipy unimportable (the board's Debian has numpy and ROS only)."""
+    code = (
+        BLOCKER
+        + f"""
+import orb_accel, orb_accel.uio, orb_accel.devmem, orb_accel.socket_bus, orb_accel.csvdir, orb_ros.node
+from orb_tools.cli import main
+sys.exit(main(["board", "stream", "--connect", "{server.address}", "--frames", "1", "--csv", "{tmp_path / "c"}"]))
+"""
+    )
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert r.returncode == 0, r.stdout + r.stderr
+    assert "1 frames in" in r.stdout
+    check = subprocess.run([sys.executable, "-c", BLOCKER + "import cv2"], capture_output=True, text=True)
+    assert "not on the board" in check.stderr, "the import blocker blocks nothing"
+
+
+def test_server_info(server: SimServer) -> None:
+    with SocketBus(server.address) as bus:
+        assert bus.info["generics"]["WIDTH_g"] == W and bus.info["toplevel"] == "orb_accel_top"
+    sent = server.frames_sent()
+    assert sent and [k for _, k, _ in sent] == [i % len(PHOTOS) for i in range(len(sent))]
+    assert json.loads((server.job / "config.json").read_text())["generics"]["MEM_DEPTH_g"] == DEPTH
+    assert os.path.exists(server.log)
