@@ -322,6 +322,8 @@ def run_node(rospy: ModuleType, msgs: ModuleType, srvs: ModuleType, bus: Bus, se
                   f"{rospy.resolve_name('~features')}")  # fmt: skip
     try:
         node.run()
+    except KeyboardInterrupt:  # SIGINT or SIGTERM: the usual way to stop a node
+        rospy.loginfo(f"{NODE_NAME}: interrupted after {node.published} frames, shutting down")
     finally:
         node.shutdown()
         rospy.signal_shutdown("done")

@@ -1,0 +1,239 @@
+# SPDX-License-Identifier: MIT
+"""The ROS 1 node end to end, through a real roscore (Debian's ROS packages; CI installs them):
+
+`orb-accel ros --sim` runs the node against orb_accel_top simulated in GHDL (three colour
+photographs streamed round and round); a rospy subscriber in another process (ros_client.py)
+receives every frame, `rosbag record` records the topic, services are called from a third
+process. Checked:
+
+- every published frame arrives (frame numbers consecutive, no overrun) and is bit-exact with the
+  golden model at the threshold the message states, for a photograph in stream order;
+- a threshold change through ~set_params applies exactly from the first frame after the frame the
+  response names; illegal values are refused with the allowed range and the node keeps publishing;
+- ~reset restarts the frame numbers; diagnostics carry frames per second and the counters;
+- the bag reads back (orb_tools.rosbag_convert) to the same features, also as a ROS 2 bag;
+- SIGINT stops the node with status 0 and leaves no process behind (the simulator included);
+- an illegal start-up parameter stops the node with status 2 before it opens the bus.
+"""
+
+from __future__ import annotations
+
+import itertools
+import json
+import os
+import shutil
+import signal
+import socket
+import subprocess
+import sys
+import time
+import xmlrpc.client
+from collections.abc import Iterator
+from pathlib import Path
+from types import SimpleNamespace
+
+import cv2
+import numpy as np
+import pytest
+
+from golden_model.features import Features, first_difference
+from golden_model.luma import rgb_to_luma
+from orb_accel.csvdir import read_csv_dir
+from orb_ros.msgs import APT_PACKAGES, ros_env
+from orb_tools.rosbag_convert import bag_to_csv, bag_to_ros2, features_from_msg
+from orbtb.images import colour_photo
+from orbtb.scoreboard import expected_features
+
+W, H, SCALES, SECTORS = 128, 96, 2, 32
+PHOTOS = ("astronaut", "coffee", "chelsea")
+CLIENT = Path(__file__).with_name("ros_client.py")
+WAIT_S = 600.0  # wall-clock bound of any wait (a simulated frame takes a few seconds)
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def _stop(proc: subprocess.Popen, sig: int = signal.SIGINT, wait_s: float = 60.0) -> int | None:
+    """Signal the process group; SIGKILL it when it does not end within wait_s. The exit status."""
+    if proc.poll() is None:
+        try:
+            os.killpg(proc.pid, sig)
+            proc.wait(wait_s)
+        except subprocess.TimeoutExpired:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()
+            return None
+        except ProcessLookupError:
+            pass
+    return proc.returncode
+
+
+@pytest.fixture(scope="module")
+def ros_master(tmp_path_factory: pytest.TempPathFactory) -> Iterator[dict[str, str]]:
+    roscore = shutil.which("roscore")
+    if roscore is None:
+        pytest.fail(f"ROS 1 is not installed: apt-get install {APT_PACKAGES}")
+    home = tmp_path_factory.mktemp("ros-home")
+    port = _free_port()
+    env = ros_env(dict(os.environ))
+    env.update(ROS_MASTER_URI=f"http://127.0.0.1:{port}", ROS_HOSTNAME="127.0.0.1", ROS_HOME=str(home))
+    with open(home / "roscore.log", "w") as log:
+        proc = subprocess.Popen([roscore, "-p", str(port)], env=env, stdout=log, stderr=subprocess.STDOUT,
+                                start_new_session=True)  # fmt: skip
+    master = xmlrpc.client.ServerProxy(env["ROS_MASTER_URI"])
+    deadline = time.monotonic() + 60
+    while True:
+        try:
+            if master.getSystemState("/test")[0] == 1:
+                break
+        except OSError:
+            pass
+        assert proc.poll() is None and time.monotonic() < deadline, (home / "roscore.log").read_text()
+        time.sleep(0.2)
+    yield env
+    _stop(proc)
+
+
+def _records(path: Path, topic: str) -> list[dict]:
+    if not path.exists():
+        return []
+    lines = path.read_text().splitlines()
+    return [r for r in (json.loads(line) for line in lines if line.endswith("}")) if r["topic"] == topic]
+
+
+def _wait(what: str, ok, procs: dict[str, subprocess.Popen], log: Path) -> None:
+    deadline = time.monotonic() + WAIT_S
+    while not ok():
+        for name, p in procs.items():
+            assert p.poll() is None, f"{name} exited ({p.returncode}) waiting for {what}:\n{log.read_text()[-3000:]}"
+        assert time.monotonic() < deadline, f"timeout waiting for {what}:\n{log.read_text()[-3000:]}"
+        time.sleep(0.2)
+
+
+def _call(env: dict[str, str], *args: str) -> dict:
+    r = subprocess.run([sys.executable, str(CLIENT), *args], env=env, capture_output=True, text=True, timeout=WAIT_S)
+    assert r.returncode == 0, r.stderr
+    return json.loads(r.stdout.strip().splitlines()[-1])
+
+
+def _features(record: dict) -> Features:
+    msg = SimpleNamespace(**{**record, "descriptors": bytes.fromhex(record["descriptors"])})
+    return features_from_msg(msg)
+
+
+def _photo_of(frames: np.ndarray, feats: Features, threshold: int) -> int:
+    diffs = {}
+    for k in range(len(frames)):
+        model = expected_features(rgb_to_luma(frames[k]), SCALES, threshold, "orb", SECTORS)
+        diffs[k] = first_difference(feats, model)
+    found = [k for k, d in diffs.items() if d is None]
+    assert len(found) == 1, f"a published frame equals no photograph at threshold {threshold}: {diffs}"
+    return found[0]
+
+
+def _alive(marker: str) -> list[str]:
+    """Processes whose command line or environment mention `marker`."""
+    found = []
+    for proc in Path("/proc").iterdir():
+        if not proc.name.isdigit() or int(proc.name) == os.getpid():
+            continue
+        try:
+            text = (proc / "cmdline").read_bytes() + (proc / "environ").read_bytes()
+            state = (proc / "stat").read_text().split(") ")[1][0]
+        except OSError:
+            continue
+        if marker.encode() in text and state != "Z":
+            cmdline = (proc / "cmdline").read_bytes().replace(b"\0", b" ").decode(errors="replace")
+            found.append(f"{proc.name}: {cmdline[:200]}")
+    return found
+
+
+def test_node_end_to_end(ros_master: dict[str, str], tmp_path: Path) -> None:
+    env = ros_master
+    frames = np.stack([colour_photo(name, W, H) for name in PHOTOS])
+    pngs = []
+    for name, rgb in zip(PHOTOS, frames, strict=True):
+        pngs.append(str(tmp_path / f"{name}.png"))
+        cv2.imwrite(pngs[-1], cv2.cvtColor(rgb, cv2.COLOR_RGB2BGR))
+    heard, node_log, bag = tmp_path / "heard.jsonl", tmp_path / "node.log", tmp_path / "features.bag"
+    procs: dict[str, subprocess.Popen] = {}
+    logs = [open(tmp_path / f"{n}.log", "w") for n in ("listener", "rosbag")]
+    procs["listener"] = subprocess.Popen([sys.executable, str(CLIENT), "listen", str(heard)], env=env,
+                                         stdout=logs[0], stderr=subprocess.STDOUT, start_new_session=True)  # fmt: skip
+    _wait("the listener", lambda: heard.exists() and "ready" in heard.read_text(), procs, tmp_path / "listener.log")
+    procs["rosbag"] = subprocess.Popen(["rosbag", "record", "-O", str(bag), "/orb_accel/features"], env=env,
+                                       stdout=logs[1], stderr=subprocess.STDOUT, start_new_session=True)  # fmt: skip
+    with open(node_log, "w") as log:
+        procs["node"] = subprocess.Popen(
+            [sys.executable, "-m", "orb_tools.cli", "ros", "--sim", *pngs, "--sim-mem-depth", "1024",
+             "_frame_id:=test_camera", "_threshold:=20"],
+            env=env, stdout=log, stderr=subprocess.STDOUT, start_new_session=True,
+        )  # fmt: skip
+    got = lambda: _records(heard, "features")  # noqa: E731
+    try:
+        _wait("3 frames", lambda: len(got()) >= 3, procs, node_log)
+        changed = _call(env, "set_params", "35", "", "-1")
+        assert changed["success"], changed
+        after = changed["after_frame"]
+        for args, text in ((("300", "", "-1"), "0..255"), (("-1", "brief", "-1"), "orb, fast"),
+                           (("-1", "", "7"), "enable")):  # fmt: skip
+            refused = _call(env, "set_params", *args)
+            assert not refused["success"] and text in refused["message"], refused
+        _wait("2 frames after the change", lambda: sum(r["frame"] > after for r in got()) >= 2, procs, node_log)
+        n_before_reset = len(got())
+        reset = _call(env, "reset")
+        assert reset["success"] and "restart at 0" in reset["message"], reset
+        _wait("2 frames after the reset", lambda: len(got()) >= n_before_reset + 3, procs, node_log)
+    finally:
+        status = _stop(procs["node"])
+        _stop(procs["rosbag"])
+        _stop(procs["listener"])
+        for fh in logs:
+            fh.close()
+    log_text = node_log.read_text()
+    assert status == 0, f"the node ended with {status}:\n{log_text[-3000:]}"
+    job = log_text.split("(log: ")[1].split("/sim.log")[0]
+    deadline = time.monotonic() + 10
+    while _alive(job) and time.monotonic() < deadline:
+        time.sleep(0.2)
+    assert not _alive(job), f"processes left behind: {_alive(job)}"
+
+    records = got()
+    assert all(r["frame_id"] == "test_camera" and (r["width"], r["height"]) == (W, H) for r in records)
+    assert all((r["scales"], r["sectors"], r["mode"]) == (SCALES, SECTORS, "orb") for r in records)
+    numbers = [r["frame"] for r in records]
+    cut = next(i for i in range(n_before_reset, len(records)) if numbers[i] < numbers[i - 1])
+    for part in (numbers[:cut], numbers[cut:]):  # every frame arrived, in order, in both epochs
+        assert part == list(range(part[0], part[0] + len(part))), f"frame numbers {numbers}"
+    assert numbers[cut] <= 1, f"after the reset the numbering restarts: {numbers}"
+    assert all(r["overrun_total"] == 0 for r in records), "the node fell behind"
+    assert [r["threshold"] for r in records[:cut]] == [20 if n <= after else 35 for n in numbers[:cut]]
+    assert all(r["threshold"] == 35 for r in records[cut:])
+    photos = [_photo_of(frames, _features(r), r["threshold"]) for r in records]
+    for part in (photos[:cut], photos[cut:]):
+        assert all((b - a) % len(PHOTOS) == 1 for a, b in itertools.pairwise(part)), f"photographs {photos}"
+
+    diag = [s for r in _records(heard, "diagnostics") for s in r["status"] if s["name"] == "orb_accel: accelerator"]
+    assert diag and {"frames_per_second", "published", "overrun", "proto_errors"} <= set(diag[-1]["values"])
+
+    out = tmp_path / "csv"
+    n = bag_to_csv(bag, out)
+    rows = read_csv_dir(out)
+    assert n == len(rows) > 0
+    by_frame = {(r["frame"], r["threshold"]): _features(r) for r in records}
+    for row, feats in rows:
+        ours = by_frame[(row["frame"], row["threshold"])]
+        assert first_difference(feats, ours) is None, f"bag frame {row['frame']}: {first_difference(feats, ours)}"
+    assert bag_to_ros2(bag, tmp_path / "ros2", storage="mcap") == n
+
+
+def test_illegal_startup_parameter(ros_master: dict[str, str]) -> None:
+    cmd = [sys.executable, "-m", "orb_tools.cli", "ros", "--connect", "127.0.0.1:1", "_threshold:=999",
+           "__name:=orb_accel_bad"]  # fmt: skip
+    r = subprocess.run(cmd, env=ros_master, capture_output=True, text=True, timeout=120)
+    assert r.returncode == 2, r.stdout + r.stderr
+    assert "threshold must be an integer 0..255, got 999" in r.stderr and "Traceback" not in r.stderr
+    assert "no simulator" not in r.stderr, "the bus was opened before the parameters were checked"
