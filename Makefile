@@ -9,8 +9,8 @@ SECTORS ?= 32
 THRESHOLD ?= 20
 JOBS   ?= 2
 
-.PHONY: setup test test-all sim bench bench-sim eval figures lint synth netlist-sim tools pattern clean help \
-	bitstream board-estimate board-dryrun
+.PHONY: setup test test-all sim bench bench-sim bench-driver eval figures lint synth netlist-sim tools pattern clean \
+	help bitstream board-estimate board-dryrun ros-sim
 
 help:
 	@echo "make setup   create .venv and install the project with test extras (idempotent)"
@@ -19,6 +19,8 @@ help:
 	@echo "make sim     the complete accelerator in GHDL on the bundled image (IMAGE=, SCALES=, SECTORS=, THRESHOLD=)"
 	@echo "make bench   model speed benchmark (scripts/bench/bench_model.py)"
 	@echo "make bench-sim  RTL simulation speed, one 640x480 frame (scripts/bench/bench_sim.py)"
+	@echo "make bench-driver  per-frame CPU cost of the driver and the ROS message, 5,000 features (docs/ros.md)"
+	@echo "make ros-sim the ROS node on the simulated accelerator, publishing /orb_accel/features (IMAGE=; docs/ros.md)"
 	@echo "make eval    compare-fast and rotation-bench against OpenCV on the evaluation photos (STEP=1: ~6 min)"
 	@echo "make figures make eval, then copy its figures into docs/img (docs/img/README.md)"
 	@echo "make lint    ruff, the import-layer contracts (lint-imports); GHDL synth check and vsg style of hdl/"
@@ -42,10 +44,14 @@ $(STAMP): pyproject.toml
 
 setup: $(STAMP)
 
+# the Debian tools the tests use (scripts/flow/check_tools.sh prints the apt-get line for a missing one)
+TEST_TOOLS := ghdl tclsh dtc ros
 test: $(STAMP)
+	@sh scripts/flow/check_tools.sh $(TEST_TOOLS)
 	$(BIN)/python -m pytest -n $(JOBS) -m "not slow" tb
 
 test-all: $(STAMP)
+	@sh scripts/flow/check_tools.sh $(TEST_TOOLS)
 	$(BIN)/python -m pytest -n $(JOBS) tb
 
 sim: $(STAMP)
@@ -57,6 +63,17 @@ bench: $(STAMP)
 
 bench-sim: $(STAMP)
 	$(BIN)/python scripts/bench/bench_sim.py
+
+bench-driver: $(STAMP)
+	@sh scripts/flow/check_tools.sh ros
+	$(BIN)/python scripts/bench/bench_driver.py
+
+# The ROS node against the simulated accelerator (docs/ros.md), with a roscore of its own when none answers at
+# ROS_MASTER_URI; `rostopic echo /orb_accel/features` in another shell (after `eval $$(.venv/bin/orb-accel ros-env)`).
+ROS_IMAGES ?= $(if $(IMAGE),$(IMAGE),golden_model/data/default_640x480.png)
+ros-sim: $(STAMP)
+	@sh scripts/flow/check_tools.sh ghdl ros
+	$(BIN)/orb-accel ros --roscore --sim $(ROS_IMAGES) --sim-size 320x240
 
 STEP ?= 1
 EVAL_PHOTOS := build/eval/photos

@@ -6,7 +6,10 @@
 #   scripts/flow/check_tools.sh              report every tool; exit 0 (`make tools`)
 #   scripts/flow/check_tools.sh ghdl yosys   require these; print the install command and exit 1 if one
 #                                       is missing (used by `make synth` / `make lint`)
-# Tool names: ghdl (any back end), ghdl-mcode, ghdl-llvm, yosys, tclsh, dtc, python3.
+# Tool names: ghdl (any back end), ghdl-mcode, ghdl-llvm, yosys, tclsh, dtc, python3, ros (Debian's ROS 1
+# packages of sw/orb_ros/debian-packages.txt: roscore, rosbag, genpy, the message packages).
+
+ROS_PACKAGES=$(cat "$(dirname "$0")/../../sw/orb_ros/debian-packages.txt")
 
 first_line() { "$@" 2>/dev/null | head -n 1; }
 
@@ -34,6 +37,12 @@ version_of() {
     dtc)
       command -v dtc >/dev/null 2>&1 || return 1
       first_line dtc --version ;;
+    ros)
+      command -v roscore >/dev/null 2>&1 && command -v rosbag >/dev/null 2>&1 || return 1
+      [ -f /usr/lib/genpy/genmsg_py.py ] && [ -d /usr/share/std_msgs/msg ] || return 1
+      /usr/bin/python3 -c 'import rospy, rosbag, std_srvs.srv, diagnostic_msgs.msg' 2>/dev/null || return 1
+      echo "ROS 1 from Debian: rospy $(/usr/bin/python3 -c 'import importlib.metadata as m; print(m.version("rospy"))' \
+        2>/dev/null || echo '?'), roscore, rosbag, genpy" ;;
     python3)
       command -v python3 >/dev/null 2>&1 || return 1
       python3 -c 'import sys; sys.exit(sys.version_info < (3, 10))' 2>/dev/null || {
@@ -51,6 +60,7 @@ install_cmd() {
     python3) echo "apt-get install python3 python3-venv" ;;
     tclsh) echo "apt-get install tcl" ;;
     dtc) echo "apt-get install device-tree-compiler" ;;
+    ros) echo "apt-get install $ROS_PACKAGES" ;;
   esac
 }
 
@@ -88,8 +98,9 @@ version_of ghdl >/dev/null || missing="$missing ghdl"
 check yosys
 check tclsh
 check dtc
+check ros
 check python3
-venv="$(dirname "$0")/../.venv/bin"
+venv="$(dirname "$0")/../../.venv/bin"
 for t in ruff vsg; do
   if [ -x "$venv/$t" ]; then
     printf '  %-11s %s (.venv)\n' "$t" "$(first_line "$venv/$t" --version)"

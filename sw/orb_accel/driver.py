@@ -37,6 +37,7 @@ from .bus import Bus
 
 COUNTERS = ("FRAME_COUNT", "DROPPED", "PROTO_ERRORS", "OVERRUN", "OVERFLOW_COUNT", "DESC_LOST", "DISCARDED")
 IRQ_SOURCES = ("frame_done", "error")
+SLOT_WORDS = SLOT_BYTES // 4  # 32-bit words per slot (SLOT_WORDS_USED of them hold data)
 PATCH_DIAMETER = 31  # a keypoint's size at octave 0 (OpenCV ORB's patchSize): 31 * 2^octave
 NO_ANGLE = -1.0  # cv2.KeyPoint's angle when there is no orientation (fast mode)
 
@@ -136,9 +137,20 @@ class Frame:
         return self.features.descriptor
 
 
+BANK_READS = ("bank", "slot")
+
+
 class OrbAccel:
-    def __init__(self, bus: Bus, check_id: bool = True) -> None:
+    """bank_read: how read_bank loads a bank: "bank" (default) in one block of whole 64-byte slots
+    (16 words per feature: 60 % more bus reads than needed, one call: the fastest on the board and
+    over a socket; docs/ros.md, benchmark), "slot" one block of the 10 used words per slot (fewest
+    bus reads: the simulation benches use it, where each read costs clocks)."""
+
+    def __init__(self, bus: Bus, check_id: bool = True, bank_read: str = "bank") -> None:
+        if bank_read not in BANK_READS:
+            raise ValueError(f"bank_read {bank_read!r} not one of {BANK_READS}")
         self.bus = bus
+        self.bank_read = bank_read
         if check_id:
             ident = self.read(regs.ID)
             if ident != regs.ORB_ID:
@@ -273,10 +285,15 @@ class OrbAccel:
         info = self.read(regs.BANK0_INFO if bank == 0 else regs.BANK1_INFO)
         count = regs.BANK0_INFO.field("count").get(info)
         base = regs.MEM_BASE + bank * self.hw.mem_depth * SLOT_BYTES
-        words = np.empty((count, SLOT_WORDS_USED), dtype=np.uint32)
-        for s in range(count):
-            words[s] = self.bus.read_block(base + s * SLOT_BYTES, SLOT_WORDS_USED)
-        record = decode_record(self.bus.read_block(base + count * SLOT_BYTES, SLOT_RECORD_WORDS))
+        if self.bank_read == "bank":
+            block = self.bus.read_block(base, (count + 1) * SLOT_WORDS).reshape(count + 1, SLOT_WORDS)
+            words = np.ascontiguousarray(block[:count, :SLOT_WORDS_USED])
+            record = decode_record(block[count, :SLOT_RECORD_WORDS])
+        else:
+            words = np.empty((count, SLOT_WORDS_USED), dtype=np.uint32)
+            for s in range(count):
+                words[s] = self.bus.read_block(base + s * SLOT_BYTES, SLOT_WORDS_USED)
+            record = decode_record(self.bus.read_block(base + count * SLOT_BYTES, SLOT_RECORD_WORDS))
         if record.count != count:
             raise AccelError(f"bank {bank}: record count {record.count}, BANK{bank}_INFO count {count}")
         feats = decode_features(words, self.hw.sectors, descriptors=mode == "orb")

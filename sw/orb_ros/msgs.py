@@ -29,8 +29,9 @@ DEBIAN_PYTHON = Path("/usr/bin/python3")
 DEBIAN_SITE = Path("/usr/lib/python3/dist-packages")
 GENPY_DIR = Path("/usr/lib/genpy")
 STD_MSGS_DIR = Path("/usr/share/std_msgs/msg")
-APT_PACKAGES = ("ros-core python3-rospy python3-rostopic python3-rosbag python3-genpy python3-genmsg "
-                "python3-std-msgs ros-std-msgs python3-std-srvs python3-diagnostic-msgs")  # fmt: skip
+# the Debian 12 packages the node, its tests and the tools need (one list: also read by .ci/run and
+# scripts/flow/check_tools.sh); all are architecture "all" or built for armhf
+APT_PACKAGES = (Path(__file__).resolve().parent / "debian-packages.txt").read_text().strip()
 
 
 class RosUnavailable(RuntimeError):

@@ -72,7 +72,8 @@ class AccelBench:
         await ClockCycles(self.clk, 4)
         self.reset.value = 1 - self.reset_active
         await RisingEdge(self.clk)
-        self.accel = await self.cpu(OrbAccel, self.bus)  # checks the ID, reads the configuration
+        # checks the ID, reads the configuration; reads only the used words of a slot (each read costs clocks)
+        self.accel = await self.cpu(OrbAccel, self.bus, True, "slot")
         assert self.accel.hw == HwConfig(self.width, self.height, self.scales, self.sectors, self.depth), (
             f"configuration read back {self.accel.hw}"
         )

@@ -65,6 +65,7 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     add_bus_options(ros)
     ros.add_argument("--threshold", type=int, default=20, help="start-up threshold (private parameter ~threshold wins)")
     ros.add_argument("--mode", choices=MODES, default="orb", help="start-up mode (~mode wins)")
+    ros.add_argument("--roscore", action="store_true", help="start a roscore when none answers at ROS_MASTER_URI")
     sub.add_parser("ros-env", help="print shell exports under which rostopic/rosbag know orb_accel_msgs")
 
     srv = sub.add_parser("sim-server", help="serve a simulated accelerator on a local socket (docs/driver.md)")
@@ -207,16 +208,69 @@ def _raise_interrupt(_sig: int, _frame: object) -> None:
     raise KeyboardInterrupt
 
 
+def _master_answers(uri: str) -> bool:
+    import socket
+    import xmlrpc.client
+
+    old = socket.getdefaulttimeout()
+    socket.setdefaulttimeout(2.0)
+    try:
+        return xmlrpc.client.ServerProxy(uri).getSystemState("/orb_accel_probe")[0] == 1
+    except (OSError, xmlrpc.client.Error):
+        return False
+    finally:
+        socket.setdefaulttimeout(old)
+
+
+def _start_roscore(stack: ExitStack, uri: str) -> None:
+    """A roscore on ROS_MASTER_URI's port for the command's lifetime (its own process group)."""
+    import os
+    import shutil
+    import subprocess
+    from urllib.parse import urlparse
+
+    from orb_ros.msgs import APT_PACKAGES, RosUnavailable
+
+    roscore = shutil.which("roscore")
+    if roscore is None:
+        raise RosUnavailable(f"roscore is not installed: apt-get install {APT_PACKAGES}")
+    port = urlparse(uri).port or 11311
+    proc = subprocess.Popen([roscore, "-p", str(port)], stdout=subprocess.DEVNULL, stderr=subprocess.STDOUT,
+                            start_new_session=True)  # fmt: skip
+
+    def stop() -> None:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGINT)
+            try:
+                proc.wait(20)
+            except subprocess.TimeoutExpired:
+                os.killpg(proc.pid, signal.SIGKILL)
+
+    stack.callback(stop)
+    deadline = time.monotonic() + 60
+    while not _master_answers(uri):
+        if proc.poll() is not None or time.monotonic() > deadline:
+            raise RosUnavailable(f"roscore -p {port} did not start (exit {proc.poll()})")
+        time.sleep(0.3)
+    print(f"started roscore at {uri} (stops with this command)", flush=True)
+
+
 def cmd_ros(args: argparse.Namespace, ros_args: list[str]) -> int:
+    import os
+
     from orb_ros import msgs as rosmsgs
     from orb_ros.node import Params, init_node, run_node
 
     rospy = rosmsgs.import_rospy()
     msg_mod, srv_mod = rosmsgs.load()
-    settings = init_node(rospy, Params(args.threshold, args.mode, True), argv=[sys.argv[0], *ros_args])
-    signal.signal(signal.SIGTERM, _raise_interrupt)  # rospy's handlers are off: stop the loop at once
-    with open_bus(args) as (bus, what, timeout):
-        return run_node(rospy, msg_mod, srv_mod, bus, settings, timeout, what)
+    with ExitStack() as stack:
+        uri = os.environ.get("ROS_MASTER_URI", "http://localhost:11311")
+        if args.roscore and not _master_answers(uri):
+            _start_roscore(stack, uri)
+        settings = init_node(rospy, Params(args.threshold, args.mode, True), argv=[sys.argv[0], *ros_args])
+        signal.signal(signal.SIGTERM, _raise_interrupt)  # rospy's handlers are off: stop the loop at once
+        with open_bus(args) as (bus, what, timeout):
+            return run_node(rospy, msg_mod, srv_mod, bus, settings, timeout, what)
 
 
 def cmd_ros_env(_args: argparse.Namespace) -> int:

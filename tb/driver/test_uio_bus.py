@@ -254,7 +254,7 @@ def test_driver_reads_id_config_and_bank(device: FakeDevice) -> None:
             return super().read32(addr)
 
     with Spy(device.map_file, MAP_SIZE, irq_fd=device.irq.fileno()) as bus:
-        accel = OrbAccel(bus)
+        accel = OrbAccel(bus, bank_read="slot")
         assert (accel.hw.width, accel.hw.height, accel.hw.scales, accel.hw.sectors, accel.hw.mem_depth) == (
             W, H, SCALES, SECTORS, DEPTH)  # fmt: skip
         assert accel.mode == "orb"
@@ -270,6 +270,13 @@ def test_driver_reads_id_config_and_bank(device: FakeDevice) -> None:
         words = len(want) * SLOT_WORDS_USED + SLOT_RECORD_WORDS + len(register_reads)
         assert bus.reads - reads_before == words
         assert bus.writes == 0
+        # the default: the bank's whole slots in one block, the same frame
+        whole = OrbAccel(bus)
+        reads_before = bus.reads
+        register_reads.clear()
+        again = whole.read_bank(0)
+        assert first_difference(again.features, want) is None and again.record == frame.record
+        assert bus.reads - reads_before == (len(want) + 1) * SLOT_BYTES // 4 + len(register_reads)
 
 
 def test_wait_irq_protocol(device: FakeDevice) -> None:
