@@ -27,6 +27,7 @@ from golden_model.config import MODES
 from orb_accel.bus import Bus
 from orb_accel.driver import OrbAccel
 
+TOPLEVELS = ("orb_accel_top", "orb_accel_zynq")  # orb_sim.sim_server.TOPLEVELS (not imported: board)
 BOARD_TIMEOUT_S = 1.0  # a frame at 24 fps and more, with margin
 SIM_TIMEOUT_FRAMES = 3  # in simulation: three frame periods of simulated time
 
@@ -44,6 +45,8 @@ def add_bus_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--sim-sectors", type=int, default=32, help="simulated bitstream: sectors (default 32)")
     p.add_argument("--sim-mem-depth", type=int, default=2048, help="simulated bitstream: slots per bank (2048)")
     p.add_argument("--sim-size", metavar="WxH", help="resize every simulated frame to WxH")
+    p.add_argument("--sim-top", choices=TOPLEVELS, default=TOPLEVELS[0],
+                   help="simulated top: the accelerator, or the board's Vivado wrapper (RBG video)")  # fmt: skip
     p.add_argument("--sim-max-frames", type=int, default=50, help="at most this many frames from a video (50)")
     p.add_argument("--timeout", type=float, help=f"seconds to wait for a frame (board: {BOARD_TIMEOUT_S:g}; "
                    f"simulator: {SIM_TIMEOUT_FRAMES} frame periods of simulated time)")  # fmt: skip
@@ -75,6 +78,7 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     srv.add_argument("--sectors", type=int, default=32)
     srv.add_argument("--mem-depth", type=int, default=2048)
     srv.add_argument("--size", metavar="WxH")
+    srv.add_argument("--top", choices=TOPLEVELS, default=TOPLEVELS[0])
     srv.add_argument("--max-frames", type=int, default=50)
 
     bag = sub.add_parser("bag", help="convert a ROS 1 bag of /orb_accel/features (docs/ros-bags.md)")
@@ -99,15 +103,15 @@ def _size(text: str | None) -> tuple[int, int] | None:
 
 
 def _start_sim(stack: ExitStack, paths: list[Path], scales: int, sectors: int, mem_depth: int, size: str | None,
-               max_frames: int, port: int = 0) -> str:  # fmt: skip
+               max_frames: int, top: str, port: int = 0) -> str:  # fmt: skip
     from orb_sim.sim_server import SimServer
     from orb_tools.images import load_frames
 
     frames = load_frames(paths, _size(size), max_frames)
     h, w = frames.shape[1:3]
-    print(f"starting the simulator: orb_accel_top {w}x{h}, {scales} scales, {sectors} sectors, "
+    print(f"starting the simulator: {top} {w}x{h}, {scales} scales, {sectors} sectors, "
           f"{len(frames)} frame(s) round and round ...", flush=True)  # fmt: skip
-    server = SimServer(frames, scales=scales, sectors=sectors, mem_depth=mem_depth, port=port)
+    server = SimServer(frames, scales=scales, sectors=sectors, mem_depth=mem_depth, toplevel=top, port=port)
     stack.enter_context(server)
     print(f"simulator listening on {server.address} (log: {server.log})", flush=True)
     return server.address
@@ -120,8 +124,8 @@ def open_bus(args: argparse.Namespace) -> Iterator[tuple[Bus, str, float]]:
 
     with ExitStack() as stack:
         if args.sim or args.connect:
-            address = args.connect or _start_sim(stack, args.sim, args.sim_scales, args.sim_sectors,
-                                                 args.sim_mem_depth, args.sim_size, args.sim_max_frames)  # fmt: skip
+            address = args.connect or _start_sim(stack, args.sim, args.sim_scales, args.sim_sectors, args.sim_mem_depth,
+                                                 args.sim_size, args.sim_max_frames, args.sim_top)  # fmt: skip
             bus = stack.enter_context(SocketBus(address))
             g = bus.info["generics"]
             period_s = (g["WIDTH_g"] + bus.info["h_blank"]) * g["HEIGHT_g"] + bus.info["v_blank"]
@@ -286,7 +290,8 @@ def cmd_ros_env(_args: argparse.Namespace) -> int:
 
 def cmd_sim_server(args: argparse.Namespace) -> int:
     with ExitStack() as stack:
-        _start_sim(stack, args.frames, args.scales, args.sectors, args.mem_depth, args.size, args.max_frames, args.port)
+        _start_sim(stack, args.frames, args.scales, args.sectors, args.mem_depth, args.size, args.max_frames, args.top,
+                   args.port)  # fmt: skip
         print("serving until Ctrl-C", flush=True)
         while True:
             time.sleep(3600)

@@ -236,3 +236,24 @@ def test_server_info(server: SimServer) -> None:
     assert sent and [k for _, k, _ in sent] == [i % len(PHOTOS) for i in range(len(sent))]
     assert json.loads((server.job / "config.json").read_text())["generics"]["MEM_DEPTH_g"] == DEPTH
     assert os.path.exists(server.log)
+
+
+def test_cli_sim_zynq(frames: np.ndarray, tmp_path: Path) -> None:
+    """`--sim` starts a simulator for the command: here the board's wrapper orb_accel_zynq (RBG
+    video, active-low reset, s_axi_ctrl), from image files of two sizes resized by --sim-size."""
+    _png(frames[:2], tmp_path)
+    big = cv2.resize(cv2.imread(str(tmp_path / "1.png")), (2 * W, 2 * H), interpolation=cv2.INTER_NEAREST)
+    cv2.imwrite(str(tmp_path / "1.png"), big)  # resized back to W x H (exactly: nearest) by --sim-size
+    out = tmp_path / "csv"
+    r = subprocess.run([*CLI, "board", "stream", "--sim", str(tmp_path / "0.png"), str(tmp_path / "1.png"),
+                        "--sim-top", "orb_accel_zynq", "--sim-size", f"{W}x{H}", "--sim-mem-depth", "256",
+                        "--frames", "2", "--csv", str(out)], capture_output=True, text=True, timeout=900)  # fmt: skip
+    assert r.returncode == 0, r.stdout + r.stderr
+    assert "starting the simulator: orb_accel_zynq" in r.stdout
+    second = cv2.cvtColor(cv2.resize(big, (W, H), interpolation=cv2.INTER_AREA), cv2.COLOR_BGR2RGB)
+    shown = np.stack([frames[0], second])
+    ks = [which_photo(shown, feats, 20) for _, feats in read_csv_dir(out)]
+    assert sorted(ks) == [0, 1], ks
+    bad = subprocess.run([*CLI, "board", "info", "--sim", str(tmp_path / "0.png"), str(tmp_path / "1.png")],
+                         capture_output=True, text=True)  # fmt: skip
+    assert bad.returncode == 2 and "not 128x96 as the first frame" in bad.stderr, bad.stderr
