@@ -116,8 +116,33 @@ def generate(out: Path | None = None) -> Path:
     return out
 
 
+def std_msgs_shim(out: Path) -> Path | None:
+    """Debian's ros-std-msgs installs /usr/share/std_msgs/msg without a package.xml, so rospack (and
+    with it `rosmsg show` of a message that uses std_msgs/Header) cannot find the package. This
+    makes `out/packages/std_msgs` (a package.xml and a link to the message folder) and returns
+    `out/packages` for ROS_PACKAGE_PATH; None when the installed package has its own."""
+    if (STD_MSGS_DIR.parent / "package.xml").exists() or not STD_MSGS_DIR.is_dir():
+        return None
+    pkg = out / "packages" / "std_msgs"
+    if not (pkg / "package.xml").exists():
+        pkg.mkdir(parents=True, exist_ok=True)
+        link = pkg / "msg"
+        if not link.exists():
+            link.symlink_to(STD_MSGS_DIR)
+        tmp = pkg / f".package.xml.{os.getpid()}"
+        tmp.write_text(
+            '<?xml version="1.0"?>\n<package format="2"><name>std_msgs</name><version>0.0.0</version>'
+            "<description>Debian's std_msgs messages (a shim made by orb_ros.msgs)</description>"
+            '<maintainer email="none@example.org">none</maintainer><license>BSD</license></package>\n'
+        )
+        tmp.replace(pkg / "package.xml")
+    return pkg.parent
+
+
 def load() -> tuple[ModuleType, ModuleType]:
-    """(orb_accel_msgs.msg, orb_accel_msgs.srv), generated if needed."""
+    """(orb_accel_msgs.msg, orb_accel_msgs.srv), generated if needed (they import genpy and
+    std_msgs: Debian's ROS must be importable, see import_rospy)."""
+    import_rospy()
     root = str(generate())
     if root not in sys.path:
         sys.path.insert(0, root)
@@ -136,5 +161,8 @@ def ros_env(base: dict[str, str] | None = None) -> dict[str, str]:
         env[name] = os.pathsep.join([value, *[p for p in parts if p != value]])
 
     prepend("PYTHONPATH", root)
+    shim = std_msgs_shim(Path(root))
+    if shim is not None:
+        prepend("ROS_PACKAGE_PATH", str(shim))
     prepend("ROS_PACKAGE_PATH", str(PACKAGE_PATH))
     return env

@@ -237,3 +237,17 @@ def test_illegal_startup_parameter(ros_master: dict[str, str]) -> None:
     assert r.returncode == 2, r.stdout + r.stderr
     assert "threshold must be an integer 0..255, got 999" in r.stderr and "Traceback" not in r.stderr
     assert "no simulator" not in r.stderr, "the bus was opened before the parameters were checked"
+
+
+def test_ros_tools_know_the_messages(ros_master: dict[str, str]) -> None:
+    """Under `orb-accel ros-env`'s environment Debian's rosmsg/rossrv find orb_accel_msgs (and
+    std_msgs, which Debian ships without a package.xml) with genpy's md5 of the generated class."""
+    from orb_ros.msgs import load
+
+    msg_mod, srv_mod = load()
+    md5 = subprocess.run(["rosmsg", "md5", "orb_accel_msgs/Features"], env=ros_master, capture_output=True, text=True)
+    assert md5.returncode == 0 and md5.stdout.strip() == msg_mod.Features._md5sum, md5.stdout + md5.stderr
+    show = subprocess.run(["rossrv", "show", "orb_accel_msgs/SetParams"], env=ros_master, capture_output=True,
+                          text=True)  # fmt: skip
+    assert show.returncode == 0 and "int16 threshold" in show.stdout and "uint32 after_frame" in show.stdout, show
+    assert srv_mod.SetParams._md5sum
