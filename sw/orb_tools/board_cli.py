@@ -26,8 +26,8 @@ from golden_model import limits
 from golden_model.config import MODES
 from orb_accel.bus import Bus
 from orb_accel.driver import OrbAccel
+from orb_sim.sim_server import TOPLEVELS  # pure Python at import (no cocotb): fine on the board
 
-TOPLEVELS = ("orb_accel_top", "orb_accel_zynq")  # orb_sim.sim_server.TOPLEVELS (not imported: board)
 BOARD_TIMEOUT_S = 1.0  # a frame at 24 fps and more, with margin
 SIM_TIMEOUT_FRAMES = 3  # in simulation: three frame periods of simulated time
 
