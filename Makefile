@@ -16,7 +16,8 @@ help:
 	@echo "make setup   create .venv and install the project with test extras (idempotent)"
 	@echo "make test    run the test suite (pytest -n $(JOBS), slow tests excluded)"
 	@echo "make test-all  run every test, slow full-frame ones included"
-	@echo "make sim     the complete accelerator in GHDL on the bundled image (IMAGE=, SCALES=, SECTORS=, THRESHOLD=)"
+	@echo "make sim     the complete accelerator in GHDL on the bundled image (IMAGE=, SCALES=, SECTORS=, THRESHOLD=;"
+	@echo "             FAST=1: its synthesised netlist in Verilator, docs/fast-sim.md)"
 	@echo "make bench   model speed benchmark (scripts/bench/bench_model.py)"
 	@echo "make bench-sim  RTL simulation speed, one 640x480 frame (scripts/bench/bench_sim.py)"
 	@echo "make bench-driver  per-frame CPU cost of the driver and the ROS message, 5,000 features (docs/ros.md)"
@@ -54,9 +55,11 @@ test-all: $(STAMP)
 	@sh scripts/flow/check_tools.sh $(TEST_TOOLS)
 	$(BIN)/python -m pytest -n $(JOBS) tb
 
+FAST ?=
 sim: $(STAMP)
 	$(BIN)/python scripts/flow/sim_accel.py $(if $(IMAGE),--image $(IMAGE)) \
-		--scales $(SCALES) --sectors $(SECTORS) --threshold $(THRESHOLD) --out-dir build/sim
+		--scales $(SCALES) --sectors $(SECTORS) --threshold $(THRESHOLD) --out-dir build/sim \
+		$(if $(filter 1 yes true,$(FAST)),--fast)
 
 bench: $(STAMP)
 	$(BIN)/python scripts/bench/bench_model.py

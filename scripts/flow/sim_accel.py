@@ -2,6 +2,8 @@
 # SPDX-License-Identifier: MIT
 """`make sim`: the complete accelerator (orb_accel_top) in GHDL on one image, driven as the CPU
 drives it: registers written and the features read back over AXI4-Lite from the feature memory.
+`--fast` (`make sim FAST=1`): the same on GHDL's synthesised netlist in Verilator
+(orb_sim.fast, docs/fast-sim.md), with the same outputs.
 
 The image (default: the bundled 640x480 photograph) streams in as 24-bit RGB at one pixel per
 clock; the CPU model reads the frame's bank; the image is streamed a second time with the
@@ -30,7 +32,9 @@ from golden_model.features import read_csv
 from golden_model.images import DEFAULT_IMAGE, ImageError
 from golden_model.luma import rgb_to_luma
 from golden_model.overlay import render_marker_overlay
+from orb_sim.fast.sim import FastSimError
 from orb_sim.rtl_backend import RtlUnavailable, run_accel_job
+from orb_sim.runner import ToolMissing
 from orb_tools.images import load_rgb_or_grey
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -60,6 +64,8 @@ def main() -> int:
     ap.add_argument("--sectors", type=int, default=32, help="16, 32 or 64")
     ap.add_argument("--threshold", type=int, default=20)
     ap.add_argument("--out-dir", type=Path, default=ROOT / "build" / "sim")
+    ap.add_argument("--fast", action="store_true", help="the netlist in Verilator instead of the RTL in GHDL")
+    ap.add_argument("--seed", type=int, default=0, help="--fast: random initial state from this seed (0: zeros)")
     args = ap.parse_args()
     path = args.image or DEFAULT_IMAGE
     try:
@@ -79,15 +85,21 @@ def main() -> int:
     shutil.rmtree(job, ignore_errors=True)
     job.mkdir(parents=True)
     log = out / "sim.log"
+    engine = "its netlist in Verilator" if args.fast else f"GHDL (log: {log})"
     print(f"make sim: {path.name} {w}x{h}, {cfg.scales} scale(s), {cfg.sectors} sectors, "
-          f"threshold {cfg.threshold}: orb_accel_top in GHDL (log: {log})", flush=True)  # fmt: skip
+          f"threshold {cfg.threshold}: orb_accel_top in {engine}", flush=True)  # fmt: skip
     stop = threading.Event()
     watcher = threading.Thread(target=progress_loop, args=(job / "progress.txt", stop), daemon=True)
     watcher.start()
     t0 = time.perf_counter()
     try:
-        result = run_accel_job(rgb, cfg, job, log, overlay=True)
-    except RtlUnavailable as exc:
+        if args.fast:
+            from orb_sim.fast.jobs import run_accel_fast
+
+            result = run_accel_fast(rgb, cfg, job, overlay=True, seed=args.seed)
+        else:
+            result = run_accel_job(rgb, cfg, job, log, overlay=True)
+    except (RtlUnavailable, ToolMissing, FastSimError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 1
     finally:
@@ -111,7 +123,11 @@ def main() -> int:
         "latency_cycles": result["latency_cycles"], "cycles_per_pixel": result["cycles_per_pixel"],
         "frame_cycles": result["frame_cycles"], "sim_wall_s": round(sim_wall, 1),
         "frame_sim_wall_s": result["frame_sim_wall_s"], "proto_errors": result["proto_errors"],
+        "engine": "verilator-netlist" if args.fast else "ghdl-rtl",
     }  # fmt: skip
+    if args.fast:
+        report["build_s"] = result["build_s"]
+        report["seed"] = args.seed
     (out / "report.json").write_text(json.dumps(report, indent=2) + "\n")
     ok = report["bit_exact"] and overlay_exact and dropped == 0
     print(f"{result['features']} features, bit-exact with the model: {'yes' if diff is None else 'NO: ' + diff}; "

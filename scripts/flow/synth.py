@@ -39,13 +39,10 @@ ff = FDRE + FDSE + FDCE + FDPE; bram36 = RAMB36E1 + RAMB18E1 / 2; dsp = DSP48E1.
 These are yosys estimates, not Vivado results (see docs/synthesis.md).
 
 Work-arounds for tool bugs, each recorded in the record's "workarounds" list:
-  - GHDL 2.0's Verilog writer prints `abs` as VHDL (`x <= std_logic_vector(abs $signed(y));`);
-    such lines are rewritten to the equivalent Verilog `assign x = ($signed(y) < 0) ? -y : y;`
-    (top.ghdl.v is GHDL's raw output, top.v the file yosys reads).
-  - GHDL 2.0 synth crashes (netlists-builders assertion) on orb_feat_merge with SCALES_g = 1, where
-    the scale index `pop` (integer range -1 to 0) is 0 bits wide. Only if it crashes, a copy with
-    the rewrites in MERGE_S1_PATCHES (no change in behaviour for SCALES_g = 1) is synthesised.
-  - GHDL 2.0's Verilog writer prints zero-width nets as `""` / `0'b...`; they are dropped.
+  - GHDL 2.0's Verilog writer: `abs` printed as VHDL, zero-width nets, nets declared twice, and the
+    orb_feat_merge crash at SCALES_g = 1: repaired by orb_sim.verilog_netlist (shared with the fast
+    simulation in Verilator; its docstring lists each repair); top.ghdl.v is GHDL's raw output,
+    top.v the file yosys reads.
   - yosys 0.23's -abc9 flow aborts in abc9_ops (std::out_of_range) when a RAMB36E1/RAMB18E1 cell
     still has the oversized DI/DO ports its BRAM mapper creates; the timing pass runs synth_xilinx
     in two halves with `hierarchy -check` (which resizes those ports) before map_luts.
@@ -70,7 +67,7 @@ import subprocess
 import sys
 import threading
 import time
-from collections.abc import Collection, Iterable, Sequence
+from collections.abc import Collection, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
@@ -79,14 +76,15 @@ from typing import Any
 ROOT = Path(__file__).resolve().parents[2]
 # orb_sim of this checkout, also with a plain python3 (make synth needs no `make setup`)
 sys.path.insert(0, str(ROOT / "sw"))
-from orb_sim.hdl import find_entity, sources  # noqa: E402  (the one list of hdl files: hdl/manifest.txt)
+from orb_sim.hdl import sources  # noqa: E402  (the one list of hdl files: hdl/manifest.txt)
+from orb_sim.verilog_netlist import VerilogError, ghdl_verilog  # noqa: E402  (GHDL's Verilog, repaired)
 
 OUT = ROOT / "build" / "synth"
 EXPECTED = Path(__file__).resolve().with_name("synth_expected.json")
 
 # Bump when a change to this script changes the figures or the record's meaning: it is part of the
 # cache key, so every cached record is measured again.
-FLOW_VERSION = 2
+FLOW_VERSION = 3  # 3: orb_sim.verilog_netlist also merges nets GHDL declares twice
 
 # The tops the script knows and the generics each gets besides WIDTH_g, HEIGHT_g, SCALES_g
 # (their defaults, given explicitly so that they are in the record and the cache key).
@@ -136,14 +134,6 @@ LUTRAM_CELLS = {
     "RAM64M8": 8,
 }
 
-ABS_RE = re.compile(r"^(\s*)(\w+) <= std_logic_vector\(abs \$signed\((\w+)\)\);", re.M)
-RAM_NOTE_RE = re.compile(r"^(\S+?):(\d+):\d+:note: found (RAM|ROM) \"([\w.]+)\", width: (\d+) bits, depth: (\d+)", re.M)
-# orb_feat_merge rewrites for SCALES_g = 1 only, where they change nothing: the scale index `pop`
-# (range -1 to 0) is only used to index under `pop >= 0`, i.e. it is 0 there, and rr is always 0.
-MERGE_S1_PATCHES = (
-    (re.compile(r"\brr\s*<=\s*\(pop \+ 1\) mod SCALES_g;"), "rr <= 0;", "'rr <= (pop + 1) mod SCALES_g' -> 'rr <= 0'"),
-    (re.compile(r"\(pop\)"), "(0)", "index '(pop)' -> '(0)'"),
-)
 ARRIVAL_RE = re.compile(r"Latest arrival time in '(\S+)' is (\d+):")
 
 STAT_SCRIPT = """read_verilog top.v
@@ -165,8 +155,8 @@ tee -o sta.txt sta
 PASSES = {"stat": ("yosys_stat", STAT_SCRIPT), "sta": ("yosys_sta", STA_SCRIPT)}
 
 
-class ToolError(RuntimeError):
-    pass
+class ToolError(VerilogError):
+    """A tool failed (GHDL's errors come as VerilogError, this class's base)."""
 
 
 @dataclass(frozen=True)
@@ -354,90 +344,9 @@ def hdl_revision() -> str:
 
 
 def ghdl_synth(ghdl: str, job: Job, files: Sequence[Path], cdir: Path, rec: dict[str, Any]) -> None:
-    """GHDL -> top.ghdl.v (raw) and top.v (Verilog-writer fix applied). Fills RAM notes etc."""
-    cfg = job.cfg
-
-    def run(srcs: Iterable[Path]) -> subprocess.CompletedProcess[str]:
-        cmd = [ghdl, "synth", "--std=08"]
-        cmd += [f"-g{k}={v}" for k, v in job.generics.items()]
-        cmd += ["--out=verilog", *map(str, srcs), "-e", job.top]
-        rec["ghdl_cmd"] = " ".join(cmd).replace(str(ROOT) + "/", "")
-        return subprocess.run(cmd, capture_output=True, text=True, check=False, cwd=cdir)
-
-    t0 = time.monotonic()
-    proc = run(files)
-    if proc.returncode != 0 and "GHDL Bug occurred" in proc.stderr and cfg.scales == 1:
-        merge = find_entity("orb_feat_merge").path
-        text, applied = merge.read_text(), []
-        for pattern, repl, what in MERGE_S1_PATCHES:
-            text, n = pattern.subn(repl, text)
-            if n:
-                applied.append(f"{what} ({n}x)")
-        if applied:
-            patched_dir = cdir / "patched"
-            patched_dir.mkdir(exist_ok=True)
-            patched = patched_dir / merge.name
-            patched.write_text(text)
-            proc = run([patched if s == merge else s for s in files])
-            rec["workarounds"].append(
-                "GHDL 2.0 synth crashes on orb_feat_merge with SCALES_g=1 (0-bit scale index); synthesised "
-                f"{rel(cdir)}/patched/orb_feat_merge.vhd instead, equivalent for SCALES_g=1: " + "; ".join(applied)
-            )
-    rec["wall_s"]["ghdl"] = round(time.monotonic() - t0, 1)
-    (cdir / "ghdl.log").write_text(proc.stderr)
-    (cdir / "top.ghdl.v").write_text(proc.stdout)
-    if proc.returncode != 0:
-        last = [ln for ln in proc.stderr.splitlines() if ln.strip()][-3:]
-        raise ToolError(f"ghdl synth failed (exit {proc.returncode}): " + " | ".join(last))
-    rec["ghdl_rams"] = [
-        {"file": Path(m[0]).name, "line": int(m[1]), "kind": m[2], "name": m[3], "width": int(m[4]), "depth": int(m[5])}
-        for m in RAM_NOTE_RE.findall(proc.stderr)
-    ]
-    rec["ghdl_warnings"] = [ln for ln in proc.stderr.splitlines() if ":warning:" in ln]
-    verilog, n_abs = ABS_RE.subn(
-        r"\1assign \2 = ($signed(\3) < 0) ? -\3 : \3;  // synth.py: was VHDL 'abs'", proc.stdout
-    )
-    if n_abs:
-        rec["workarounds"].append(f"GHDL 2.0 Verilog writer emitted VHDL 'abs' in {n_abs} lines; rewritten as Verilog")
-    verilog, n_zero = drop_zero_width(verilog)
-    if n_zero:
-        rec["workarounds"].append(
-            f'GHDL 2.0 Verilog writer printed {n_zero} zero-width nets as invalid Verilog ("", 0\'b); removed them'
-        )
-    leftover = [ln for ln in verilog.splitlines() if "std_logic" in ln and not ln.lstrip().startswith(("/*", "//"))]
-    if leftover:
-        raise ToolError(f"GHDL's Verilog still has VHDL in it (unhandled writer bug): {leftover[0].strip()}")
-    (cdir / "top.v").write_text(verilog)
-
-
-def drop_zero_width(verilog: str) -> tuple[str, int]:
-    """Remove the zero-width nets GHDL 2.0 writes as `assign n = "";` / `assign m = 0'b - n;`.
-
-    A zero-width value contributes nothing, so it is dropped from the concatenations that use it;
-    any other use is an error (the Verilog could not be repaired safely)."""
-    zero: set[str] = set()
-    for m in re.finditer(r"^\s*assign (\w+) = (.*);", verilog, re.M):
-        if m[2].strip() == '""' or re.search(r"(?<![\w'])0'[bdh]", m[2]):
-            zero.add(m[1])
-    if not zero:
-        return verilog, 0
-    name_re = re.compile(r"\b(" + "|".join(sorted(zero)) + r")\b")
-    out = []
-    for line in verilog.splitlines():
-        m = re.match(r"^\s*(?:wire|assign)\s+(\w+)\s*[;=]", line)
-        if m and m[1] in zero:
-            continue
-        if name_re.search(line) and not line.lstrip().startswith(("/*", "//")):
-
-            def strip_concat(c: re.Match) -> str:
-                parts = [p for p in c[1].split(",") if p.strip() not in zero]
-                return "{" + ",".join(parts).strip() + "}"
-
-            line = re.sub(r"\{([^{}]*)\}", strip_concat, line)
-            if name_re.search(line.split("//")[0]):
-                raise ToolError(f"GHDL's Verilog uses a zero-width net outside a concatenation: {line.strip()}")
-        out.append(line)
-    return "\n".join(out) + "\n", len(zero)
+    """GHDL -> top.ghdl.v (raw) and top.v (repaired): orb_sim.verilog_netlist, shared with the fast
+    simulation."""
+    ghdl_verilog(ghdl, job.top, job.generics, files, cdir, rec)
 
 
 RUNNING: set[subprocess.Popen[bytes]] = set()

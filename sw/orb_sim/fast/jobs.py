@@ -1,0 +1,153 @@
+# SPDX-License-Identifier: MIT
+"""The fast path's jobs (docs/fast-sim.md): what orb_sim.jobs.accel_job does in GHDL, on the
+Verilated netlist, with the same outputs, so `make sim FAST=1` and `orb-accel extract --backend
+rtl-fast` report the same fields.
+
+The shipped driver (orb_accel.OrbAccel over orb_sim.fast.sim.FastBus) configures the accelerator,
+the frame streams in (24-bit RGB, or 8-bit luma), the driver waits for the frame-done interrupt,
+reads the newest bank and releases it; the frame is then streamed again with the accelerator
+disabled while the overlay output is captured.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Mapping
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from golden_model.config import Config
+from golden_model.features import Features, write_csv
+from orb_accel.driver import OrbAccel
+
+from .build import build_fast
+from .sim import FastBus, FastSim, FastSimError
+
+ACCEL_MEM_DEPTH = 4096  # as orb_sim.rtl_backend's GHDL job
+# From orb_feat_mem's frame_done pulse to the irq output: IRQ_STATUS is set at the next edge and
+# the registered irq follows one edge later (docs/registers.md, Interrupts). The GHDL job measures
+# the pulse itself (an internal signal, which a netlist does not have): latency = irq - 2.
+IRQ_AFTER_FRAME_DONE = 2
+H_BLANK, V_BLANK = 16, 64  # as orb_sim.video.Gaps("blanking")
+
+
+def generics_for(cfg: Config, colour: bool, mem_depth: int = ACCEL_MEM_DEPTH) -> dict[str, int | str]:
+    return {"WIDTH_g": cfg.width, "HEIGHT_g": cfg.height, "SCALES_g": cfg.scales, "SECTORS_g": cfg.sectors,
+            "MEM_DEPTH_g": mem_depth, "INPUT_g": "RGB" if colour else "LUMA"}  # fmt: skip
+
+
+def pack(img: np.ndarray) -> np.ndarray:
+    """tdata words of an (H, W, 3) RGB frame (RGB packing) or an (H, W) luma frame."""
+    c = img.astype(np.uint32)
+    if img.ndim == 2:
+        return c
+    return (c[..., 0] << 16) | (c[..., 1] << 8) | c[..., 2]
+
+
+def unpack(words: np.ndarray, colour: bool) -> np.ndarray:
+    w = words.astype(np.uint32)
+    if not colour:
+        g = (w & 255).astype(np.uint8)
+        return np.stack((g, g, g), axis=-1)
+    return np.stack(((w >> 16) & 255, (w >> 8) & 255, w & 255), axis=-1).astype(np.uint8)
+
+
+@dataclass
+class FastAccel:
+    """A FastSim of orb_accel_top with the shipped driver on it."""
+
+    sim: FastSim
+    bus: FastBus
+    accel: OrbAccel
+    colour: bool
+    width: int
+    height: int
+
+    @classmethod
+    def start(cls, generics: Mapping[str, int | str], seed: int = 0) -> FastAccel:
+        sim = FastSim(build_fast(generics), seed=seed)
+        sim.reset()
+        bus = FastBus(sim)
+        accel = OrbAccel(bus, bank_read="slot")
+        return cls(sim, bus, accel, generics["INPUT_g"] != "LUMA", int(generics["WIDTH_g"]), int(generics["HEIGHT_g"]))
+
+    @property
+    def frame_clocks(self) -> int:
+        return (self.width + H_BLANK) * self.height + V_BLANK
+
+    def s(self, clocks: int) -> float:
+        """Simulated seconds of `clocks` clocks (the driver's timeouts)."""
+        return clocks * 10e-9
+
+    def capture_overlay(self, img: np.ndarray) -> np.ndarray:
+        """Stream `img` once with capture on and return the overlay frame it produced."""
+        sim = self.sim
+        sim.capture(True)
+        sim.push_frame(pack(img), H_BLANK, V_BLANK)
+        n = self.width * self.height
+        if not sim.run_video(40 * self.frame_clocks):
+            raise FastSimError("the overlay frame was not taken within 40 frame times")
+        for _ in range(1000):
+            data, flags = sim.captured()
+            if len(data) >= n:
+                break
+            sim.run(64)
+        sim.capture(False)
+        if len(data) < n:
+            raise FastSimError(f"the overlay output gave {len(data)} of {n} beats")
+        if not flags[0] & 1:
+            raise FastSimError("the overlay output's first beat has no tuser")
+        return unpack(data[:n], self.colour).reshape(self.height, self.width, 3)
+
+
+def run_accel_fast(img: np.ndarray, cfg: Config, job: Path, overlay: bool, seed: int = 0) -> dict:
+    """orb_accel_top's netlist in Verilator on one image, as orb_sim.rtl_backend.run_accel_job
+    runs it in GHDL: writes job/features.csv (and job/overlay.npy) and returns the same report
+    fields (frame_cycles, pixels, cycles_per_pixel, latency_cycles, dropped_merge, truncated,
+    desc_lost, proto_errors, frame_sim_wall_s, features, bus_reads, bus_writes), plus build_s."""
+    job.mkdir(parents=True, exist_ok=True)
+    t_build = time.perf_counter()
+    fa = FastAccel.start(generics_for(cfg, img.ndim == 3), seed)
+    build_s = time.perf_counter() - t_build
+    accel, sim = fa.accel, fa.sim
+    accel.configure(cfg.threshold, cfg.mode)
+    wall = time.perf_counter()
+    sim.push_frame(pack(img), 0, 0)  # as the GHDL job: one pixel per clock, no blanking
+    bank = accel.wait_frame(fa.s(40 * fa.frame_clocks))
+    st = sim.stats()
+    frame_s = time.perf_counter() - wall
+    start_cycle = sim.frame_starts()[-1][1]
+    ovl = None
+    if overlay:
+        accel.configure(cfg.threshold, cfg.mode, enable=False)
+    frame = accel.read_bank(bank)
+    accel.release(bank)
+    write_csv(frame.features, job / "features.csv")
+    if overlay:
+        ovl = fa.capture_overlay(img)
+        np.save(job / "overlay.npy", ovl)
+    counters = accel.counters()
+    pixels = cfg.width * cfg.height
+    frame_cycles = st["last_beat_cycle"] - start_cycle + 1
+    return {
+        "features": len(frame.features), "frame_cycles": frame_cycles, "pixels": pixels,
+        "cycles_per_pixel": round(frame_cycles / pixels, 4),
+        "latency_cycles": st["irq_rise_cycle"] - st["last_beat_cycle"] - IRQ_AFTER_FRAME_DONE,
+        "dropped_merge": counters["dropped"], "truncated": frame.record.truncated,
+        "desc_lost": counters["desc_lost"], "proto_errors": counters["proto_errors"],
+        "frame_sim_wall_s": round(frame_s, 3), "bus_reads": fa.bus.reads, "bus_writes": fa.bus.writes,
+        "build_s": round(build_s, 1),
+    }  # fmt: skip
+
+
+def extract_fast(img: np.ndarray, cfg: Config, seed: int = 0) -> tuple[Features, dict]:
+    """Features of one frame from the netlist in Verilator (no files), and the report."""
+    import tempfile
+
+    from golden_model.features import read_csv
+
+    with tempfile.TemporaryDirectory() as tmp:
+        r = run_accel_fast(img, cfg, Path(tmp), overlay=False, seed=seed)
+        return read_csv(Path(tmp) / "features.csv", sectors_total=cfg.sectors), r
