@@ -22,7 +22,7 @@ from golden_model.images import DEFAULT_IMAGE, ImageError, to_luma
 from orb_sim.rtl_backend import RtlUnavailable
 from orb_tools import board_cli
 
-BACKENDS = ("model", "opencv", "rtl")
+BACKENDS = ("model", "opencv", "rtl", "rtl-fast")
 
 
 class UsageError(Exception):
@@ -123,6 +123,18 @@ def run_backend(backend: str, img: np.ndarray, cfg: Config) -> Features:
             f"dropped features: {report['dropped']}, descriptors lost: {report['desc_lost']}"
         )
         return feats
+    if backend == "rtl-fast":
+        from orb_sim.fast.jobs import extract_fast
+
+        feats, report = extract_fast(img, cfg)
+        print(
+            f"RTL netlist in Verilator (orb_accel_top): {report['frame_cycles']} clocks for {report['pixels']} pixels, "
+            f"end-of-frame record {report['latency_cycles']} clocks after the last pixel, "
+            f"the frame took {report['frame_sim_wall_s']} s of wall time (build or cache: {report['build_s']} s); "
+            f"dropped features: {report['dropped_merge'] + report['truncated']}, "
+            f"descriptors lost: {report['desc_lost']}"
+        )
+        return feats
     from .opencv_backend import extract_opencv
 
     return extract_opencv(img, cfg)
@@ -201,6 +213,8 @@ def _run(argv: list[str]) -> int:
 def main(argv: Sequence[str] | None = None) -> int:
     from orb_accel.driver import AccelError
     from orb_ros.msgs import RosUnavailable
+    from orb_sim.fast.sim import FastSimError
+    from orb_sim.runner import ToolMissing
     from orb_sim.sim_server import SimServerError
 
     argv = list(sys.argv[1:] if argv is None else argv)
@@ -208,7 +222,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         return _run(argv)
     except (UsageError, ImageError, ConfigError, OSError, RtlUnavailable, AccelError, RosUnavailable,
-            SimServerError) as exc:  # fmt: skip
+            SimServerError, ToolMissing, FastSimError) as exc:  # fmt: skip
         print(f"orb-accel: error: {exc}", file=sys.stderr)
         return 2
     except ValueError as exc:  # the driver's and the board commands' refusals of a bad value
