@@ -17,7 +17,7 @@ help:
 	@echo "make test    run the test suite (pytest -n $(JOBS), slow tests excluded)"
 	@echo "make test-all  run every test, slow full-frame ones included"
 	@echo "make sim     the complete accelerator in GHDL on the bundled image (IMAGE=, SCALES=, SECTORS=, THRESHOLD=;"
-	@echo "             FAST=1: its synthesised netlist in Verilator, docs/fast-sim.md)"
+	@echo "             FAST=1: its synthesised netlist in Verilator; VIDEO=file: every frame of a video, fast; docs/fast-sim.md)"
 	@echo "make bench   model speed benchmark (scripts/bench/bench_model.py)"
 	@echo "make bench-sim  RTL simulation speed, one 640x480 frame (scripts/bench/bench_sim.py)"
 	@echo "make bench-driver  per-frame CPU cost of the driver and the ROS message, 5,000 features (docs/ros.md)"
@@ -56,8 +56,9 @@ test-all: $(STAMP)
 	$(BIN)/python -m pytest -n $(JOBS) tb
 
 FAST ?=
+VIDEO ?=
 sim: $(STAMP)
-	$(BIN)/python scripts/flow/sim_accel.py $(if $(IMAGE),--image $(IMAGE)) \
+	$(BIN)/python scripts/flow/sim_accel.py $(if $(IMAGE),--image $(IMAGE)) $(if $(VIDEO),--video $(VIDEO)) \
 		--scales $(SCALES) --sectors $(SECTORS) --threshold $(THRESHOLD) --out-dir build/sim \
 		$(if $(filter 1 yes true,$(FAST)),--fast)
 

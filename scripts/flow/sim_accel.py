@@ -3,7 +3,9 @@
 """`make sim`: the complete accelerator (orb_accel_top) in GHDL on one image, driven as the CPU
 drives it: registers written and the features read back over AXI4-Lite from the feature memory.
 `--fast` (`make sim FAST=1`): the same on GHDL's synthesised netlist in Verilator
-(orb_sim.fast, docs/fast-sim.md), with the same outputs.
+(orb_sim.fast, docs/fast-sim.md), with the same outputs. `--video FILE` (`make sim VIDEO=...`):
+every frame of a video (at most --max-frames) back to back through the netlist, the driver reading
+and releasing the banks as on the board; each frame checked against the model (report.json).
 
 The image (default: the bundled 640x480 photograph) streams in as 24-bit RGB at one pixel per
 clock; the CPU model reads the frame's bank; the image is streamed a second time with the
@@ -32,6 +34,7 @@ from golden_model.features import read_csv
 from golden_model.images import DEFAULT_IMAGE, ImageError
 from golden_model.luma import rgb_to_luma
 from golden_model.overlay import render_marker_overlay
+from orb_accel.driver import Frame
 from orb_sim.fast.sim import FastSimError
 from orb_sim.rtl_backend import RtlUnavailable, run_accel_job
 from orb_sim.runner import ToolMissing
@@ -66,7 +69,11 @@ def main() -> int:
     ap.add_argument("--out-dir", type=Path, default=ROOT / "build" / "sim")
     ap.add_argument("--fast", action="store_true", help="the netlist in Verilator instead of the RTL in GHDL")
     ap.add_argument("--seed", type=int, default=0, help="--fast: random initial state from this seed (0: zeros)")
+    ap.add_argument("--video", type=Path, help="a video file: all its frames through the netlist (implies --fast)")
+    ap.add_argument("--max-frames", type=int, default=300, help="--video: at most this many frames (300)")
     args = ap.parse_args()
+    if args.video is not None:
+        return main_video(args)
     path = args.image or DEFAULT_IMAGE
     try:
         original = load_rgb_or_grey(path)
@@ -137,6 +144,49 @@ def main() -> int:
           f"(first frame {result['frame_sim_wall_s']} s)")  # fmt: skip
     print(f"wrote {out / 'features.csv'}, {out / 'overlay.png'}, {out / 'report.json'}")
     return 0 if ok else 1
+
+
+def main_video(args: argparse.Namespace) -> int:
+    from orb_sim.fast.jobs import run_video_fast
+    from orb_tools.images import load_frames
+
+    try:
+        frames = load_frames([args.video], max_frames=args.max_frames)
+        n, h, w = frames.shape[:3]
+        cfg = Config(width=w, height=h, scales=args.scales, sectors=args.sectors,
+                     threshold=args.threshold, mode="orb")  # fmt: skip
+    except (ImageError, ConfigError, ValueError, OSError) as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+    out = args.out_dir.resolve()
+    out.mkdir(parents=True, exist_ok=True)
+    print(f"make sim: {args.video.name}, {n} frames of {w}x{h}, {cfg.scales} scale(s), {cfg.sectors} sectors, "
+          f"threshold {cfg.threshold}: orb_accel_top's netlist in Verilator", flush=True)  # fmt: skip
+    results: list[dict] = []
+
+    def check(i: int, frame: Frame) -> None:
+        expected = extract(rgb_to_luma(frames[i]), cfg)
+        diff = first_difference(frame.features, expected)
+        results.append({"frame": i, "number": frame.number, "features": len(frame), "bit_exact": diff is None,
+                        "first_difference": diff, "dropped": frame.dropped + frame.truncated})  # fmt: skip
+        if i % 10 == 0 or diff is not None:
+            verdict = "yes" if diff is None else "NO: " + diff
+            print(f"  frame {i}: {len(frame)} features, bit-exact: {verdict}", flush=True)
+
+    try:
+        _, run = run_video_fast(frames, cfg, seed=args.seed, on_frame=check)
+    except (ToolMissing, FastSimError, TimeoutError, OSError) as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 1
+    exact = sum(r["bit_exact"] for r in results)
+    report = {"video": str(args.video), "width": w, "height": h, "scales": cfg.scales, "sectors": cfg.sectors,
+              "threshold": cfg.threshold, "frames": n, "frames_published": len(results), "bit_exact_frames": exact,
+              "features": sum(r["features"] for r in results), "run": run, "per_frame": results,
+              "engine": "verilator-netlist"}  # fmt: skip
+    (out / "report.json").write_text(json.dumps(report, indent=2) + "\n")
+    print(f"{len(results)} of {n} frames published, {exact} bit-exact with the model, {report['features']} features; "
+          f"{run['wall_s']} s ({run['clocks_per_s']:,} clocks/s) -> {out / 'report.json'}")  # fmt: skip
+    return 0 if exact == n == len(results) else 1
 
 
 if __name__ == "__main__":
