@@ -46,7 +46,7 @@ $(STAMP): pyproject.toml
 setup: $(STAMP)
 
 # the Debian tools the tests use (scripts/flow/check_tools.sh prints the apt-get line for a missing one)
-TEST_TOOLS := ghdl tclsh dtc ros
+TEST_TOOLS := ghdl tclsh dtc cxx ros
 test: $(STAMP)
 	@sh scripts/flow/check_tools.sh $(TEST_TOOLS)
 	$(BIN)/python -m pytest -n $(JOBS) -m "not slow" tb

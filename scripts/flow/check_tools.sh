@@ -6,7 +6,8 @@
 #   scripts/flow/check_tools.sh              report every tool; exit 0 (`make tools`)
 #   scripts/flow/check_tools.sh ghdl yosys   require these; print the install command and exit 1 if one
 #                                       is missing (used by `make synth` / `make lint`)
-# Tool names: ghdl (any back end), ghdl-mcode, ghdl-llvm, yosys, tclsh, dtc, python3, ros (Debian's ROS 1
+# Tool names: ghdl (any back end), ghdl-mcode, ghdl-llvm, yosys, tclsh, dtc, cxx (g++ and make, for the
+# fast simulation's Verilator build), python3, ros (Debian's ROS 1
 # packages of sw/orb_ros/debian-packages.txt: roscore, rosbag, genpy, the message packages).
 
 ROS_PACKAGES=$(cat "$(dirname "$0")/../../sw/orb_ros/debian-packages.txt")
@@ -37,6 +38,9 @@ version_of() {
     dtc)
       command -v dtc >/dev/null 2>&1 || return 1
       first_line dtc --version ;;
+    cxx)
+      command -v g++ >/dev/null 2>&1 && command -v make >/dev/null 2>&1 || return 1
+      echo "$(first_line g++ --version), $(first_line make --version)" ;;
     ros)
       command -v roscore >/dev/null 2>&1 && command -v rosbag >/dev/null 2>&1 || return 1
       [ -f /usr/lib/genpy/genmsg_py.py ] && [ -d /usr/share/std_msgs/msg ] || return 1
@@ -60,6 +64,7 @@ install_cmd() {
     python3) echo "apt-get install python3 python3-venv" ;;
     tclsh) echo "apt-get install tcl" ;;
     dtc) echo "apt-get install device-tree-compiler" ;;
+    cxx) echo "apt-get install g++ make" ;;
     ros) echo "apt-get install $ROS_PACKAGES" ;;
   esac
 }
@@ -98,6 +103,7 @@ version_of ghdl >/dev/null || missing="$missing ghdl"
 check yosys
 check tclsh
 check dtc
+check cxx
 check ros
 check python3
 venv="$(dirname "$0")/../../.venv/bin"
