@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: MIT
 """The simulator's side of orb_accel.socket_bus: serve the driver's bus operations, received over
-a socket from another process, on the simulated AXI4-Lite bus (orb_sim.cocotb_bus.CocotbBus).
+a socket from another process, on the simulated AXI4-Lite bus: orb_sim.cocotb_bus.CocotbBus in
+GHDL, or orb_sim.fast.sim.FastBus on the netlist in Verilator (any orb_accel.bus.Bus).
 
 `serve` is blocking Python: the cocotb job runs it with `cocotb.task.bridge`, and each operation
 goes into the simulation through CocotbBus (`cocotb.task.resume`). Simulated time advances only
@@ -14,7 +15,7 @@ from __future__ import annotations
 import json
 import socket
 
-from orb_accel.bus import BusError
+from orb_accel.bus import Bus, BusError
 from orb_accel.socket_bus import (
     BAD_REQUEST,
     BLOCK,
@@ -31,10 +32,8 @@ from orb_accel.socket_bus import (
     recv_exact,
 )
 
-from .cocotb_bus import CocotbBus
 
-
-def handle(bus: CocotbBus, info: dict, op: int, addr: int, arg: int) -> tuple[int, bytes]:
+def handle(bus: Bus, info: dict, op: int, addr: int, arg: int) -> tuple[int, bytes]:
     """(status, payload) of one request."""
     try:
         if op == READ:
@@ -59,7 +58,7 @@ def handle(bus: CocotbBus, info: dict, op: int, addr: int, arg: int) -> tuple[in
     return BAD_REQUEST, f"unknown operation {op}".encode()
 
 
-def serve(listener: socket.socket, bus: CocotbBus, info: dict) -> None:
+def serve(listener: socket.socket, bus: Bus, info: dict) -> None:
     """Serve clients of `listener` one after another until one sends SHUTDOWN."""
     while True:
         conn, _ = listener.accept()

@@ -10,7 +10,8 @@ orb_accel.socket_bus.SocketBus exactly as it reaches the board through UIO:
 The bitstream-like configuration (WIDTH_g, HEIGHT_g from the frames; SCALES_g, SECTORS_g,
 MEM_DEPTH_g) is fixed when the server starts; the frames stream in round and round with blanking
 (h_blank clocks per line, v_blank_lines blank lines per frame). `python -m orb_sim.sim_server JOB`
-is the child process (it runs the job through orb_sim.runner).
+is the child process: engine "ghdl" runs the cocotb job through orb_sim.runner, engine "fast"
+serves the synthesised netlist in Verilator (orb_sim.fast; orb_accel_top only; no frames.log).
 """
 
 from __future__ import annotations
@@ -33,6 +34,7 @@ from .hdl import MANIFEST
 from .runner import run
 
 TOPLEVELS = ("orb_accel_top", "orb_accel_zynq")
+ENGINES = ("ghdl", "fast")
 
 
 class SimServerError(RuntimeError):
@@ -42,7 +44,7 @@ class SimServerError(RuntimeError):
 class SimServer:
     def __init__(self, frames: np.ndarray, scales: int = 2, sectors: int = 32, mem_depth: int = 2048,
                  toplevel: str = "orb_accel_top", port: int = 0, h_blank: int = 16, v_blank_lines: int = 20,
-                 job_dir: Path | None = None) -> None:  # fmt: skip
+                 job_dir: Path | None = None, engine: str = "ghdl") -> None:  # fmt: skip
         frames = np.asarray(frames)
         if frames.dtype != np.uint8 or frames.ndim not in (3, 4) or (frames.ndim == 4 and frames.shape[3] != 3):
             raise ValueError(f"frames must be (N, H, W, 3) or (N, H, W) uint8, got {frames.shape} {frames.dtype}")
@@ -50,6 +52,8 @@ class SimServer:
             raise ValueError("no frames to stream")
         if toplevel not in TOPLEVELS:
             raise ValueError(f"toplevel {toplevel!r} not one of {TOPLEVELS}")
+        if engine not in ENGINES or (engine == "fast" and toplevel != "orb_accel_top"):
+            raise ValueError(f"engine {engine!r}: one of {ENGINES} ('fast' simulates orb_accel_top only)")
         height, width = frames.shape[1:3]
         for lim, value in ((limits.WIDTH, width), (limits.HEIGHT, height), (limits.SCALES, scales),
                            (limits.SECTORS, sectors), (limits.MEM_DEPTH, mem_depth)):  # fmt: skip
@@ -65,7 +69,8 @@ class SimServer:
         }  # fmt: skip
         self.toplevel = toplevel
         self.config = {"toplevel": toplevel, "generics": self.generics, "host": "127.0.0.1", "port": port,
-                       "h_blank": h_blank, "v_blank": v_blank_lines * (int(width) + h_blank)}  # fmt: skip
+                       "engine": engine, "h_blank": h_blank,
+                       "v_blank": v_blank_lines * (int(width) + h_blank)}  # fmt: skip
         self._tmp: tempfile.TemporaryDirectory | None = None
         self.job = None if job_dir is None else Path(job_dir).resolve()
         self.address = ""
@@ -146,7 +151,42 @@ class SimServer:
 
 def _child(job: Path) -> int:
     cfg = json.loads((job / "config.json").read_text())
+    if cfg.get("engine") == "fast":
+        return _serve_fast(job, cfg)
     run(cfg["toplevel"], "orb_sim.jobs.sim_server_job", cfg["generics"], env={"ORB_JOB_DIR": str(job)})
+    return 0
+
+
+def _serve_fast(job: Path, cfg: dict) -> int:
+    """The fast engine: the netlist in Verilator, frames looping, served until SHUTDOWN."""
+    import socket
+
+    from orb_accel.socket_bus import MAGIC, PROTOCOL
+
+    from .bus_server import serve
+    from .fast.build import build_fast
+    from .fast.jobs import pack
+    from .fast.sim import PERIOD_NS, FastBus, FastSim
+
+    frames = np.load(job / "frames.npy")
+    sim = FastSim(build_fast(cfg["generics"]))
+    sim.reset()
+    for img in frames:
+        sim.push_frame(pack(img), cfg["h_blank"], cfg["v_blank"])  # as orb_sim.video.Gaps("blanking")
+    sim.set_loop(True)
+    listener = socket.create_server((cfg["host"], cfg["port"]))
+    host, port = listener.getsockname()[:2]
+    tmp = job / "address.tmp"
+    tmp.write_text(f"{host}:{port}\n")
+    tmp.replace(job / "address")
+    info = {"magic": MAGIC, "protocol": PROTOCOL, "toplevel": cfg["toplevel"], "generics": cfg["generics"],
+            "period_ns": PERIOD_NS, "frames": len(frames), "h_blank": cfg["h_blank"], "v_blank": cfg["v_blank"],
+            "engine": "fast"}  # fmt: skip
+    try:
+        serve(listener, FastBus(sim), info)
+    finally:
+        listener.close()
+        sim.close()
     return 0
 
 

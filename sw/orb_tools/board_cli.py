@@ -26,7 +26,7 @@ from golden_model import limits
 from golden_model.config import MODES
 from orb_accel.bus import Bus
 from orb_accel.driver import OrbAccel
-from orb_sim.sim_server import TOPLEVELS  # pure Python at import (no cocotb): fine on the board
+from orb_sim.sim_server import ENGINES, TOPLEVELS  # pure Python at import (no cocotb): fine on the board
 
 BOARD_TIMEOUT_S = 1.0  # a frame at 24 fps and more, with margin
 SIM_TIMEOUT_FRAMES = 3  # in simulation: three frame periods of simulated time
@@ -45,6 +45,12 @@ def add_bus_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--sim-sectors", type=int, default=32, help="simulated bitstream: sectors (default 32)")
     p.add_argument("--sim-mem-depth", type=int, default=2048, help="simulated bitstream: slots per bank (2048)")
     p.add_argument("--sim-size", metavar="WxH", help="resize every simulated frame to WxH")
+    p.add_argument(
+        "--sim-engine",
+        choices=ENGINES,
+        default="ghdl",
+        help="ghdl: the RTL (default); fast: the synthesised netlist in Verilator (docs/fast-sim.md)",
+    )
     p.add_argument("--sim-top", choices=TOPLEVELS, default=TOPLEVELS[0],
                    help="simulated top: the accelerator, or the board's Vivado wrapper (RBG video)")  # fmt: skip
     p.add_argument("--sim-max-frames", type=int, default=50, help="at most this many frames from a video (50)")
@@ -79,6 +85,7 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     srv.add_argument("--mem-depth", type=int, default=2048)
     srv.add_argument("--size", metavar="WxH")
     srv.add_argument("--top", choices=TOPLEVELS, default=TOPLEVELS[0])
+    srv.add_argument("--engine", choices=ENGINES, default="ghdl", help="fast: the netlist in Verilator")
     srv.add_argument("--max-frames", type=int, default=50)
 
     bag = sub.add_parser("bag", help="convert a ROS 1 bag of /orb_accel/features (docs/ros-bags.md)")
@@ -103,15 +110,16 @@ def _size(text: str | None) -> tuple[int, int] | None:
 
 
 def _start_sim(stack: ExitStack, paths: list[Path], scales: int, sectors: int, mem_depth: int, size: str | None,
-               max_frames: int, top: str, port: int = 0) -> str:  # fmt: skip
+               max_frames: int, top: str, engine: str = "ghdl", port: int = 0) -> str:  # fmt: skip
     from orb_sim.sim_server import SimServer
     from orb_tools.images import load_frames
 
     frames = load_frames(paths, _size(size), max_frames)
     h, w = frames.shape[1:3]
-    print(f"starting the simulator: {top} {w}x{h}, {scales} scales, {sectors} sectors, "
+    print(f"starting the simulator ({engine}): {top} {w}x{h}, {scales} scales, {sectors} sectors, "
           f"{len(frames)} frame(s) round and round ...", flush=True)  # fmt: skip
-    server = SimServer(frames, scales=scales, sectors=sectors, mem_depth=mem_depth, toplevel=top, port=port)
+    server = SimServer(frames, scales=scales, sectors=sectors, mem_depth=mem_depth, toplevel=top, port=port,
+                       engine=engine)  # fmt: skip
     stack.enter_context(server)
     print(f"simulator listening on {server.address} (log: {server.log})", flush=True)
     return server.address
@@ -125,7 +133,8 @@ def open_bus(args: argparse.Namespace) -> Iterator[tuple[Bus, str, float]]:
     with ExitStack() as stack:
         if args.sim or args.connect:
             address = args.connect or _start_sim(stack, args.sim, args.sim_scales, args.sim_sectors, args.sim_mem_depth,
-                                                 args.sim_size, args.sim_max_frames, args.sim_top)  # fmt: skip
+                                                 args.sim_size, args.sim_max_frames, args.sim_top,
+                                                 args.sim_engine)  # fmt: skip
             bus = stack.enter_context(SocketBus(address))
             g = bus.info["generics"]
             period_s = (g["WIDTH_g"] + bus.info["h_blank"]) * g["HEIGHT_g"] + bus.info["v_blank"]
@@ -291,7 +300,7 @@ def cmd_ros_env(_args: argparse.Namespace) -> int:
 def cmd_sim_server(args: argparse.Namespace) -> int:
     with ExitStack() as stack:
         _start_sim(stack, args.frames, args.scales, args.sectors, args.mem_depth, args.size, args.max_frames, args.top,
-                   args.port)  # fmt: skip
+                   args.engine, args.port)  # fmt: skip
         print("serving until Ctrl-C", flush=True)
         while True:
             time.sleep(3600)

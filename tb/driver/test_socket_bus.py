@@ -16,6 +16,7 @@ as UioBus is on the board. One server for the module (128x96 colour photographs,
 
 from __future__ import annotations
 
+import itertools
 import json
 import os
 import socket
@@ -249,7 +250,7 @@ def test_cli_sim_zynq(frames: np.ndarray, tmp_path: Path) -> None:
                         "--sim-top", "orb_accel_zynq", "--sim-size", f"{W}x{H}", "--sim-mem-depth", "256",
                         "--frames", "2", "--csv", str(out)], capture_output=True, text=True, timeout=900)  # fmt: skip
     assert r.returncode == 0, r.stdout + r.stderr
-    assert "starting the simulator: orb_accel_zynq" in r.stdout
+    assert "starting the simulator (ghdl): orb_accel_zynq" in r.stdout
     second = cv2.cvtColor(cv2.resize(big, (W, H), interpolation=cv2.INTER_AREA), cv2.COLOR_BGR2RGB)
     shown = np.stack([frames[0], second])
     ks = [which_photo(shown, feats, 20) for _, feats in read_csv_dir(out)]
@@ -257,3 +258,19 @@ def test_cli_sim_zynq(frames: np.ndarray, tmp_path: Path) -> None:
     bad = subprocess.run([*CLI, "board", "info", "--sim", str(tmp_path / "0.png"), str(tmp_path / "1.png")],
                          capture_output=True, text=True)  # fmt: skip
     assert bad.returncode == 2 and "not 128x96 as the first frame" in bad.stderr, bad.stderr
+
+
+def test_cli_sim_fast_engine(frames: np.ndarray, tmp_path: Path) -> None:
+    """`--sim-engine fast`: the same socket server on the synthesised netlist in Verilator
+    (docs/fast-sim.md), driven by the same CLI: frames bit-exact, in stream order."""
+    _png(frames, tmp_path)
+    out = tmp_path / "csv"
+    r = subprocess.run([*CLI, "board", "stream", "--sim", *(str(tmp_path / f"{k}.png") for k in range(3)),
+                        "--sim-engine", "fast", "--sim-mem-depth", "256", "--frames", "4", "--csv", str(out)],
+                       capture_output=True, text=True, timeout=900)  # fmt: skip
+    assert r.returncode == 0, r.stdout + r.stderr
+    assert "starting the simulator (fast): orb_accel_top" in r.stdout
+    rows = read_csv_dir(out)
+    ks = [which_photo(frames, feats, 20) for _, feats in rows]
+    assert len(ks) == 4 and all((b - a) % 3 == 1 for a, b in itertools.pairwise(ks)), ks
+    assert [row["frame"] for row, _ in rows] == list(range(rows[0][0]["frame"], rows[0][0]["frame"] + 4))
