@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import json
 import socket
+from pathlib import Path
 
 from orb_accel.bus import Bus, BusError
 from orb_accel.socket_bus import (
@@ -21,8 +22,10 @@ from orb_accel.socket_bus import (
     BLOCK,
     BUS_ERROR,
     HELLO,
+    MAGIC,
     MAX_BLOCK_WORDS,
     OK,
+    PROTOCOL,
     READ,
     REQUEST,
     RESPONSE,
@@ -76,3 +79,21 @@ def serve(listener: socket.socket, bus: Bus, info: dict) -> None:
                     break
                 if op == SHUTDOWN:
                     return
+
+
+def listen(job: Path, host: str, port: int) -> socket.socket:
+    """A listening socket on host:port (0: any free port), its address written atomically to
+    job/address, where orb_sim.sim_server.SimServer waits for it."""
+    listener = socket.create_server((host, port))
+    bound_host, bound_port = listener.getsockname()[:2]
+    tmp = job / "address.tmp"
+    tmp.write_text(f"{bound_host}:{bound_port}\n")
+    tmp.replace(job / "address")
+    return listener
+
+
+def server_info(cfg: dict, frames: int, period_ns: int, engine: str) -> dict:
+    """The HELLO answer: the protocol and the simulated configuration (SimServer's config.json)."""
+    return {"magic": MAGIC, "protocol": PROTOCOL, "toplevel": cfg["toplevel"], "generics": cfg["generics"],
+            "period_ns": period_ns, "frames": frames, "h_blank": cfg["h_blank"], "v_blank": cfg["v_blank"],
+            "engine": engine}  # fmt: skip

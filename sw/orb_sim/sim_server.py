@@ -159,11 +159,7 @@ def _child(job: Path) -> int:
 
 def _serve_fast(job: Path, cfg: dict) -> int:
     """The fast engine: the netlist in Verilator, frames looping, served until SHUTDOWN."""
-    import socket
-
-    from orb_accel.socket_bus import MAGIC, PROTOCOL
-
-    from .bus_server import serve
+    from .bus_server import listen, serve, server_info
     from .fast.build import build_fast
     from .fast.jobs import pack
     from .fast.sim import PERIOD_NS, FastBus, FastSim
@@ -174,14 +170,8 @@ def _serve_fast(job: Path, cfg: dict) -> int:
     for img in frames:
         sim.push_frame(pack(img), cfg["h_blank"], cfg["v_blank"])  # as orb_sim.video.Gaps("blanking")
     sim.set_loop(True)
-    listener = socket.create_server((cfg["host"], cfg["port"]))
-    host, port = listener.getsockname()[:2]
-    tmp = job / "address.tmp"
-    tmp.write_text(f"{host}:{port}\n")
-    tmp.replace(job / "address")
-    info = {"magic": MAGIC, "protocol": PROTOCOL, "toplevel": cfg["toplevel"], "generics": cfg["generics"],
-            "period_ns": PERIOD_NS, "frames": len(frames), "h_blank": cfg["h_blank"], "v_blank": cfg["v_blank"],
-            "engine": "fast"}  # fmt: skip
+    listener = listen(job, cfg["host"], cfg["port"])
+    info = server_info(cfg, len(frames), PERIOD_NS, "fast")
     try:
         serve(listener, FastBus(sim), info)
     finally:

@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import json
 import os
-import socket
 from pathlib import Path
 
 import cocotb
@@ -22,9 +21,8 @@ import numpy as np
 from cocotb.task import bridge
 from cocotb.triggers import RisingEdge
 
-from orb_accel.socket_bus import MAGIC, PROTOCOL
 from orb_sim.accel_bench import AccelBench
-from orb_sim.bus_server import serve
+from orb_sim.bus_server import listen, serve, server_info
 from orb_sim.cocotb_bus import PERIOD_NS
 from orb_sim.video import Gaps
 
@@ -60,14 +58,8 @@ async def sim_server(dut) -> None:
 
     cocotb.start_soon(count_clocks())
     cocotb.start_soon(feed())
-    listener = socket.create_server((cfg["host"], cfg["port"]))
-    host, port = listener.getsockname()[:2]
-    tmp = job / "address.tmp"
-    tmp.write_text(f"{host}:{port}\n")
-    tmp.replace(job / "address")
-    info = {"magic": MAGIC, "protocol": PROTOCOL, "toplevel": cfg["toplevel"], "generics": cfg["generics"],
-            "period_ns": PERIOD_NS, "frames": len(frames), "h_blank": cfg["h_blank"],
-            "v_blank": cfg["v_blank"]}  # fmt: skip
+    listener = listen(job, cfg["host"], cfg["port"])
+    info = server_info(cfg, len(frames), PERIOD_NS, "ghdl")
     try:
         await bridge(serve)(listener, b.bus, info)
     finally:
