@@ -23,6 +23,7 @@ from orb_sim.rtl_backend import RtlUnavailable
 from orb_tools import board_cli
 
 BACKENDS = ("model", "opencv", "rtl", "rtl-fast")
+SCALE_BENCH_DEFAULT = ("2:1x4", "5:4x6", "cv-2:1x4", "cv-5:4x6", "cv-default@2:1x4", "cv-default@5:4x6")
 
 
 class UsageError(Exception):
@@ -98,6 +99,11 @@ def build_parser() -> argparse.ArgumentParser:
     rb.add_argument("--threshold", type=_threshold, default=20)
     rb.add_argument("--scales", type=_scales, default=1)
     rb.add_argument("--out-dir", type=Path, default=Path("build/rotation-bench"))
+    sb = sub.add_parser("scale-bench", help="matching under rotation x scale x perspective (docs/evaluation.md)")
+    sb.add_argument("images", nargs="+", type=Path)
+    sb.add_argument("--extractors", nargs="+", default=list(SCALE_BENCH_DEFAULT),
+                    help="ours NUM:DENxLEVELS; OpenCV cv-NUM:DENxLEVELS, cv-default[@OURS] (OURS budget)")  # fmt: skip
+    sb.add_argument("--out-dir", type=Path, default=Path("build/scale-bench"))
     board_cli.add_parsers(sub)
     return p
 
@@ -194,8 +200,30 @@ def cmd_rotation_bench(args: argparse.Namespace) -> int:
     )
 
 
+def cmd_scale_bench(args: argparse.Namespace) -> int:
+    from . import scale_bench as sb
+
+    try:
+        extractors = [sb.parse_extractor(t) for t in args.extractors]
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
+    images = _load_images(args.images)
+    rows, summary = sb.run(images, extractors, progress=lambda line: print(line, flush=True))
+    args.out_dir.mkdir(parents=True, exist_ok=True)
+    sb.write_csv(args.out_dir / "scale_bench.csv", rows)
+    sb.write_csv(args.out_dir / "scale_bench_summary.csv", summary)
+    sb.plot(summary, sb.SCALE_CHANGES, args.out_dir / "scale_bench.png")
+    keys = [k for k in summary[0] if k != "extractor"]
+    print("| extractor | " + " | ".join(keys) + " |")
+    print("|---|" + "---|" * len(keys))
+    for row in summary:
+        print(f"| {row['extractor']} | " + " | ".join(str(row[k]) for k in keys) + " |")
+    print(f"-> {args.out_dir}/scale_bench.csv, scale_bench_summary.csv, scale_bench.png")
+    return 0
+
+
 COMMANDS = {"extract": cmd_extract, "compare-fast": cmd_compare_fast, "rotation-bench": cmd_rotation_bench,
-            "ros-env": board_cli.cmd_ros_env, "sim-server": board_cli.cmd_sim_server,
+            "scale-bench": cmd_scale_bench, "ros-env": board_cli.cmd_ros_env, "sim-server": board_cli.cmd_sim_server,
             "bag": board_cli.cmd_bag}  # fmt: skip
 BOARD_COMMANDS = {"info": board_cli.cmd_info, "stream": board_cli.cmd_stream}
 
