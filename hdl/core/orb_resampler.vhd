@@ -1,0 +1,225 @@
+-- SPDX-License-Identifier: MIT
+-- orb_resampler: the num:den pyramid step (docs/spec.md section 3, "Pyramid step"; model
+-- golden_model.scaler.resample): the centre-aligned, fixed-phase bilinear sample of the input at
+-- ((x + 0.5) NUM/DEN - 0.5, (y + 0.5) NUM/DEN - 0.5), all weights integers in units of 1/D,
+-- D = 2 DEN, rounded half up once. Streaming, no frame buffer: the horizontal sum of each output
+-- column (D - a) p(i) + a p(i + 1) is formed when input pixel i + 1 arrives, one line of them
+-- waits in a read-first RAM, and the output row that needs input rows j and j + 1 is formed while
+-- row j + 1 streams in. At most one output per input pixel (NUM > DEN). DEN_g must be a power of
+-- two, so the division by D*D is a shift. Latency: the output leaves 3 clocks after the input
+-- pixel that completes it. For NUM:DEN = 2:1 it is the 2x2 box of orb_scaler, bit for bit.
+-- Not yet part of orb_core (issue 14).
+
+library ieee;
+use ieee.std_logic_1164.all;
+use ieee.numeric_std.all;
+
+use work.orb_util_pkg.all;
+
+entity orb_resampler is
+  generic (
+    LINE_WIDTH_g : positive range 2 to 4096 := 640;
+    LINE_COUNT_g : positive range 2 to 4096 := 480;
+    NUM_g        : positive range 2 to 16   := 5;
+    DEN_g        : positive range 1 to 8    := 4
+  );
+  port (
+    clk       : in    std_logic;
+    rst       : in    std_logic;
+    in_valid  : in    std_logic;
+    in_x      : in    std_logic_vector(COORD_BITS_c - 1 downto 0);
+    in_y      : in    std_logic_vector(COORD_BITS_c - 1 downto 0);
+    in_data   : in    std_logic_vector(PIXEL_BITS_c - 1 downto 0);
+    out_valid : out   std_logic;
+    out_x     : out   std_logic_vector(COORD_BITS_c - 1 downto 0);
+    out_y     : out   std_logic_vector(COORD_BITS_c - 1 downto 0);
+    out_data  : out   std_logic_vector(PIXEL_BITS_c - 1 downto 0)
+  );
+end entity orb_resampler;
+
+architecture rtl of orb_resampler is
+
+  constant D_c      : positive := 2 * DEN_g;
+  constant LOG_D_c  : natural  := clog2(D_c);
+  constant OUT_W_c  : natural  := LINE_WIDTH_g * DEN_g / NUM_g;
+  constant OUT_H_c  : natural  := LINE_COUNT_g * DEN_g / NUM_g;
+  constant H_BITS_c : positive := PIXEL_BITS_c + LOG_D_c + 1;       -- a horizontal sum, <= D * 255
+  constant S_BITS_c : positive := PIXEL_BITS_c + 2 * LOG_D_c + 1;   -- the 2x2 sum, <= D * D * 255
+  -- the phase step from one output to the next: P grows by 2 NUM, i.e. STEP_I_c whole pixels and
+  -- STEP_A_c units of 1/D
+  constant STEP_I_c  : natural := (2 * NUM_g) / D_c;
+  constant STEP_A_c  : natural := (2 * NUM_g) mod D_c;
+  constant START_I_c : natural := (NUM_g - DEN_g) / D_c;               -- P(0) = NUM - DEN
+  constant START_A_c : natural := (NUM_g - DEN_g) mod D_c;
+
+  subtype coord_t is unsigned(COORD_BITS_c - 1 downto 0);
+  subtype phase_t is natural range 0 to D_c - 1;
+  type hline_t is array (0 to OUT_W_c) of unsigned(H_BITS_c - 1 downto 0);
+
+  -- column state: the next output column xo, its left tap i and weight a
+  signal xo : coord_t := (others => '0');
+  signal ci : coord_t := (others => '0');
+  signal ca : phase_t := 0;
+  -- row state: the next output row yo, its upper tap j and weight b; the row streaming now
+  signal yo      : coord_t := (others => '0');
+  signal rj      : coord_t := (others => '0');
+  signal rb      : phase_t := 0;
+  signal last_y  : coord_t := (others => '0');
+  signal prev_px : unsigned(PIXEL_BITS_c - 1 downto 0) := (others => '0');
+  -- stage 1 -> 2: a horizontal sum for column s1_x of row s1_y
+  signal s1_v   : std_logic := '0';
+  signal s1_out : std_logic := '0';                                  -- the row is an output row
+  signal s1_x   : coord_t := (others => '0');
+  signal s1_y   : coord_t := (others => '0');                        -- the output row
+  signal s1_b   : phase_t := 0;
+  signal s1_h   : unsigned(H_BITS_c - 1 downto 0) := (others => '0');
+  -- stage 2 -> 3: with the previous row's sum of the column
+  signal mem     : hline_t;
+  signal s2_v    : std_logic := '0';
+  signal s2_x    : coord_t := (others => '0');
+  signal s2_y    : coord_t := (others => '0');
+  signal s2_b    : phase_t := 0;
+  signal s2_h    : unsigned(H_BITS_c - 1 downto 0) := (others => '0');
+  signal s2_up   : unsigned(H_BITS_c - 1 downto 0) := (others => '0');
+  signal o_valid : std_logic := '0';
+  signal o_x     : coord_t := (others => '0');
+  signal o_y     : coord_t := (others => '0');
+  signal o_data  : unsigned(PIXEL_BITS_c - 1 downto 0) := (others => '0');
+
+begin
+
+  assert NUM_g > DEN_g
+    report "orb_resampler: NUM_g must be larger than DEN_g (a reduction)"
+    severity failure;
+  assert 2 ** clog2(DEN_g) = DEN_g
+    report "orb_resampler: DEN_g must be a power of two (the final division is a shift)"
+    severity failure;
+
+  -- Stage 1: positions and the horizontal sum. An output column is complete when input pixel
+  -- i + 1 of its row arrives (i + 1 <= W - 1 always holds for NUM > DEN).
+  horizontal : process (clk) is
+    variable x, y   : coord_t;
+    variable na     : natural range 0 to 2 * D_c;
+    variable ni     : coord_t;
+    variable j, b   : natural;
+    variable row    : coord_t;
+    variable is_out : boolean;
+  begin
+    if rising_edge(clk) then
+      s1_v <= '0';
+      if in_valid = '1' then
+        x := unsigned(in_x);
+        y := unsigned(in_y);
+        if x = 0 then
+          -- a new row: the column state restarts; the row state advances past an output row
+          xo <= (others => '0');
+          ci <= to_unsigned(START_I_c, COORD_BITS_c);
+          ca <= START_A_c;
+          if y = 0 then
+            yo <= (others => '0');
+            rj <= to_unsigned(START_I_c, COORD_BITS_c);
+            rb <= START_A_c;
+          elsif last_y = rj + 1 then
+            yo <= yo + 1;
+            na := rb + STEP_A_c;
+            ni := rj + STEP_I_c;
+            if na >= D_c then
+              na := na - D_c;
+              ni := ni + 1;
+            end if;
+            rj <= ni;
+            rb <= na;
+          end if;
+          last_y <= y;
+        elsif x = ci + 1 and xo < OUT_W_c then
+          -- column xo completes with (prev, this) as its taps
+          s1_v <= '1';
+          s1_x <= xo;
+          s1_h <= resize(to_unsigned(D_c - ca, LOG_D_c + 1) * prev_px, H_BITS_c)
+                  + resize(to_unsigned(ca, LOG_D_c + 1) * unsigned(in_data), H_BITS_c);
+          xo   <= xo + 1;
+          na   := ca + STEP_A_c;
+          ni   := ci + STEP_I_c;
+          if na >= D_c then
+            na := na - D_c;
+            ni := ni + 1;
+          end if;
+          ci <= ni;
+          ca <= na;
+        end if;
+        -- the row of this pixel: at x = 0 the registers above still hold the previous row's
+        -- state, so the same decision is made here from the values the row will have
+        j   := to_integer(rj);
+        b   := rb;
+        row := yo;
+        if x = 0 and y = 0 then
+          j   := START_I_c;
+          b   := START_A_c;
+          row := (others => '0');
+        elsif x = 0 and last_y = rj + 1 then
+          j   := to_integer(ni);
+          b   := na;
+          row := yo + 1;
+        end if;
+        is_out := to_integer(y) = j + 1 and row < OUT_H_c;
+        s1_out <= '1' when is_out else '0';
+        s1_y   <= row;
+        s1_b   <= b;
+        prev_px <= unsigned(in_data);
+      end if;
+      if rst = '1' then
+        s1_v <= '0';
+      end if;
+    end if;
+  end process horizontal;
+
+  -- Stage 2: the column's sum of the previous row (read-first), this row's sum written in its
+  -- place. Every row writes, so the line always holds the row above the one streaming.
+  line : process (clk) is
+    variable addr : natural range 0 to OUT_W_c;
+  begin
+    if rising_edge(clk) then
+      s2_v <= '0';
+      if s1_v = '1' then
+        addr  := to_integer(s1_x);
+        s2_up <= mem(addr);
+        mem(addr) <= s1_h;
+        s2_v  <= s1_out;
+        s2_x  <= s1_x;
+        s2_y  <= s1_y;
+        s2_b  <= s1_b;
+        s2_h  <= s1_h;
+      end if;
+      if rst = '1' then
+        s2_v <= '0';
+      end if;
+    end if;
+  end process line;
+
+  -- Stage 3: the vertical weights and the one rounding (half up), a shift since D is a power of two.
+  vertical : process (clk) is
+    variable s : unsigned(S_BITS_c - 1 downto 0);
+  begin
+    if rising_edge(clk) then
+      o_valid <= '0';
+      if s2_v = '1' then
+        s := resize(to_unsigned(D_c - s2_b, LOG_D_c + 1) * s2_up, S_BITS_c)
+             + resize(to_unsigned(s2_b, LOG_D_c + 1) * s2_h, S_BITS_c)
+             + to_unsigned(D_c * D_c / 2, S_BITS_c);
+        o_valid <= '1';
+        o_x     <= s2_x;
+        o_y     <= s2_y;
+        o_data  <= resize(shift_right(s, 2 * LOG_D_c), PIXEL_BITS_c);
+      end if;
+      if rst = '1' then
+        o_valid <= '0';
+      end if;
+    end if;
+  end process vertical;
+
+  out_valid <= o_valid;
+  out_x     <= std_logic_vector(o_x);
+  out_y     <= std_logic_vector(o_y);
+  out_data  <= std_logic_vector(o_data);
+
+end architecture rtl;
