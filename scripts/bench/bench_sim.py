@@ -63,10 +63,8 @@ def main() -> None:
         rgb = cv2.resize(base, (w, h), interpolation=cv2.INTER_CUBIC)
         cfg = Config(w, h, scales=scales, sectors=32, threshold=20, mode="orb")
         want = extract(rgb_to_luma(rgb), cfg)
-        paths = [("verilator-netlist", run_accel_fast)]
-        if not args.no_ghdl:
-            paths.append((f"ghdl-{ghdl_backend}-rtl", None))
-        for name, _ in paths:
+        paths = ["verilator-netlist"] + ([] if args.no_ghdl else [f"ghdl-{ghdl_backend}-rtl"])
+        for name in paths:
             with tempfile.TemporaryDirectory() as tmp:
                 job = Path(tmp)
                 t0 = time.perf_counter()

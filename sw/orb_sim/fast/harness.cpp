@@ -198,25 +198,7 @@ void fs_push(void* h, const uint32_t* data, const uint8_t* flags, const uint32_t
   s->programs.push_back(std::move(p));
 }
 
-// Drop the queued programs not yet started (the one playing finishes unless `now`).
-void fs_clear(void* h, int now) {
-  auto* s = static_cast<Sim*>(h);
-  if (now || s->pos == 0) {
-    s->programs.clear();
-    s->prog = s->pos = 0;
-    s->idle = 0;
-  } else {
-    s->programs.erase(s->programs.begin() + s->prog + 1, s->programs.end());
-  }
-}
-
 void fs_set_loop(void* h, int loop) { static_cast<Sim*>(h)->loop = loop != 0; }
-
-// 1 while the source still has beats to send (or loops).
-int fs_video_busy(void* h) {
-  auto* s = static_cast<Sim*>(h);
-  return s->prog < s->programs.size() ? 1 : 0;
-}
 
 // Run until the source has sent everything queued (or `timeout` clocks): 1 when done.
 int fs_run_video(void* h, uint64_t timeout) {

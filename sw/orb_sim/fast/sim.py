@@ -63,7 +63,7 @@ class FastSim:
         sigs = {
             "fs_new": ([u32], vp), "fs_free": ([vp], None), "fs_cycle": ([vp], u64), "fs_set_rst": ([vp, i32], None),
             "fs_run": ([vp, u64], None), "fs_push": ([vp, _U32P, _U8P, _U32P, u64], None),
-            "fs_clear": ([vp, i32], None), "fs_set_loop": ([vp, i32], None), "fs_video_busy": ([vp], i32),
+            "fs_set_loop": ([vp, i32], None),
             "fs_run_video": ([vp, u64], i32), "fs_stats": ([vp, _U64P], None),
             "fs_frame_start": ([vp, u64, _U64P], ctypes.c_int64), "fs_set_out_ready": ([vp, u32, u64], None),
             "fs_capture": ([vp, i32], None), "fs_captured": ([vp, _U32P, _U8P, u64], u64),
@@ -110,15 +110,8 @@ class FastSim:
     def push_frame(self, words: np.ndarray, h_blank: int = 16, v_blank: int = 64) -> None:
         self.push(*frame_program(words, h_blank, v_blank))
 
-    def clear_video(self, now: bool = False) -> None:
-        self.lib.fs_clear(self.h, int(now))
-
     def set_loop(self, loop: bool) -> None:
         self.lib.fs_set_loop(self.h, int(loop))
-
-    @property
-    def video_busy(self) -> bool:
-        return bool(self.lib.fs_video_busy(self.h))
 
     def run_video(self, timeout_clocks: int) -> bool:
         """Run until every queued beat is sent; False when `timeout_clocks` passed first."""
