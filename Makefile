@@ -4,8 +4,10 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 IMAGE  ?=
-SCALES ?= 2
-SECTORS ?= 32
+# empty: the recommended configuration (golden_model.config.RECOMMENDED_*; docs/pyramid.md)
+SCALES ?=
+PYRAMID ?=
+SECTORS ?=
 THRESHOLD ?= 20
 JOBS   ?= 2
 
@@ -16,7 +18,8 @@ help:
 	@echo "make setup   create .venv and install the project with test extras (idempotent)"
 	@echo "make test    run the test suite (pytest -n $(JOBS), slow tests excluded)"
 	@echo "make test-all  run every test, slow full-frame ones included"
-	@echo "make sim     the complete accelerator in GHDL on the bundled image (IMAGE=, SCALES=, SECTORS=, THRESHOLD=;"
+	@echo "make sim     the complete accelerator in GHDL on the bundled image, recommended configuration 5:4 x 6"
+	@echo "             (IMAGE=, SCALES=, PYRAMID=NUM:DEN, SECTORS=, THRESHOLD=;"
 	@echo "             FAST=1: its synthesised netlist in Verilator; VIDEO=file: every frame of a video, fast; docs/fast-sim.md)"
 	@echo "make bench   model speed benchmark (scripts/bench/bench_model.py)"
 	@echo "make bench-sim  RTL simulation speed, one 640x480 frame (scripts/bench/bench_sim.py)"
@@ -59,7 +62,8 @@ FAST ?=
 VIDEO ?=
 sim: $(STAMP)
 	$(BIN)/python scripts/flow/sim_accel.py $(if $(IMAGE),--image $(IMAGE)) $(if $(VIDEO),--video $(VIDEO)) \
-		--scales $(SCALES) --sectors $(SECTORS) --threshold $(THRESHOLD) --out-dir build/sim \
+		$(if $(SCALES),--scales $(SCALES)) $(if $(PYRAMID),--step $(PYRAMID)) $(if $(SECTORS),--sectors $(SECTORS)) \
+		--threshold $(THRESHOLD) --out-dir build/sim \
 		$(if $(filter 1 yes true,$(FAST)),--fast)
 
 bench: $(STAMP)

@@ -14,6 +14,12 @@ from . import limits
 
 MODES = ("orb", "fast")
 
+# The recommended configuration for 640x480 on the XC7Z020 (docs/pyramid.md: measured on the scale
+# benchmark, within 80% of the device): what `make sim` and `orb-accel extract` use unless told.
+RECOMMENDED_SCALES = 6
+RECOMMENDED_STEP = (5, 4)
+RECOMMENDED_SECTORS = 32
+
 # The Config fields checked against golden_model.limits, in the order they are checked.
 _LIMITED = tuple(lim for lim in limits.LIMITS if lim.config)
 
@@ -29,7 +35,11 @@ class Config:
     ``sectors`` is the total number of orientation sectors (16, 32 or 64; generic SECTORS_g);
     the thesis's N, the sectors per quadrant, is the derived ``sectors_per_quadrant``.
     ``threshold`` is the run-time FAST threshold; ``mode`` is ``orb`` (detect and describe) or
-    ``fast`` (detection only, the thesis's isolated-FAST mode).
+    ``fast`` (detection only, the thesis's isolated-FAST mode). ``step_num``:``step_den`` is the
+    pyramid step (generics STEP_NUM_g, STEP_DEN_g): each of the ``scales`` levels is that much
+    smaller than the one before; 2:1 is the thesis's 2x2 box, any other step the fixed-phase
+    bilinear resampler (docs/spec.md section 3). The step needs step_den < step_num <= 2 step_den,
+    and the smallest level at least scale_width x scale_height pixels.
     """
 
     width: int
@@ -38,6 +48,8 @@ class Config:
     sectors: int = 32
     threshold: int = 20
     mode: str = "orb"
+    step_num: int = 2
+    step_den: int = 1
 
     def __post_init__(self) -> None:
         for lim in _LIMITED:
@@ -51,15 +63,52 @@ class Config:
                 raise ConfigError(f"{lim.name} must be {lim.text}, got {value}")
         if self.mode not in MODES:
             raise ConfigError(f"mode {self.mode!r} not one of {MODES}")
+        if not self.step_den < self.step_num <= 2 * self.step_den:
+            raise ConfigError(f"pyramid step {self.step_num}:{self.step_den}: need step_den < step_num <= 2 step_den")
+        w, h = self.scale_size(self.scales - 1)
+        if not (limits.SCALE_WIDTH.legal(w) and limits.SCALE_HEIGHT.legal(h)):
+            raise ConfigError(
+                f"{self.scales} levels of {self.step_num}:{self.step_den} leave a {w}x{h} smallest level; it must be "
+                f"at "
+                f"least {limits.SCALE_WIDTH.min}x{limits.SCALE_HEIGHT.min} (fewer scales or a larger frame)"
+            )
 
     @property
     def sectors_per_quadrant(self) -> int:
         """N = sectors / 4, the sectors per quadrant of the orientation and pattern rules (spec §9, §10)."""
         return self.sectors // 4
 
+    @property
+    def step(self) -> tuple[int, int]:
+        """The pyramid step (num, den)."""
+        return self.step_num, self.step_den
+
+    @property
+    def factor(self) -> float:
+        """The pyramid step as a number, num / den (2.0 for the thesis's pyramid)."""
+        return self.step_num / self.step_den
+
     def scale_size(self, scale: int) -> tuple[int, int]:
-        """(width, height) of scale ``scale``: each scale halves the previous one, rounding down."""
-        return self.width >> scale, self.height >> scale
+        """(width, height) of scale ``scale``: level_size applied ``scale`` times."""
+        return level_size(self.width, self.height, scale, self.step)
+
+
+def parse_step(text: str) -> tuple[int, int]:
+    """ "5:4" -> (5, 4): the pyramid step as the CLI and the benches write it (legality: Config)."""
+    num, sep, den = text.partition(":")
+    if not sep or not num.strip().isdigit() or not den.strip().isdigit():
+        raise ConfigError(f"pyramid step {text!r}: expected NUM:DEN, e.g. 5:4 or 2:1")
+    return int(num), int(den)
+
+
+def level_size(width: int, height: int, scale: int, step: tuple[int, int] = (2, 1)) -> tuple[int, int]:
+    """(width, height) of pyramid level ``scale``: each level is floor(size * den / num) of the one
+    before (2:1: halved, rounding down) -- the rule of docs/spec.md section 3 and of orb_util_pkg's
+    level_size."""
+    num, den = step
+    for _ in range(scale):
+        width, height = width * den // num, height * den // num
+    return width, height
 
 
 def sectors_to_per_quadrant(sectors: int) -> int:

@@ -21,7 +21,9 @@ def _empty_int() -> np.ndarray:
 class Features:
     """Columns of one frame's features. ``sector`` is -1 and ``descriptor`` is (K, 0) in fast mode.
 
-    ``sectors_total`` (4N of the configuration, in either mode) converts sectors to angles.
+    ``sectors_total`` (4N of the configuration, in either mode) converts sectors to angles;
+    ``step`` (the pyramid step num, den of the configuration) converts level coordinates to
+    full-resolution ones.
     """
 
     scale: np.ndarray = field(default_factory=_empty_int)
@@ -31,6 +33,7 @@ class Features:
     sector: np.ndarray = field(default_factory=_empty_int)
     descriptor: np.ndarray = field(default_factory=lambda: np.zeros((0, 0), dtype=np.uint8))
     sectors_total: int = 0
+    step: tuple[int, int] = (2, 1)
 
     def __len__(self) -> int:
         return int(self.x.shape[0])
@@ -47,13 +50,23 @@ class Features:
     def take(self, index: np.ndarray) -> Features:
         return Features(
             self.scale[index], self.x[index], self.y[index], self.score[index], self.sector[index],
-            self.descriptor[index], self.sectors_total,
+            self.descriptor[index], self.sectors_total, self.step,
         )  # fmt: skip
 
+    def level_factor(self) -> np.ndarray:
+        """Per feature, r^scale with r = num / den: the size of a level pixel in full-resolution pixels."""
+        num, den = self.step
+        return (float(num) / float(den)) ** self.scale.astype(np.float64)
+
     def full_res(self) -> tuple[np.ndarray, np.ndarray]:
-        """Feature centres in full-resolution pixel coordinates: (x + 0.5) * 2^scale - 0.5."""
-        f = np.ldexp(1.0, self.scale.astype(np.int32))
+        """Feature centres in full-resolution pixel coordinates: (x + 0.5) r^scale - 0.5, r = num / den
+        (docs/spec.md section 3: the exact centre of a level pixel, which the resampler's taps keep)."""
+        f = self.level_factor()
         return (self.x + 0.5) * f - 0.5, (self.y + 0.5) * f - 0.5
+
+    def size(self) -> np.ndarray:
+        """Per feature, the patch diameter in full-resolution pixels: 31 r^scale (cv2.KeyPoint.size)."""
+        return 31.0 * self.level_factor()
 
     def angle_deg(self) -> np.ndarray:
         if self.sectors_total == 0:
@@ -66,13 +79,16 @@ class Features:
         return first_difference(self, other) is None
 
     @staticmethod
-    def concat(parts: list[Features], sectors_total: int, descriptor_bytes: int) -> Features:
+    def concat(parts: list[Features], sectors_total: int, descriptor_bytes: int,
+               step: tuple[int, int] = (2, 1)) -> Features:  # fmt: skip
         if not parts:
-            return Features(descriptor=np.zeros((0, descriptor_bytes), dtype=np.uint8), sectors_total=sectors_total)
+            return Features(descriptor=np.zeros((0, descriptor_bytes), dtype=np.uint8), sectors_total=sectors_total,
+                            step=step)  # fmt: skip
         return Features(
             *(np.concatenate([getattr(p, name) for p in parts]) for name in ("scale", "x", "y", "score", "sector")),
             np.concatenate([p.descriptor for p in parts]),
             sectors_total,
+            step,
         )
 
 
@@ -113,12 +129,12 @@ def write_csv(features: Features, path: Path) -> None:
                 int(f.scale[i]), int(f.x[i]), int(f.y[i]), int(f.score[i]),
                 int(f.sector[i]) if has_sector else "",
                 f.descriptor[i].tobytes().hex() if f.has_descriptors else "",
-                f"{x0[i]:g}", f"{y0[i]:g}",
+                f"{x0[i]:.10g}", f"{y0[i]:.10g}",
                 f"{angle[i]:g}" if has_sector else "",
             ])  # fmt: skip
 
 
-def read_csv(path: Path, sectors_total: int = 0) -> Features:
+def read_csv(path: Path, sectors_total: int = 0, step: tuple[int, int] = (2, 1)) -> Features:
     """Read a features CSV written by any backend (extra columns ignored)."""
     with open(path, newline="") as fh:
         rows = list(csv.DictReader(fh))
@@ -133,4 +149,4 @@ def read_csv(path: Path, sectors_total: int = 0) -> Features:
         if has_desc
         else np.zeros((len(rows), 0), dtype=np.uint8)
     )
-    return Features(ints["scale"], ints["x"], ints["y"], ints["score"], sector, desc, sectors_total)
+    return Features(ints["scale"], ints["x"], ints["y"], ints["score"], sector, desc, sectors_total, step)

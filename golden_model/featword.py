@@ -105,8 +105,8 @@ FEATURE_BEAT = Layout(
         Field(
             name="scale",
             lsb=36,
-            width=2,
-            meaning="scale (0 = full resolution)",
+            width=3,
+            meaning="scale, the pyramid level (0 = full resolution)",
         ),
         Field(
             name="sector",
@@ -185,8 +185,8 @@ SLOT_FEATURE = Layout(
         Field(
             name="scale",
             lsb=48,
-            width=2,
-            meaning="scale",
+            width=3,
+            meaning="scale (pyramid level)",
             source="scale",
         ),
         Field(

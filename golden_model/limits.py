@@ -63,13 +63,13 @@ HEIGHT = Limit(
 )
 
 SCALES_MIN = 1
-SCALES_MAX = 4
+SCALES_MAX = 8
 SCALES = Limit(
     name="scales",
     min=SCALES_MIN,
     max=SCALES_MAX,
-    text="1..4",
-    description="number of scales; each halves the previous one",
+    text="1..8",
+    description="number of scales (pyramid levels); each is the step_num:step_den reduction of the previous one",
     generic="SCALES_g",
     register="CFG_ORB.scales",
     config=True,
@@ -99,6 +99,33 @@ THRESHOLD = Limit(
     text="0..255",
     description="FAST threshold t, a run-time register applied from the next frame",
     register="THRESHOLD.threshold",
+    config=True,
+)
+
+STEP_NUM_MIN = 2
+STEP_NUM_MAX = 16
+STEP_NUM = Limit(
+    name="step_num",
+    min=STEP_NUM_MIN,
+    max=STEP_NUM_MAX,
+    text="2..16",
+    description="pyramid step numerator (levels shrink by step_num:step_den; 2:1 is the box; den < num <= 2 den)",
+    generic="STEP_NUM_g",
+    register="CFG_ORB.step_num",
+    config=True,
+)
+
+STEP_DEN_MIN = 1
+STEP_DEN_MAX = 8
+STEP_DEN = Limit(
+    name="step_den",
+    min=STEP_DEN_MIN,
+    max=STEP_DEN_MAX,
+    text="a power of two in 1..8",
+    description="pyramid step denominator, a power of two (the resampler divides by a shift)",
+    power_of_two=True,
+    generic="STEP_DEN_g",
+    register="CFG_ORB.step_den",
     config=True,
 )
 
@@ -133,7 +160,17 @@ SCALE_WIDTH = Limit(
     min=SCALE_WIDTH_MIN,
     max=SCALE_WIDTH_MAX,
     text="8..1920",
-    description="width of the smallest scale, WIDTH_g / 2^(SCALES_g - 1); every legal width and scales give at least 8",
+    description="width of the smallest scale (docs/spec.md section 3); narrower is refused",
+)
+
+SCALE_HEIGHT_MIN = 6
+SCALE_HEIGHT_MAX = 1080
+SCALE_HEIGHT = Limit(
+    name="scale_height",
+    min=SCALE_HEIGHT_MIN,
+    max=SCALE_HEIGHT_MAX,
+    text="6..1080",
+    description="height of the smallest scale; fewer lines are refused",
 )
 
 LIMITS: tuple[Limit, ...] = (
@@ -142,8 +179,11 @@ LIMITS: tuple[Limit, ...] = (
     SCALES,
     SECTORS,
     THRESHOLD,
+    STEP_NUM,
+    STEP_DEN,
     MEM_DEPTH,
     BLOCK_LOG2,
     SCALE_WIDTH,
+    SCALE_HEIGHT,
 )
 BY_NAME: dict[str, Limit] = {lim.name: lim for lim in LIMITS}

@@ -13,15 +13,26 @@ import numpy as np
 
 from .features import Features
 
-# RGB colours per scale: green, cyan, magenta, yellow (the HDMI markers and the CLI's PNG).
-SCALE_COLOURS = ((0, 255, 0), (0, 220, 255), (255, 0, 255), (255, 220, 0))
+# RGB colours per scale: green, cyan, magenta, yellow, orange, blue, red, white (the HDMI markers
+# and the CLI's PNG).
+SCALE_COLOURS = ((0, 255, 0), (0, 220, 255), (255, 0, 255), (255, 220, 0), (255, 128, 0), (64, 128, 255),
+                 (255, 48, 48), (255, 255, 255))  # fmt: skip
 
 # ------------------------------------------------------------------------------------------------
 # Marker overlay of the HDMI output (docs/spec.md section 13; RTL: hdl/output/orb_overlay.vhd)
 
 MARKER_BLOCK_LOG2 = 3  # default block size 8 x 8
 MARKER_BLOCK_LOG2_RANGE = (2, 5)
-MARKER_MAX_SCALES = 4
+MARKER_MAX_SCALES = 8
+
+
+def marker_block_log2(scales: int) -> int:
+    """The block size the simulations and board builds use for ``scales`` scales: 8x8 (the default)
+    when its rings fit, else the smallest block with one ring per scale (16x16 for 5 to 8 scales)."""
+    b = MARKER_BLOCK_LOG2
+    while (1 << b) < 2 * scales:
+        b += 1
+    return b
 
 
 def check_marker_config(scales: int, block_log2: int) -> None:
@@ -35,23 +46,31 @@ def check_marker_config(scales: int, block_log2: int) -> None:
         raise ValueError(f"block size {1 << block_log2} too small for {scales} nested scale rings (needs 2 * scales)")
 
 
-def marker_bitmap(features: Features, width: int, height: int, scales: int = MARKER_MAX_SCALES,
+def marker_bitmap(features: Features, width: int, height: int, scales: int = 4,
                   block_log2: int = MARKER_BLOCK_LOG2) -> np.ndarray:  # fmt: skip
     """(blocks_y, blocks_x, scales) bool: block (bx, by) holds a feature of scale s (spec 13.1).
 
-    A feature of scale s at (x, y) covers the full-resolution pixels x * 2^s .. x * 2^s + 2^s - 1
-    (likewise in y), all in one block since 2^s <= B: it marks block (x >> (b - s), y >> (b - s))
-    at its scale. Features with s >= scales, or whose block lies outside the ceil(W / B) x
-    ceil(H / B) grid, are ignored. The bitmap is an OR over the features, so their order and
-    repetitions do not matter.
+    A feature of scale s at (x, y) marks, at its scale, the block that holds its exact
+    full-resolution centre (x + 0.5) r^s - 0.5, r = num / den the features' pyramid step
+    (``features.step``): in integers, bx = ((2x + 1) num^s - den^s) >> (1 + s log2(den) + b), likewise
+    by, b = block_log2. For the 2:1 pyramid this is (x >> (b - s), y >> (b - s)), the block holding
+    the pixel's whole footprint. Features with s >= scales, or whose block lies outside the
+    ceil(W / B) x ceil(H / B) grid, are ignored. The bitmap is an OR over the features, so their
+    order and repetitions do not matter.
     """
     check_marker_config(scales, block_log2)
     blocks_x, blocks_y = -(-width >> block_log2), -(-height >> block_log2)
     s = features.scale.astype(np.int64)
     keep = (s >= 0) & (s < scales) & (features.x >= 0) & (features.y >= 0)
     s = s[keep]
-    bx = features.x[keep].astype(np.int64) >> (block_log2 - s)
-    by = features.y[keep].astype(np.int64) >> (block_log2 - s)
+    num, den = features.step
+    den_log2 = den.bit_length() - 1
+    if den != 1 << den_log2:
+        raise ValueError(f"pyramid step {num}:{den}: the denominator must be a power of two")
+    num_pow = np.array([num**k for k in range(scales)], dtype=np.int64)[s]
+    shift = 1 + s * den_log2 + block_log2
+    bx = ((2 * features.x[keep].astype(np.int64) + 1) * num_pow - (1 << (s * den_log2))) >> shift
+    by = ((2 * features.y[keep].astype(np.int64) + 1) * num_pow - (1 << (s * den_log2))) >> shift
     inside = (bx < blocks_x) & (by < blocks_y)
     marks = np.zeros((blocks_y, blocks_x, scales), dtype=bool)
     marks[by[inside], bx[inside], s[inside]] = True
@@ -69,7 +88,7 @@ def marker_rings(width: int, height: int, block_log2: int = MARKER_BLOCK_LOG2) -
     return np.minimum(rv[:, None], ru[None, :])
 
 
-def render_marker_overlay(rgb: np.ndarray, features: Features, scales: int = MARKER_MAX_SCALES,
+def render_marker_overlay(rgb: np.ndarray, features: Features, scales: int = 4,
                           block_log2: int = MARKER_BLOCK_LOG2) -> np.ndarray:  # fmt: skip
     """The HDMI overlay (spec 13.2): an (H, W, 3) uint8 RGB frame with the features' block markers.
 

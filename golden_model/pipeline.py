@@ -1,7 +1,8 @@
 # SPDX-License-Identifier: MIT
 """The whole accelerator, frame in, features out: the executable specification.
 
-Per scale (scale 0 is the input, scale s+1 the 2:1 box average of scale s):
+Per scale (scale 0 is the input, scale s+1 the pyramid step of scale s: the 2:1 box average, or for
+any other num:den the fixed-phase bilinear resample of golden_model.scaler):
 FAST-9 score map -> 3x3 NMS -> border rule -> (orb mode) smoothing, moments, sector, rBRIEF.
 
 Border rule: in ``fast`` mode every NMS survivor is reported (FAST itself only tests
@@ -94,5 +95,5 @@ def extract_scale(img: np.ndarray, scale: int, cfg: Config) -> Features:
 def extract(img: np.ndarray, cfg: Config) -> Features:
     """All features of one frame, in canonical order (scale, y, x)."""
     check_frame(img, cfg)
-    parts = [extract_scale(level, s, cfg) for s, level in enumerate(pyramid(img, cfg.scales))]
-    return Features.concat(parts, cfg.sectors, DESCRIPTOR_BYTES if cfg.mode == "orb" else 0).sorted()
+    parts = [extract_scale(level, s, cfg) for s, level in enumerate(pyramid(img, cfg.scales, cfg.step))]
+    return Features.concat(parts, cfg.sectors, DESCRIPTOR_BYTES if cfg.mode == "orb" else 0, cfg.step).sorted()

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 ORB_ID = 0x4F524231  # magic identification word, ASCII "ORB1"
 VERSION_MAJOR = 2  # register map major version (incompatible changes)
-VERSION_MINOR = 0  # register map minor version (compatible additions)
+VERSION_MINOR = 1  # register map minor version (compatible additions)
 MEM_BASE = 0x10000  # byte address of the feature-memory window; register offsets lie below it
 BANKS = 2  # feature-memory banks (double buffering)
 
@@ -167,7 +167,7 @@ CFG_ORB = Register(
             width=4,
             reset=None,
             generic="SCALES_g",
-            description="number of scales, 1 to 4 (generic SCALES_g)",
+            description="number of scales (pyramid levels), 1 to 8 (generic SCALES_g)",
         ),
         Field(
             name="sectors",
@@ -184,8 +184,24 @@ CFG_ORB = Register(
             reset=BANKS,
             description="feature-memory banks",
         ),
+        Field(
+            name="step_den",
+            lsb=20,
+            width=4,
+            reset=None,
+            generic="STEP_DEN_g",
+            description="pyramid step denominator (generic STEP_DEN_g)",
+        ),
+        Field(
+            name="step_num",
+            lsb=24,
+            width=5,
+            reset=None,
+            generic="STEP_NUM_g",
+            description="pyramid step numerator (generic STEP_NUM_g); 2:1 is the box",
+        ),
     ),
-    description="configuration read-back: scales, sectors, banks",
+    description="configuration read-back: scales, pyramid step, sectors, banks",
 )
 
 CFG_MEM = Register(

@@ -1,12 +1,12 @@
 -- SPDX-License-Identifier: MIT
 -- orb_feat_pkg: layout of the feature stream word (m_axis_feat_tdata, 320 bits) and of
 -- the feature-memory slot of orb_feat_mem (docs/feature-word.md).
---   feature beat (tlast = 0): [11:0] score, [23:12] x, [35:24] y, [37:36] scale, [38] 0,
---     [39] eof = 0, [45:40] sector, [63:46] 0, [319:64] descriptor
+--   feature beat (tlast = 0): [11:0] score, [23:12] x, [35:24] y, [38:36] scale, [39] eof = 0,
+--     [45:40] sector, [63:46] 0, [319:64] descriptor
 --   eof beat (tlast = 1): [15:0] frame, [31:16] drops, [38:32] 0, [39] eof = 1, [319:40] 0
 -- Slot: 64 bytes = 16 words of 32 bits, words 0 .. 9 used; SLOT_/REC_ positions count in those
 --   words concatenated (word k at bits 32 k + 31 downto 32 k), as orb_feat_mem stores them.
---   feature slot: [15:0] x, [31:16] y, [43:32] score, [47:44] 0, [49:48] scale, [55:50] 0,
+--   feature slot: [15:0] x, [31:16] y, [43:32] score, [47:44] 0, [50:48] scale, [55:51] 0,
 --     [61:56] sector, [62] 0, [63] record = 0, [319:64] descriptor
 --   record slot: [31:0] count, [61:32] 0, [62] truncated_flag, [63] record = 1, [79:64] frame,
 --     [95:80] 0, [111:96] dropped, [127:112] 0, [159:128] truncated, [319:160] 0
@@ -30,7 +30,7 @@ package orb_feat_pkg is
   constant FEAT_Y_LO_c        : natural := 24;
   constant FEAT_Y_BITS_c      : positive := 12;
   constant FEAT_SCALE_LO_c    : natural := 36;
-  constant FEAT_SCALE_BITS_c  : positive := 2;
+  constant FEAT_SCALE_BITS_c  : positive := 3;
   constant FEAT_SECTOR_LO_c   : natural := 40;
   constant FEAT_SECTOR_BITS_c : positive := 6;
   constant FEAT_DESC_LO_c     : natural := 64;
@@ -61,7 +61,7 @@ package orb_feat_pkg is
   constant SLOT_SCORE_LO_c    : natural := 32;
   constant SLOT_SCORE_BITS_c  : positive := 12;
   constant SLOT_SCALE_LO_c    : natural := 48;
-  constant SLOT_SCALE_BITS_c  : positive := 2;
+  constant SLOT_SCALE_BITS_c  : positive := 3;
   constant SLOT_SECTOR_LO_c   : natural := 56;
   constant SLOT_SECTOR_BITS_c : positive := 6;
   constant SLOT_DESC_LO_c     : natural := 64;

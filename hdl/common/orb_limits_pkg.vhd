@@ -20,10 +20,11 @@ package orb_limits_pkg is
   constant HEIGHT_TEXT_c : string := "48..1080";
   function height_legal (value : integer) return boolean;
 
-  -- scales: number of scales; each halves the previous one; legal: 1..4
+  -- scales: number of scales (pyramid levels); each is the step_num:step_den reduction of the
+  -- previous one; legal: 1..8
   constant SCALES_MIN_c  : integer := 1;
-  constant SCALES_MAX_c  : integer := 4;
-  constant SCALES_TEXT_c : string := "1..4";
+  constant SCALES_MAX_c  : integer := 8;
+  constant SCALES_TEXT_c : string := "1..8";
   function scales_legal (value : integer) return boolean;
 
   -- sectors: orientation sectors in all (4N, N = sectors / 4 per quadrant); legal: 16, 32 or 64
@@ -39,6 +40,20 @@ package orb_limits_pkg is
   constant THRESHOLD_TEXT_c : string := "0..255";
   function threshold_legal (value : integer) return boolean;
 
+  -- step_num: pyramid step numerator (levels shrink by step_num:step_den; 2:1 is the box; den < num
+  -- <= 2 den); legal: 2..16
+  constant STEP_NUM_MIN_c  : integer := 2;
+  constant STEP_NUM_MAX_c  : integer := 16;
+  constant STEP_NUM_TEXT_c : string := "2..16";
+  function step_num_legal (value : integer) return boolean;
+
+  -- step_den: pyramid step denominator, a power of two (the resampler divides by a shift); legal: a
+  -- power of two in 1..8
+  constant STEP_DEN_MIN_c  : integer := 1;
+  constant STEP_DEN_MAX_c  : integer := 8;
+  constant STEP_DEN_TEXT_c : string := "a power of two in 1..8";
+  function step_den_legal (value : integer) return boolean;
+
   -- mem_depth: feature slots per feature-memory bank; legal: a power of two in 16..4096
   constant MEM_DEPTH_MIN_c  : integer := 16;
   constant MEM_DEPTH_MAX_c  : integer := 4096;
@@ -51,12 +66,18 @@ package orb_limits_pkg is
   constant BLOCK_LOG2_TEXT_c : string := "2..5";
   function block_log2_legal (value : integer) return boolean;
 
-  -- scale_width: width of the smallest scale, WIDTH_g / 2^(SCALES_g - 1); every legal width and
-  -- scales give at least 8; legal: 8..1920
+  -- scale_width: width of the smallest scale (docs/spec.md section 3); narrower is refused; legal:
+  -- 8..1920
   constant SCALE_WIDTH_MIN_c  : integer := 8;
   constant SCALE_WIDTH_MAX_c  : integer := 1920;
   constant SCALE_WIDTH_TEXT_c : string := "8..1920";
   function scale_width_legal (value : integer) return boolean;
+
+  -- scale_height: height of the smallest scale; fewer lines are refused; legal: 6..1080
+  constant SCALE_HEIGHT_MIN_c  : integer := 6;
+  constant SCALE_HEIGHT_MAX_c  : integer := 1080;
+  constant SCALE_HEIGHT_TEXT_c : string := "6..1080";
+  function scale_height_legal (value : integer) return boolean;
 
   -- The range subtypes of the generics (a value set or a power-of-two rule needs <name>_legal too).
   subtype width_t is integer range WIDTH_MIN_c to WIDTH_MAX_c;
@@ -64,9 +85,12 @@ package orb_limits_pkg is
   subtype scales_t is integer range SCALES_MIN_c to SCALES_MAX_c;
   subtype sectors_t is integer range SECTORS_MIN_c to SECTORS_MAX_c;
   subtype threshold_t is integer range THRESHOLD_MIN_c to THRESHOLD_MAX_c;
+  subtype step_num_t is integer range STEP_NUM_MIN_c to STEP_NUM_MAX_c;
+  subtype step_den_t is integer range STEP_DEN_MIN_c to STEP_DEN_MAX_c;
   subtype mem_depth_t is integer range MEM_DEPTH_MIN_c to MEM_DEPTH_MAX_c;
   subtype block_log2_t is integer range BLOCK_LOG2_MIN_c to BLOCK_LOG2_MAX_c;
   subtype scale_width_t is integer range SCALE_WIDTH_MIN_c to SCALE_WIDTH_MAX_c;
+  subtype scale_height_t is integer range SCALE_HEIGHT_MIN_c to SCALE_HEIGHT_MAX_c;
 
 end package orb_limits_pkg;
 
@@ -102,6 +126,23 @@ package body orb_limits_pkg is
     return value >= THRESHOLD_MIN_c and value <= THRESHOLD_MAX_c;
   end function threshold_legal;
 
+  function step_num_legal (value : integer) return boolean is
+  begin
+    return value >= STEP_NUM_MIN_c and value <= STEP_NUM_MAX_c;
+  end function step_num_legal;
+
+  function step_den_legal (value : integer) return boolean is
+    variable p : integer := 1;
+  begin
+    if value < STEP_DEN_MIN_c or value > STEP_DEN_MAX_c then
+      return false;
+    end if;
+    while p < value loop
+      p := 2 * p;
+    end loop;
+    return p = value;
+  end function step_den_legal;
+
   function mem_depth_legal (value : integer) return boolean is
     variable p : integer := 1;
   begin
@@ -123,5 +164,10 @@ package body orb_limits_pkg is
   begin
     return value >= SCALE_WIDTH_MIN_c and value <= SCALE_WIDTH_MAX_c;
   end function scale_width_legal;
+
+  function scale_height_legal (value : integer) return boolean is
+  begin
+    return value >= SCALE_HEIGHT_MIN_c and value <= SCALE_HEIGHT_MAX_c;
+  end function scale_height_legal;
 
 end package body orb_limits_pkg;

@@ -1,5 +1,6 @@
 -- SPDX-License-Identifier: MIT
--- orb_util_pkg: shared constants and helpers of the ORB accelerator (coordinate width, log2).
+-- orb_util_pkg: shared constants and helpers of the ORB accelerator (coordinate width, log2,
+-- pyramid level sizes).
 
 library ieee;
 use ieee.std_logic_1164.all;
@@ -14,6 +15,11 @@ package orb_util_pkg is
   constant PIXEL_BITS_c : positive := 8;
 
   function clog2 (n : positive) return natural;
+
+  -- Size (width or height) of pyramid level k of a SIZE-pixel frame for the step NUM:DEN: each
+  -- level is floor(size * DEN / NUM) of the one before (docs/spec.md section 3; the model's
+  -- golden_model.config.level_size).
+  function level_size (size, num, den, k : natural) return natural;
 
   -- Pixel (r, c) of a flat WIN x WIN window of 8-bit pixels (orb_window's layout: element
   -- r * WIN + c, r = 0 the top line, c = 0 the leftmost column).
@@ -33,6 +39,15 @@ package body orb_util_pkg is
     end loop;
     return bits;
   end function clog2;
+
+  function level_size (size, num, den, k : natural) return natural is
+    variable v : natural := size;
+  begin
+    for i in 1 to k loop
+      v := v * den / num;
+    end loop;
+    return v;
+  end function level_size;
 
   function window_pixel (win : std_logic_vector; width, r, c : natural) return unsigned is
     constant K_c : natural := r * width + c;

@@ -1,9 +1,11 @@
 -- SPDX-License-Identifier: MIT
 -- orb_core: the accelerator's streaming core, detection and description, for SCALES_g
--- scales. Pixels enter as AXI4-Stream video (8-bit luma, tuser = start of frame, tlast = end of
--- line) at up to one per clock; tready is high whenever not in reset, since a video source cannot
--- be stalled. Scale 0 is the input; each further scale comes from an orb_scaler on the previous
--- one. Each scale's orb_scale_path reports, per frame, either every NMS survivor (fast mode,
+-- scales (pyramid levels). Pixels enter as AXI4-Stream video (8-bit luma, tuser = start of frame,
+-- tlast = end of line) at up to one per clock; tready is high whenever not in reset, since a video
+-- source cannot be stalled. Scale 0 is the input; each further scale is the STEP_NUM_g:STEP_DEN_g
+-- reduction of the previous one: an orb_scaler (the 2x2 box) for 2:1, an orb_resampler
+-- (fixed-phase bilinear) for any other step, each a streaming path at its fraction of the pixel
+-- rate with no frame buffer (docs/spec.md section 3, docs/pyramid.md). Each scale's orb_scale_path reports, per frame, either every NMS survivor (fast mode,
 -- mode_orb = 0) or every survivor inside the descriptor border with its sector and 256-bit
 -- rBRIEF descriptor (orb mode, mode_orb = 1; needs DESC_g = true, which builds the descriptor
 -- path), merged by orb_feat_merge into m_axis_feat (layout in orb_feat_pkg) with an end-of-frame
@@ -25,6 +27,8 @@ entity orb_core is
     WIDTH_g      : width_t                 := 640;
     HEIGHT_g     : height_t                := 480;
     SCALES_g     : scales_t                := 1;
+    STEP_NUM_g   : step_num_t              := 2;   -- pyramid step STEP_NUM_g:STEP_DEN_g
+    STEP_DEN_g   : step_den_t              := 1;
     FIFO_DEPTH_g : positive range 2 to 512 := 32;
     SECTORS_g    : sectors_t               := 32;  -- orientation sectors in all (orb_limits_pkg)
     DESC_g       : boolean                 := true
@@ -83,8 +87,17 @@ architecture rtl of orb_core is
 
 begin
 
-  assert scale_width_legal(WIDTH_g / 2 ** (SCALES_g - 1))
-    report "orb_core: the smallest scale, WIDTH_g / 2 ** (SCALES_g - 1) pixels wide, must be " & SCALE_WIDTH_TEXT_c
+  assert scale_width_legal(level_size(WIDTH_g, STEP_NUM_g, STEP_DEN_g, SCALES_g - 1))
+    report "orb_core: the smallest scale must be at least " & SCALE_WIDTH_TEXT_c & " pixels wide"
+    severity failure;
+
+  assert scale_height_legal(level_size(HEIGHT_g, STEP_NUM_g, STEP_DEN_g, SCALES_g - 1))
+    report "orb_core: the smallest scale must have at least " & SCALE_HEIGHT_TEXT_c & " lines"
+    severity failure;
+
+  assert step_den_legal(STEP_DEN_g) and STEP_DEN_g < STEP_NUM_g and STEP_NUM_g <= 2 * STEP_DEN_g
+    report "orb_core: the pyramid step STEP_NUM_g:STEP_DEN_g needs STEP_DEN_g a power of two and "
+           & "STEP_DEN_g < STEP_NUM_g <= 2 * STEP_DEN_g"
     severity failure;
 
   assert sectors_legal(SECTORS_g)
@@ -140,10 +153,10 @@ begin
 
   scales : for s in 0 to SCALES_g - 1 generate
 
-    has_scaler : if s > 0 generate
+    has_box : if s > 0 and STEP_NUM_g = 2 * STEP_DEN_g generate
       scaler : entity work.orb_scaler
         generic map (
-          LINE_WIDTH_g => WIDTH_g / 2 ** (s - 1)
+          LINE_WIDTH_g => level_size(WIDTH_g, STEP_NUM_g, STEP_DEN_g, s - 1)
         )
         port map (
           clk       => clk,
@@ -157,12 +170,34 @@ begin
           out_y     => px_y(s),
           out_data  => px_data(s)
         );
-    end generate has_scaler;
+    end generate has_box;
+
+    has_resampler : if s > 0 and STEP_NUM_g /= 2 * STEP_DEN_g generate
+      resampler : entity work.orb_resampler
+        generic map (
+          LINE_WIDTH_g => level_size(WIDTH_g, STEP_NUM_g, STEP_DEN_g, s - 1),
+          LINE_COUNT_g => level_size(HEIGHT_g, STEP_NUM_g, STEP_DEN_g, s - 1),
+          NUM_g        => STEP_NUM_g,
+          DEN_g        => STEP_DEN_g
+        )
+        port map (
+          clk       => clk,
+          rst       => rst,
+          in_valid  => px_valid(s - 1),
+          in_x      => px_x(s - 1),
+          in_y      => px_y(s - 1),
+          in_data   => px_data(s - 1),
+          out_valid => px_valid(s),
+          out_x     => px_x(s),
+          out_y     => px_y(s),
+          out_data  => px_data(s)
+        );
+    end generate has_resampler;
 
     path : entity work.orb_scale_path
       generic map (
-        LINE_WIDTH_g   => WIDTH_g / 2 ** s,
-        FRAME_HEIGHT_g => HEIGHT_g / 2 ** s,
+        LINE_WIDTH_g   => level_size(WIDTH_g, STEP_NUM_g, STEP_DEN_g, s),
+        FRAME_HEIGHT_g => level_size(HEIGHT_g, STEP_NUM_g, STEP_DEN_g, s),
         SECTORS_g      => SECTORS_g,
         DESC_g         => DESC_g
       )

@@ -7,8 +7,8 @@
 -- waits in a read-first RAM, and the output row that needs input rows j and j + 1 is formed while
 -- row j + 1 streams in. At most one output per input pixel (NUM > DEN). DEN_g must be a power of
 -- two, so the division by D*D is a shift. Latency: the output leaves 3 clocks after the input
--- pixel that completes it. For NUM:DEN = 2:1 it is the 2x2 box of orb_scaler, bit for bit.
--- Not yet part of orb_core (issue 14).
+-- pixel that completes it. For NUM:DEN = 2:1 it is the 2x2 box of orb_scaler, bit for bit;
+-- orb_core uses orb_scaler for 2:1 and this entity for every other step.
 
 library ieee;
 use ieee.std_logic_1164.all;

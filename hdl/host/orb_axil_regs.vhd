@@ -37,6 +37,8 @@ entity orb_axil_regs is
     WIDTH_g       : width_t                      := 640;
     HEIGHT_g      : height_t                     := 480;
     SCALES_g      : scales_t                     := 1;
+    STEP_NUM_g    : step_num_t                   := 2;    -- pyramid step, read back in CFG_ORB
+    STEP_DEN_g    : step_den_t                   := 1;
     SECTORS_g     : sectors_t                    := 32;   -- orientation sectors in all (orb_limits_pkg)
     MEM_DEPTH_g   : positive range 1 to 16777215 := 4096; -- read back only (CFG_MEM.depth)
     MEM_LATENCY_g : positive range 1 to 8        := 2;    -- mem_rd_en to mem_rd_data, clocks
@@ -234,8 +236,10 @@ begin
     ws                            := (others => ZERO_c);
     li(REG_CFG_SIZE_IDX_c)        := put(put(ZERO_c, WIDTH_g, CFG_SIZE_WIDTH_MSB_c, CFG_SIZE_WIDTH_LSB_c),
                                          HEIGHT_g, CFG_SIZE_HEIGHT_MSB_c, CFG_SIZE_HEIGHT_LSB_c);
-    li(REG_CFG_ORB_IDX_c)         := put(put(ZERO_c, SCALES_g, CFG_ORB_SCALES_MSB_c, CFG_ORB_SCALES_LSB_c),
-                                         SECTORS_g, CFG_ORB_SECTORS_MSB_c, CFG_ORB_SECTORS_LSB_c);
+    li(REG_CFG_ORB_IDX_c)         := put(put(put(put(ZERO_c, SCALES_g, CFG_ORB_SCALES_MSB_c, CFG_ORB_SCALES_LSB_c),
+                                                 SECTORS_g, CFG_ORB_SECTORS_MSB_c, CFG_ORB_SECTORS_LSB_c),
+                                             STEP_NUM_g, CFG_ORB_STEP_NUM_MSB_c, CFG_ORB_STEP_NUM_LSB_c),
+                                         STEP_DEN_g, CFG_ORB_STEP_DEN_MSB_c, CFG_ORB_STEP_DEN_LSB_c);
     li(REG_CFG_MEM_IDX_c)         := put(put(ZERO_c, MEM_DEPTH_g, CFG_MEM_DEPTH_MSB_c, CFG_MEM_DEPTH_LSB_c),
                                          MEM_LATENCY_g, CFG_MEM_LATENCY_MSB_c, CFG_MEM_LATENCY_LSB_c);
     li(REG_STATUS_IDX_c)          := put(put(put(ZERO_c, bank_ready, STATUS_BANK_READY_MSB_c, STATUS_BANK_READY_LSB_c),

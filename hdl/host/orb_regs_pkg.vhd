@@ -18,7 +18,7 @@ package orb_regs_pkg is
   -- register map major version (incompatible changes)
   constant VERSION_MAJOR_c : natural := 2;
   -- register map minor version (compatible additions)
-  constant VERSION_MINOR_c : natural := 0;
+  constant VERSION_MINOR_c : natural := 1;
   -- byte address of the feature-memory window; register offsets lie below it
   constant MEM_BASE_c : natural := 16#10000#;
   -- feature-memory banks (double buffering)
@@ -36,7 +36,7 @@ package orb_regs_pkg is
   constant REG_VERSION_c         : natural := 16#004#;
   constant REG_VERSION_IDX_c     : natural := 1;
   constant REG_VERSION_MASK_c    : std_logic_vector(31 downto 0) := x"FFFFFFFF";
-  constant REG_VERSION_RESET_c   : std_logic_vector(31 downto 0) := x"00020000";
+  constant REG_VERSION_RESET_c   : std_logic_vector(31 downto 0) := x"00020001";
   constant VERSION_MINOR_LSB_c   : natural := 0;
   constant VERSION_MINOR_MSB_c   : natural := 15;
   constant VERSION_MINOR_RESET_c : natural := VERSION_MINOR_c;
@@ -53,17 +53,21 @@ package orb_regs_pkg is
   constant CFG_SIZE_HEIGHT_LSB_c : natural := 16;
   constant CFG_SIZE_HEIGHT_MSB_c : natural := 31;
 
-  -- CFG_ORB (ro): configuration read-back: scales, sectors, banks
-  constant REG_CFG_ORB_c         : natural := 16#00C#;
-  constant REG_CFG_ORB_IDX_c     : natural := 3;
-  constant REG_CFG_ORB_MASK_c    : std_logic_vector(31 downto 0) := x"000FFF0F";
-  constant CFG_ORB_SCALES_LSB_c  : natural := 0;
-  constant CFG_ORB_SCALES_MSB_c  : natural := 3;
-  constant CFG_ORB_SECTORS_LSB_c : natural := 8;
-  constant CFG_ORB_SECTORS_MSB_c : natural := 15;
-  constant CFG_ORB_BANKS_LSB_c   : natural := 16;
-  constant CFG_ORB_BANKS_MSB_c   : natural := 19;
-  constant CFG_ORB_BANKS_RESET_c : natural := BANKS_c;
+  -- CFG_ORB (ro): configuration read-back: scales, pyramid step, sectors, banks
+  constant REG_CFG_ORB_c          : natural := 16#00C#;
+  constant REG_CFG_ORB_IDX_c      : natural := 3;
+  constant REG_CFG_ORB_MASK_c     : std_logic_vector(31 downto 0) := x"1FFFFF0F";
+  constant CFG_ORB_SCALES_LSB_c   : natural := 0;
+  constant CFG_ORB_SCALES_MSB_c   : natural := 3;
+  constant CFG_ORB_SECTORS_LSB_c  : natural := 8;
+  constant CFG_ORB_SECTORS_MSB_c  : natural := 15;
+  constant CFG_ORB_BANKS_LSB_c    : natural := 16;
+  constant CFG_ORB_BANKS_MSB_c    : natural := 19;
+  constant CFG_ORB_BANKS_RESET_c  : natural := BANKS_c;
+  constant CFG_ORB_STEP_DEN_LSB_c : natural := 20;
+  constant CFG_ORB_STEP_DEN_MSB_c : natural := 23;
+  constant CFG_ORB_STEP_NUM_LSB_c : natural := 24;
+  constant CFG_ORB_STEP_NUM_MSB_c : natural := 28;
 
   -- CFG_MEM (ro): configuration read-back: feature memory
   constant REG_CFG_MEM_c         : natural := 16#010#;
@@ -259,9 +263,9 @@ package orb_regs_pkg is
   (
     -- register              => (offset, access, mask, reset, live, pulse)
     REG_ID_IDX_c             => (REG_ID_c, access_ro, x"FFFFFFFF", x"4F524231", x"00000000", x"00000000"),
-    REG_VERSION_IDX_c        => (REG_VERSION_c, access_ro, x"FFFFFFFF", x"00020000", x"00000000", x"00000000"),
+    REG_VERSION_IDX_c        => (REG_VERSION_c, access_ro, x"FFFFFFFF", x"00020001", x"00000000", x"00000000"),
     REG_CFG_SIZE_IDX_c       => (REG_CFG_SIZE_c, access_ro, x"FFFFFFFF", x"00000000", x"FFFFFFFF", x"00000000"),
-    REG_CFG_ORB_IDX_c        => (REG_CFG_ORB_c, access_ro, x"000FFF0F", x"00020000", x"0000FF0F", x"00000000"),
+    REG_CFG_ORB_IDX_c        => (REG_CFG_ORB_c, access_ro, x"1FFFFF0F", x"00020000", x"1FF0FF0F", x"00000000"),
     REG_CFG_MEM_IDX_c        => (REG_CFG_MEM_c, access_ro, x"0FFFFFFF", x"00000000", x"0FFFFFFF", x"00000000"),
     REG_CTRL_IDX_c           => (REG_CTRL_c, access_rw, x"00000033", x"00000000", x"00000000", x"00000002"),
     REG_THRESHOLD_IDX_c      => (REG_THRESHOLD_c, access_rw, x"000000FF", x"00000014", x"00000000", x"00000000"),

@@ -2,8 +2,10 @@
 -- orb_overlay: marks the previous frame's features on a passing RGB video stream (HDMI demo,
 -- docs/spec.md section 13, docs/overlay.md). The feature stream (s_axis_feat, 320-bit words of
 -- orb_feat_pkg; only scale, x, y and tlast are used) sets one bit per (block, scale) in the fill
--- bank of two block-RAM bitmap banks: a feature of scale s at (x, y) marks block (x >> (b - s),
--- y >> (b - s)) of the frame's 2^b x 2^b blocks, b = BLOCK_LOG2_g. Each bank is one 1-bit-wide
+-- bank of two block-RAM bitmap banks: a feature of scale s at (x, y) marks the block of the frame's
+-- 2^b x 2^b blocks (b = BLOCK_LOG2_g) that holds its full-resolution centre (x + 0.5) r^s - 0.5,
+-- r = STEP_NUM_g / STEP_DEN_g: bx = ((2x + 1) NUM^s - DEN^s) >> (1 + s log2(DEN) + b), likewise by
+-- (for 2:1 simply x >> (b - s)). Each bank is one 1-bit-wide
 -- simple dual-port RAM per scale, so a mark is a plain write (no read-modify-write) and the marks of a
 -- feature frame are an OR, independent of the order in which features or scales arrive. The
 -- video stream (24-bit RGB, R in [23:16]) reads the show bank in raster order and draws scale s of
@@ -29,6 +31,8 @@ entity orb_overlay is
     WIDTH_g      : width_t      := 640;
     HEIGHT_g     : height_t     := 480;
     SCALES_g     : scales_t     := 4;
+    STEP_NUM_g   : step_num_t   := 2;  -- the pyramid step of the features (orb_core's)
+    STEP_DEN_g   : step_den_t   := 1;
     BLOCK_LOG2_g : block_log2_t := 3
   );
   port (
@@ -62,10 +66,29 @@ architecture rtl of orb_overlay is
   constant Y_BITS_c    : positive := clog2(HEIGHT_g + 1);  -- HEIGHT_g means "no frame / beyond it"
   constant RING_BITS_c : positive := BLOCK_LOG2_g - 1;
 
-  type colour_table_t is array (0 to 3) of std_logic_vector(23 downto 0);
+  type colour_table_t is array (0 to 7) of std_logic_vector(23 downto 0);
 
-  -- Scale colours (RGB): green, cyan, magenta, yellow (golden_model.overlay.SCALE_COLOURS).
-  constant COLOURS_c : colour_table_t := (x"00FF00", x"00DCFF", x"FF00FF", x"FFDC00");
+  -- Scale colours (RGB): green, cyan, magenta, yellow, orange, blue, red, white
+  -- (golden_model.overlay.SCALE_COLOURS).
+  constant COLOURS_c : colour_table_t := (x"00FF00", x"00DCFF", x"FF00FF", x"FFDC00",
+                                          x"FF8000", x"4080FF", x"FF3030", x"FFFFFF");
+
+  -- Block of a feature: NUM^s and s log2(DEN) per scale, and the width of (2x + 1) NUM^s.
+  type nat_arr_t is array (0 to SCALES_g - 1) of natural;
+
+  function num_powers return nat_arr_t is
+    variable p : nat_arr_t;
+  begin
+    p(0) := 1;
+    for k in 1 to SCALES_g - 1 loop
+      p(k) := p(k - 1) * STEP_NUM_g;
+    end loop;
+    return p;
+  end function num_powers;
+
+  constant NUM_POW_c  : nat_arr_t := num_powers;
+  constant DEN_LOG_c  : natural   := clog2(STEP_DEN_g);
+  constant PROD_BITS_c : positive := COORD_BITS_c + 1 + clog2(NUM_POW_c(SCALES_g - 1) + 1);
 
   function bit_of (n : natural) return std_logic is
   begin
@@ -95,7 +118,7 @@ architecture rtl of orb_overlay is
   -- feature side
   signal waiting  : std_logic := '0';  -- the fill bank holds a complete feature frame
   signal dropping : std_logic := '0';  -- the feature frame in progress is discarded
-  signal f_scale  : unsigned(1 downto 0);
+  signal f_scale  : unsigned(FEAT_SCALE_BITS_c - 1 downto 0);
   signal f_bx     : unsigned(COORD_BITS_c - 1 downto 0);
   signal f_by     : unsigned(COORD_BITS_c - 1 downto 0);
   signal f_inside : std_logic;
@@ -104,7 +127,7 @@ architecture rtl of orb_overlay is
   -- bitmap write ports: one feature mark and one clear per clock (never in the same bank)
   signal fw_en    : std_logic := '0';
   signal fw_bank  : std_logic := '0';
-  signal fw_scale : unsigned(1 downto 0) := (others => '0');
+  signal fw_scale : unsigned(FEAT_SCALE_BITS_c - 1 downto 0) := (others => '0');
   signal fw_addr  : unsigned(ADDR_BITS_c - 1 downto 0) := (others => '0');
   signal clr_en   : std_logic := '0';
   signal clr_bank : std_logic := '0';
@@ -215,18 +238,26 @@ begin
 
   f_scale <= unsigned(s_axis_feat_tdata(FEAT_SCALE_LO_c + FEAT_SCALE_BITS_c - 1 downto FEAT_SCALE_LO_c));
 
-  -- Block of a feature: (x >> (b - s), y >> (b - s)), b = BLOCK_LOG2_g (2^s <= 2^b: the scale pixel's
-  -- whole footprint lies in that block). Scales >= SCALES_g are ignored.
+  -- Block of a feature: ((2x + 1) NUM^s - DEN^s) >> (1 + s log2(DEN) + b), likewise in y (for 2:1
+  -- the same as x >> (b - s)). Scales >= SCALES_g are ignored.
   block_of : process (s_axis_feat_tdata, f_scale) is
-    variable sh : natural range 0 to 5;
+    variable fx, fy : unsigned(COORD_BITS_c downto 0);
+    variable px, py : unsigned(PROD_BITS_c - 1 downto 0);
   begin
-    if to_integer(f_scale) < SCALES_g then
-      sh := BLOCK_LOG2_g - to_integer(f_scale);
-    else
-      sh := BLOCK_LOG2_g;
-    end if;
-    f_bx <= shift_right(unsigned(s_axis_feat_tdata(FEAT_X_LO_c + COORD_BITS_c - 1 downto FEAT_X_LO_c)), sh);
-    f_by <= shift_right(unsigned(s_axis_feat_tdata(FEAT_Y_LO_c + COORD_BITS_c - 1 downto FEAT_Y_LO_c)), sh);
+    fx   := unsigned(s_axis_feat_tdata(FEAT_X_LO_c + COORD_BITS_c - 1 downto FEAT_X_LO_c)) & '1';  -- 2x + 1
+    fy   := unsigned(s_axis_feat_tdata(FEAT_Y_LO_c + COORD_BITS_c - 1 downto FEAT_Y_LO_c)) & '1';
+    f_bx <= (others => '1');
+    f_by <= (others => '1');
+    for k in 0 to SCALES_g - 1 loop
+      if to_integer(f_scale) = k then
+        px   := resize(fx * to_unsigned(NUM_POW_c(k), PROD_BITS_c - COORD_BITS_c - 1), PROD_BITS_c)
+                - 2 ** (k * DEN_LOG_c);
+        py   := resize(fy * to_unsigned(NUM_POW_c(k), PROD_BITS_c - COORD_BITS_c - 1), PROD_BITS_c)
+                - 2 ** (k * DEN_LOG_c);
+        f_bx <= resize(shift_right(px, 1 + k * DEN_LOG_c + BLOCK_LOG2_g), COORD_BITS_c);
+        f_by <= resize(shift_right(py, 1 + k * DEN_LOG_c + BLOCK_LOG2_g), COORD_BITS_c);
+      end if;
+    end loop;
   end process block_of;
 
   f_inside <= '1' when to_integer(f_scale) < SCALES_g and f_bx < BLOCKS_X_c and f_by < BLOCKS_Y_c else

@@ -3,7 +3,8 @@
 -- RGB, dvi2rgb's RBG packing or 8-bit luma, INPUT_g) is broadcast to the overlay and to the
 -- feature path: orb_rgb_luma -> orb_frame_gate (CTRL.enable, sampled at each start of frame) ->
 -- orb_video_check (the detector only ever sees complete frames; faulty ones are padded and
--- flagged) -> orb_core (SCALES_g scales, SECTORS_g orientation sectors, orb or fast mode) ->
+-- flagged) -> orb_core (SCALES_g scales of the STEP_NUM_g:STEP_DEN_g pyramid, SECTORS_g
+-- orientation sectors, orb or fast mode) ->
 -- orb_feat_mem (two banks the CPU reads over AXI4-Lite; a frame flagged bad by the checker is
 -- aborted there, never published) and orb_overlay (the previous frame's features drawn on the
 -- passing video, m_axis_video, in the input's packing). orb_axil_regs holds the registers
@@ -24,6 +25,8 @@ entity orb_accel_top is
     WIDTH_g      : width_t      := 640;   -- legal values: orb_limits_pkg (docs/limits.md)
     HEIGHT_g     : height_t     := 480;
     SCALES_g     : scales_t     := 2;
+    STEP_NUM_g   : step_num_t   := 2;     -- pyramid step STEP_NUM_g:STEP_DEN_g (2:1: the box)
+    STEP_DEN_g   : step_den_t   := 1;
     SECTORS_g    : sectors_t    := 32;    -- orientation sectors in all
     MEM_DEPTH_g  : mem_depth_t  := 1024;  -- feature slots per bank
     INPUT_g      : string       := "RGB"; -- "RGB", "RBG" (dvi2rgb) or "LUMA"
@@ -165,6 +168,8 @@ begin
       WIDTH_g       => WIDTH_g,
       HEIGHT_g      => HEIGHT_g,
       SCALES_g      => SCALES_g,
+      STEP_NUM_g    => STEP_NUM_g,
+      STEP_DEN_g    => STEP_DEN_g,
       SECTORS_g     => SECTORS_g,
       MEM_DEPTH_g   => MEM_DEPTH_g,
       MEM_LATENCY_g => 2,
@@ -301,9 +306,11 @@ begin
     generic map (
       WIDTH_g   => WIDTH_g,
       HEIGHT_g  => HEIGHT_g,
-      SCALES_g  => SCALES_g,
-      SECTORS_g => SECTORS_g,
-      DESC_g    => true
+      SCALES_g   => SCALES_g,
+      STEP_NUM_g => STEP_NUM_g,
+      STEP_DEN_g => STEP_DEN_g,
+      SECTORS_g  => SECTORS_g,
+      DESC_g     => true
     )
     port map (
       clk                 => clk,
@@ -400,6 +407,8 @@ begin
       WIDTH_g      => WIDTH_g,
       HEIGHT_g     => HEIGHT_g,
       SCALES_g     => SCALES_g,
+      STEP_NUM_g   => STEP_NUM_g,
+      STEP_DEN_g   => STEP_DEN_g,
       BLOCK_LOG2_g => BLOCK_LOG2_g
     )
     port map (

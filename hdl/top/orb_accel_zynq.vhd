@@ -24,7 +24,9 @@ entity orb_accel_zynq is
   generic (
     WIDTH_g                 : integer := 640;   -- frame width
     HEIGHT_g                : integer := 480;   -- frame height
-    SCALES_g                : integer := 2;     -- scales
+    SCALES_g                : integer := 2;     -- scales (pyramid levels)
+    STEP_NUM_g              : integer := 2;     -- pyramid step STEP_NUM_g:STEP_DEN_g
+    STEP_DEN_g              : integer := 1;
     SECTORS_g               : integer := 32;    -- orientation sectors in all
     MEM_DEPTH_g             : integer := 1024;  -- feature slots per bank
     INPUT_g                 : string  := "RBG"; -- "RGB", "RBG" (Digilent dvi2rgb) or "LUMA"
@@ -158,6 +160,8 @@ begin
       WIDTH_g      => WIDTH_g,
       HEIGHT_g     => HEIGHT_g,
       SCALES_g     => SCALES_g,
+      STEP_NUM_g   => STEP_NUM_g,
+      STEP_DEN_g   => STEP_DEN_g,
       SECTORS_g    => SECTORS_g,
       MEM_DEPTH_g  => MEM_DEPTH_g,
       INPUT_g      => INPUT_g,

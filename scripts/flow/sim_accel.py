@@ -29,11 +29,11 @@ import cv2
 import numpy as np
 
 from golden_model import Config, extract, first_difference
-from golden_model.config import ConfigError
+from golden_model.config import RECOMMENDED_SCALES, RECOMMENDED_SECTORS, RECOMMENDED_STEP, ConfigError, parse_step
 from golden_model.features import read_csv
 from golden_model.images import DEFAULT_IMAGE, ImageError
 from golden_model.luma import rgb_to_luma
-from golden_model.overlay import render_marker_overlay
+from golden_model.overlay import marker_block_log2, render_marker_overlay
 from orb_accel.driver import Frame
 from orb_sim.fast.sim import FastSimError
 from orb_sim.rtl_backend import RtlUnavailable, run_accel_job
@@ -63,8 +63,15 @@ def progress_loop(path: Path, stop: threading.Event) -> None:
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--image", type=Path, help="image file (default: the bundled 640x480 photograph)")
-    ap.add_argument("--scales", type=int, default=2)
-    ap.add_argument("--sectors", type=int, default=32, help="16, 32 or 64")
+    rec = f"{RECOMMENDED_STEP[0]}:{RECOMMENDED_STEP[1]}"
+    ap.add_argument(
+        "--scales",
+        type=int,
+        default=RECOMMENDED_SCALES,
+        help=f"scales, pyramid levels (default {RECOMMENDED_SCALES}, the recommended configuration)",
+    )
+    ap.add_argument("--step", default=rec, help=f"pyramid step NUM:DEN (default {rec})")
+    ap.add_argument("--sectors", type=int, default=RECOMMENDED_SECTORS, help="16, 32 or 64")
     ap.add_argument("--threshold", type=int, default=20)
     ap.add_argument("--out-dir", type=Path, default=ROOT / "build" / "sim")
     ap.add_argument("--fast", action="store_true", help="the netlist in Verilator instead of the RTL in GHDL")
@@ -82,8 +89,9 @@ def main() -> int:
         rgb = original if original.ndim == 3 else np.repeat(original[..., None], 3, axis=2)
         rgb = np.ascontiguousarray(rgb[..., :3], dtype=np.uint8)
         h, w = rgb.shape[:2]
+        num, den = parse_step(args.step)
         cfg = Config(width=w, height=h, scales=args.scales, sectors=args.sectors,
-                     threshold=args.threshold, mode="orb")  # fmt: skip
+                     threshold=args.threshold, mode="orb", step_num=num, step_den=den)  # fmt: skip
     except (ImageError, ConfigError, ValueError, OSError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
@@ -93,7 +101,8 @@ def main() -> int:
     job.mkdir(parents=True)
     log = out / "sim.log"
     engine = "its netlist in Verilator" if args.fast else f"GHDL (log: {log})"
-    print(f"make sim: {path.name} {w}x{h}, {cfg.scales} scale(s), {cfg.sectors} sectors, "
+    print(f"make sim: {path.name} {w}x{h}, {cfg.scales} scale(s) of {cfg.step_num}:{cfg.step_den}, "
+          f"{cfg.sectors} sectors, "
           f"threshold {cfg.threshold}: orb_accel_top in {engine}", flush=True)  # fmt: skip
     stop = threading.Event()
     watcher = threading.Thread(target=progress_loop, args=(job / "progress.txt", stop), daemon=True)
@@ -112,17 +121,18 @@ def main() -> int:
     finally:
         stop.set()
     sim_wall = time.perf_counter() - t0
-    feats = read_csv(job / "features.csv", sectors_total=cfg.sectors)
+    feats = read_csv(job / "features.csv", sectors_total=cfg.sectors, step=cfg.step)
     shutil.copyfile(job / "features.csv", out / "features.csv")
     expected = extract(rgb_to_luma(rgb), cfg)
     diff = first_difference(feats, expected)
     overlay = np.load(job / "overlay.npy")
-    overlay_expected = render_marker_overlay(rgb, expected, scales=cfg.scales)
+    overlay_expected = render_marker_overlay(rgb, expected, scales=cfg.scales, block_log2=marker_block_log2(cfg.scales))
     overlay_exact = bool(np.array_equal(overlay, overlay_expected))
     cv2.imwrite(str(out / "overlay.png"), cv2.cvtColor(overlay, cv2.COLOR_RGB2BGR))
     dropped = result["dropped_merge"] + result["truncated"] + result["desc_lost"]
     report = {
-        "image": str(path), "width": w, "height": h, "scales": cfg.scales, "sectors": cfg.sectors,
+        "image": str(path), "width": w, "height": h, "scales": cfg.scales, "step": f"{cfg.step_num}:{cfg.step_den}",
+        "sectors": cfg.sectors,
         "threshold": cfg.threshold, "features": result["features"], "bit_exact": diff is None,
         "first_difference": diff, "overlay_bit_exact": overlay_exact, "dropped": dropped,
         "dropped_detail": {"merge": result["dropped_merge"], "feature_memory_truncated": result["truncated"],
@@ -153,15 +163,17 @@ def main_video(args: argparse.Namespace) -> int:
     try:
         frames = load_frames([args.video], max_frames=args.max_frames)
         n, h, w = frames.shape[:3]
+        num, den = parse_step(args.step)
         cfg = Config(width=w, height=h, scales=args.scales, sectors=args.sectors,
-                     threshold=args.threshold, mode="orb")  # fmt: skip
+                     threshold=args.threshold, mode="orb", step_num=num, step_den=den)  # fmt: skip
     except (ImageError, ConfigError, ValueError, OSError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
     out = args.out_dir.resolve()
     out.mkdir(parents=True, exist_ok=True)
-    print(f"make sim: {args.video.name}, {n} frames of {w}x{h}, {cfg.scales} scale(s), {cfg.sectors} sectors, "
-          f"threshold {cfg.threshold}: orb_accel_top's netlist in Verilator", flush=True)  # fmt: skip
+    print(f"make sim: {args.video.name}, {n} frames of {w}x{h}, {cfg.scales} scale(s) of "
+          f"{cfg.step_num}:{cfg.step_den}, {cfg.sectors} sectors, threshold {cfg.threshold}: orb_accel_top's "
+          "netlist in Verilator", flush=True)  # fmt: skip
     results: list[dict] = []
 
     def check(i: int, frame: Frame) -> None:
@@ -179,7 +191,8 @@ def main_video(args: argparse.Namespace) -> int:
         print(f"error: {exc}", file=sys.stderr)
         return 1
     exact = sum(r["bit_exact"] for r in results)
-    report = {"video": str(args.video), "width": w, "height": h, "scales": cfg.scales, "sectors": cfg.sectors,
+    report = {"video": str(args.video), "width": w, "height": h, "scales": cfg.scales,
+              "step": f"{cfg.step_num}:{cfg.step_den}", "sectors": cfg.sectors,
               "threshold": cfg.threshold, "frames": n, "frames_published": len(results), "bit_exact_frames": exact,
               "features": sum(r["features"] for r in results), "run": run, "per_frame": results,
               "engine": "verilator-netlist"}  # fmt: skip

@@ -179,8 +179,8 @@ def parse_config(text: str) -> Config:
     if not m:
         raise argparse.ArgumentTypeError(f"config must look like 1920x1080x2 (W x H x scales), got {text!r}")
     w, h, s = (int(g) for g in m.groups())
-    if not (64 <= w <= 1920 and 48 <= h <= 1080 and 1 <= s <= 4):
-        raise argparse.ArgumentTypeError(f"{text}: the tops allow W 64..1920, H 48..1080, scales 1..4")
+    if not (64 <= w <= 1920 and 48 <= h <= 1080 and 1 <= s <= 8):
+        raise argparse.ArgumentTypeError(f"{text}: the tops allow W 64..1920, H 48..1080, scales 1..8")
     return Config(w, h, s)
 
 
@@ -207,7 +207,11 @@ class Job:
 def parse_generic(text: str) -> tuple[str, str]:
     """'MEM_DEPTH_g=2048' -> ('MEM_DEPTH_g', '2048'); only the generics a top already has can be set."""
     name, sep, value = text.partition("=")
-    known = {"WIDTH_g", "HEIGHT_g", "SCALES_g"} | {k for g in TOPS.values() for k in g} | {"SECTORS_g"}
+    known = (
+        {"WIDTH_g", "HEIGHT_g", "SCALES_g"}
+        | {k for g in TOPS.values() for k in g}
+        | {"SECTORS_g", "STEP_NUM_g", "STEP_DEN_g", "BLOCK_LOG2_g"}
+    )
     if not sep or not value or name not in known:
         raise argparse.ArgumentTypeError(f"--generic takes NAME=VALUE with NAME one of {sorted(known)}, got {text!r}")
     return name, value

@@ -7,8 +7,8 @@ Writes hdl/common/orb_limits_pkg.vhd (per parameter <NAME>_MIN_c, <NAME>_MAX_c, 
 golden_model/limits.py (the same as Python constants and Limit records, for the model's Config and
 the CLI) and docs/limits.md (the table). Deterministic: the same data gives byte-identical files. The
 data is checked first (names, min <= max, value sets inside min..max, powers of two, every legal
-value fitting its read-back register field in golden_model/data/regmap.json, the smallest scale
-at least scale_width.min wide). Usage: scripts/gen/gen_limits.py [--out DIR] (DIR gets hdl/,
+value fitting its read-back register field in golden_model/data/regmap.json, scale_width/scale_height
+spanning width/height). Usage: scripts/gen/gen_limits.py [--out DIR] (DIR gets hdl/,
 golden_model/ and docs/ below it; default: the repository; tb/common/test_orb_limits_pkg.py
 regenerates into a temporary directory).
 """
@@ -35,7 +35,7 @@ SOURCE = "golden_model/data/limits.json"
 NAME_RE = re.compile(r"^[a-z][a-z0-9_]*$")
 GENERIC_RE = re.compile(r"^[A-Z][A-Z0-9_]*_g$")
 REGISTER_RE = re.compile(r"^([A-Z][A-Z0-9_]*)\.([a-z][a-z0-9_]*)$")
-REQUIRED = ("width", "height", "scales", "sectors", "threshold", "scale_width")
+REQUIRED = ("width", "height", "scales", "step_num", "step_den", "sectors", "threshold", "scale_width", "scale_height")
 
 
 @dataclass(frozen=True)
@@ -147,12 +147,10 @@ def check(lims: Limits, regmap: dict) -> None:
             bits = register_field_bits(regmap, lim.register)
             if lim.max >= 1 << bits:
                 raise LimitsError(f"{where}: max {lim.max} does not fit {lim.register} ({bits} bits)")
-    width, scales, scale_width = lims.get("width"), lims.get("scales"), lims.get("scale_width")
-    if width.min >> (scales.max - 1) < scale_width.min or scale_width.max != width.max:
-        raise LimitsError(
-            f"the smallest scale of a {width.min}-pixel frame at {scales.max} scales is narrower than "
-            f"scale_width.min {scale_width.min} (or scale_width.max is not width.max)"
-        )
+    width, height = lims.get("width"), lims.get("height")
+    scale_width, scale_height = lims.get("scale_width"), lims.get("scale_height")
+    if scale_width.max != width.max or scale_height.max != height.max:
+        raise LimitsError("scale_width.max must be width.max and scale_height.max height.max")
     sectors = lims.get("sectors")
     if any(v % 4 or 256 % v for v in sectors.values or (sectors.min, sectors.max)):
         raise LimitsError("sectors must be multiples of 4 (four quadrants) that divide the 256 tests")

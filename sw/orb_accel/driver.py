@@ -38,7 +38,7 @@ from .bus import Bus
 COUNTERS = ("FRAME_COUNT", "DROPPED", "PROTO_ERRORS", "OVERRUN", "OVERFLOW_COUNT", "DESC_LOST", "DISCARDED")
 IRQ_SOURCES = ("frame_done", "error")
 SLOT_WORDS = SLOT_BYTES // 4  # 32-bit words per slot (SLOT_WORDS_USED of them hold data)
-PATCH_DIAMETER = 31  # a keypoint's size at octave 0 (OpenCV ORB's patchSize): 31 * 2^octave
+PATCH_DIAMETER = 31  # a keypoint's size at octave 0 (OpenCV ORB's patchSize): 31 * r^octave
 NO_ANGLE = -1.0  # cv2.KeyPoint's angle when there is no orientation (fast mode)
 
 
@@ -55,6 +55,12 @@ class HwConfig:
     scales: int
     sectors: int  # orientation sectors in all (16, 32 or 64)
     mem_depth: int  # slots per bank (a bank holds mem_depth - 1 features and the record)
+    step_num: int = 2  # pyramid step step_num:step_den (each scale r = num / den times smaller)
+    step_den: int = 1
+
+    @property
+    def step(self) -> tuple[int, int]:
+        return self.step_num, self.step_den
 
 
 @dataclass(frozen=True)
@@ -103,7 +109,8 @@ class Frame:
 
     @property
     def x(self) -> np.ndarray:
-        """Feature centre in full-resolution pixels: (scale_x + 0.5) * 2^scale - 0.5."""
+        """Feature centre in full-resolution pixels: (scale_x + 0.5) r^scale - 0.5, r = num / den the
+        pyramid step (docs/spec.md section 3)."""
         return self.features.full_res()[0]
 
     @property
@@ -121,12 +128,12 @@ class Frame:
 
     def keypoint_arrays(self) -> dict[str, np.ndarray]:
         """cv2.KeyPoint's fields for every feature, as arrays: x, y (full resolution), size =
-        PATCH_DIAMETER * 2^octave, angle in degrees (-1: none, fast mode), response = score,
+        PATCH_DIAMETER * r^octave, angle in degrees (-1: none, fast mode), response = score,
         octave = scale. orb_accel.opencv and the ROS message are built from these."""
         octave = self.scale.astype(np.int32)
         angle = self.angle
         return {
-            "x": self.x, "y": self.y, "size": PATCH_DIAMETER * np.ldexp(1.0, octave),
+            "x": self.x, "y": self.y, "size": PATCH_DIAMETER * self.features.level_factor(),
             "angle": np.where(np.isnan(angle), NO_ANGLE, angle), "response": self.score.astype(np.float64),
             "octave": octave,
         }  # fmt: skip
@@ -197,6 +204,8 @@ class OrbAccel:
             scales=regs.CFG_ORB.field("scales").get(orb),
             sectors=regs.CFG_ORB.field("sectors").get(orb),
             mem_depth=regs.CFG_MEM.field("depth").get(mem),
+            step_num=regs.CFG_ORB.field("step_num").get(orb),
+            step_den=regs.CFG_ORB.field("step_den").get(orb),
         )
 
     def version(self) -> tuple[int, int]:
@@ -297,6 +306,7 @@ class OrbAccel:
         if record.count != count:
             raise AccelError(f"bank {bank}: record count {record.count}, BANK{bank}_INFO count {count}")
         feats = decode_features(words, self.hw.sectors, descriptors=mode == "orb")
+        feats.step = self.hw.step
         return Frame(bank, feats, record, mode, self.hw, self.counters() if counters else {})
 
     def release(self, bank: int) -> None:

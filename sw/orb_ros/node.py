@@ -85,6 +85,7 @@ def build_message(msg_cls: type, frame: Frame, threshold: int, stamp: object, fr
     msg.header.frame_id = frame_id
     msg.width, msg.height, msg.frame = hw.width, hw.height, frame.number
     msg.threshold, msg.mode, msg.scales, msg.sectors = threshold, frame.mode, hw.scales, hw.sectors
+    msg.step_num, msg.step_den = hw.step_num, hw.step_den
     msg.dropped, msg.truncated = frame.dropped, frame.truncated
     c = frame.counters
     msg.frames_total, msg.dropped_total = c.get("frame_count", 0), c.get("dropped", 0)
@@ -317,7 +318,8 @@ def run_node(rospy: ModuleType, msgs: ModuleType, srvs: ModuleType, bus: Bus, se
     node = FeatureNode(rospy, msgs, srvs, accel, settings.params, settings.frame_id, timeout_s,
                        settings.diag_period_s, hardware_id)  # fmt: skip
     hw, p = accel.hw, settings.params
-    rospy.loginfo(f"{NODE_NAME}: {hw.width}x{hw.height}, {hw.scales} scales, {hw.sectors} sectors; threshold "
+    rospy.loginfo(f"{NODE_NAME}: {hw.width}x{hw.height}, {hw.scales} scales of {hw.step_num}:{hw.step_den}, "
+                  f"{hw.sectors} sectors; threshold "
                   f"{p.threshold}, mode {p.mode}; frame timeout {timeout_s:g} s; publishing on "
                   f"{rospy.resolve_name('~features')}")  # fmt: skip
     try:

@@ -3,7 +3,7 @@
 the shipped driver (orb_accel.OrbAccel on orb_sim.cocotb_bus.CocotbBus over AXI4-Lite), the
 colour video source and an overlay-output capture. Used by the top-level tests and the jobs.
 Generics come from the environment (ORB_WIDTH, ORB_HEIGHT,
-ORB_SCALES, ORB_SECTORS, ORB_MEM_DEPTH, ORB_INPUT).
+ORB_SCALES, ORB_SECTORS, ORB_MEM_DEPTH, ORB_INPUT; ORB_STEP_NUM, ORB_STEP_DEN default 2:1).
 """
 
 from __future__ import annotations
@@ -51,7 +51,9 @@ class AccelBench:
         self.height = int(os.environ["ORB_HEIGHT"])
         self.scales = int(os.environ["ORB_SCALES"])
         self.sectors = int(os.environ["ORB_SECTORS"])  # in all (16, 32 or 64), as SECTORS_g
+        self.step = (int(os.environ.get("ORB_STEP_NUM", "2")), int(os.environ.get("ORB_STEP_DEN", "1")))  # pyramid
         self.depth = int(os.environ["ORB_MEM_DEPTH"])
+        self.block_log2 = int(os.environ.get("ORB_BLOCK_LOG2", "3"))  # the overlay's (orb_accel_top's default 3)
         self.input = os.environ.get("ORB_INPUT", "RGB")
         self.video = VideoSource(dut, self.clk)
         self.captured: list[np.ndarray] = []
@@ -74,7 +76,7 @@ class AccelBench:
         await RisingEdge(self.clk)
         # checks the ID, reads the configuration; reads only the used words of a slot (each read costs clocks)
         self.accel = await self.cpu(OrbAccel, self.bus, True, "slot")
-        assert self.accel.hw == HwConfig(self.width, self.height, self.scales, self.sectors, self.depth), (
+        assert self.accel.hw == HwConfig(self.width, self.height, self.scales, self.sectors, self.depth, *self.step), (
             f"configuration read back {self.accel.hw}"
         )
 

@@ -22,6 +22,7 @@ import numpy as np
 
 from golden_model.config import Config
 from golden_model.features import Features, read_csv
+from golden_model.overlay import marker_block_log2
 
 from .hdl import HDL, MANIFEST, ROOT
 from .runner import ToolMissing, run
@@ -55,7 +56,8 @@ def run_accel_job(img: np.ndarray, cfg: Config, job: Path, log: Path, overlay: b
     job.mkdir(parents=True, exist_ok=True)
     np.save(job / "input.npy", np.ascontiguousarray(img, dtype=np.uint8))
     generics = {"WIDTH_g": cfg.width, "HEIGHT_g": cfg.height, "SCALES_g": cfg.scales,
-                "SECTORS_g": cfg.sectors, "MEM_DEPTH_g": ACCEL_MEM_DEPTH,
+                "STEP_NUM_g": cfg.step_num, "STEP_DEN_g": cfg.step_den,
+                "SECTORS_g": cfg.sectors, "MEM_DEPTH_g": ACCEL_MEM_DEPTH, "BLOCK_LOG2_g": marker_block_log2(cfg.scales),
                 "INPUT_g": "LUMA" if img.ndim == 2 else "RGB"}  # fmt: skip
     env = {"ORB_JOB_DIR": str(job), "ORB_JOB_THRESHOLD": str(cfg.threshold), "ORB_JOB_MODE": cfg.mode,
            "ORB_JOB_OVERLAY": "1" if overlay else "0"}  # fmt: skip
@@ -72,14 +74,17 @@ def run_core_job(frames: list[np.ndarray], cfg: Config, thresholds: list[int], m
     job.mkdir(parents=True, exist_ok=True)
     np.save(job / "frames.npy", np.stack([np.ascontiguousarray(f, dtype=np.uint8) for f in frames]))
     generics = {"WIDTH_g": cfg.width, "HEIGHT_g": cfg.height, "SCALES_g": cfg.scales,
-                "SECTORS_g": cfg.sectors}  # fmt: skip
+                "STEP_NUM_g": cfg.step_num, "STEP_DEN_g": cfg.step_den, "SECTORS_g": cfg.sectors}  # fmt: skip
     env = {"ORB_JOB_DIR": str(job), "ORB_JOB_THRESHOLDS": ",".join(map(str, thresholds)),
            "ORB_JOB_MODES": ",".join(modes)}  # fmt: skip
     _simulate("orb_core", "orb_sim.jobs.core_job", generics, env, log)
     if not (job / "report.json").exists():
         raise RtlUnavailable(f"the simulation wrote no result; see {log}")
     report = json.loads((job / "report.json").read_text())
-    feats = [read_csv(job / f"features_{i}.csv", sectors_total=cfg.sectors) for i in range(report["frames_out"])]
+    feats = [
+        read_csv(job / f"features_{i}.csv", sectors_total=cfg.sectors, step=cfg.step)
+        for i in range(report["frames_out"])
+    ]
     return feats, report
 
 
@@ -97,7 +102,7 @@ def extract_rtl(img: np.ndarray, cfg: Config, log_dir: Path | None = None, top: 
     with tempfile.TemporaryDirectory() as tmp:
         if top == "accel":
             r = run_accel_job(img, cfg, Path(tmp), log, overlay=False)
-            feats = read_csv(Path(tmp) / "features.csv", sectors_total=cfg.sectors)
+            feats = read_csv(Path(tmp) / "features.csv", sectors_total=cfg.sectors, step=cfg.step)
             report = {"cycles": r["frame_cycles"], "pixels": r["pixels"], "latency_cycles": r["latency_cycles"],
                       "sim_wall_s": r["frame_sim_wall_s"], "dropped": r["dropped_merge"] + r["truncated"],
                       "desc_lost": r["desc_lost"], "truncated": r["truncated"]}  # fmt: skip

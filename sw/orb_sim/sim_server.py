@@ -29,6 +29,8 @@ from types import TracebackType
 import numpy as np
 
 from golden_model import limits
+from golden_model.config import Config
+from golden_model.overlay import marker_block_log2
 
 from .hdl import MANIFEST
 from .runner import run
@@ -44,7 +46,8 @@ class SimServerError(RuntimeError):
 class SimServer:
     def __init__(self, frames: np.ndarray, scales: int = 2, sectors: int = 32, mem_depth: int = 2048,
                  toplevel: str = "orb_accel_top", port: int = 0, h_blank: int = 16, v_blank_lines: int = 20,
-                 job_dir: Path | None = None, engine: str = "ghdl") -> None:  # fmt: skip
+                 job_dir: Path | None = None, engine: str = "ghdl",
+                 step: tuple[int, int] = (2, 1)) -> None:  # fmt: skip
         frames = np.asarray(frames)
         if frames.dtype != np.uint8 or frames.ndim not in (3, 4) or (frames.ndim == 4 and frames.shape[3] != 3):
             raise ValueError(f"frames must be (N, H, W, 3) or (N, H, W) uint8, got {frames.shape} {frames.dtype}")
@@ -59,11 +62,15 @@ class SimServer:
                            (limits.SECTORS, sectors), (limits.MEM_DEPTH, mem_depth)):  # fmt: skip
             if not lim.legal(value):
                 raise ValueError(f"{lim.name} must be {lim.text}, got {value}")
+        Config(
+            int(width), int(height), scales, sectors, step_num=step[0], step_den=step[1]
+        )  # the step and the level sizes
         if toplevel == "orb_accel_zynq" and frames.ndim != 4:
             raise ValueError("orb_accel_zynq takes colour frames (N, H, W, 3)")
         self.frames = frames
         self.generics: dict[str, int | str] = {
-            "WIDTH_g": int(width), "HEIGHT_g": int(height), "SCALES_g": scales, "SECTORS_g": sectors,
+            "WIDTH_g": int(width), "HEIGHT_g": int(height), "SCALES_g": scales, "STEP_NUM_g": int(step[0]),
+            "STEP_DEN_g": int(step[1]), "SECTORS_g": sectors, "BLOCK_LOG2_g": marker_block_log2(scales),
             "MEM_DEPTH_g": mem_depth,
             "INPUT_g": ("RBG" if toplevel == "orb_accel_zynq" else "RGB") if frames.ndim == 4 else "LUMA",
         }  # fmt: skip

@@ -23,7 +23,7 @@ from contextlib import ExitStack, contextmanager
 from pathlib import Path
 
 from golden_model import limits
-from golden_model.config import MODES
+from golden_model.config import MODES, parse_step
 from orb_accel.bus import Bus
 from orb_accel.driver import OrbAccel
 from orb_sim.sim_server import ENGINES, TOPLEVELS  # pure Python at import (no cocotb): fine on the board
@@ -42,6 +42,7 @@ def add_bus_options(p: argparse.ArgumentParser) -> None:
     g.add_argument("--sim", metavar="IMAGE_OR_VIDEO", nargs="+", type=Path,
                    help="start a simulator streaming these images or videos (one size) round and round")  # fmt: skip
     p.add_argument("--sim-scales", type=int, default=2, help="simulated bitstream: scales (default 2)")
+    p.add_argument("--sim-step", default="2:1", help="simulated bitstream: pyramid step NUM:DEN (default 2:1)")
     p.add_argument("--sim-sectors", type=int, default=32, help="simulated bitstream: sectors (default 32)")
     p.add_argument("--sim-mem-depth", type=int, default=2048, help="simulated bitstream: slots per bank (2048)")
     p.add_argument("--sim-size", metavar="WxH", help="resize every simulated frame to WxH")
@@ -81,6 +82,7 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     srv.add_argument("frames", nargs="+", type=Path, metavar="IMAGE_OR_VIDEO")
     srv.add_argument("--port", type=int, default=5555, help="TCP port on 127.0.0.1 (default 5555; 0: any)")
     srv.add_argument("--scales", type=int, default=2)
+    srv.add_argument("--step", default="2:1", help="pyramid step NUM:DEN (default 2:1)")
     srv.add_argument("--sectors", type=int, default=32)
     srv.add_argument("--mem-depth", type=int, default=2048)
     srv.add_argument("--size", metavar="WxH")
@@ -110,16 +112,17 @@ def _size(text: str | None) -> tuple[int, int] | None:
 
 
 def _start_sim(stack: ExitStack, paths: list[Path], scales: int, sectors: int, mem_depth: int, size: str | None,
-               max_frames: int, top: str, engine: str = "ghdl", port: int = 0) -> str:  # fmt: skip
+               max_frames: int, top: str, engine: str = "ghdl", port: int = 0, step: str = "2:1") -> str:  # fmt: skip
     from orb_sim.sim_server import SimServer
     from orb_tools.images import load_frames
 
     frames = load_frames(paths, _size(size), max_frames)
     h, w = frames.shape[1:3]
-    print(f"starting the simulator ({engine}): {top} {w}x{h}, {scales} scales, {sectors} sectors, "
+    num, den = parse_step(step)
+    print(f"starting the simulator ({engine}): {top} {w}x{h}, {scales} scales of {num}:{den}, {sectors} sectors, "
           f"{len(frames)} frame(s) round and round ...", flush=True)  # fmt: skip
     server = SimServer(frames, scales=scales, sectors=sectors, mem_depth=mem_depth, toplevel=top, port=port,
-                       engine=engine)  # fmt: skip
+                       engine=engine, step=(num, den))  # fmt: skip
     stack.enter_context(server)
     print(f"simulator listening on {server.address} (log: {server.log})", flush=True)
     return server.address
@@ -134,7 +137,7 @@ def open_bus(args: argparse.Namespace) -> Iterator[tuple[Bus, str, float]]:
         if args.sim or args.connect:
             address = args.connect or _start_sim(stack, args.sim, args.sim_scales, args.sim_sectors, args.sim_mem_depth,
                                                  args.sim_size, args.sim_max_frames, args.sim_top,
-                                                 args.sim_engine)  # fmt: skip
+                                                 args.sim_engine, 0, args.sim_step)  # fmt: skip
             bus = stack.enter_context(SocketBus(address))
             g = bus.info["generics"]
             period_s = (g["WIDTH_g"] + bus.info["h_blank"]) * g["HEIGHT_g"] + bus.info["v_blank"]
@@ -169,7 +172,8 @@ def cmd_info(args: argparse.Namespace) -> int:
         hw = accel.hw
         status = accel.read(regs.STATUS)
         print(f"accelerator on {what}: ID {accel.read(regs.ID):#010x} ('ORB1'), register map {major}.{minor}")
-        print(f"configuration: {hw.width}x{hw.height}, {hw.scales} scales, {hw.sectors} sectors, "
+        print(f"configuration: {hw.width}x{hw.height}, {hw.scales} scales of {hw.step_num}:{hw.step_den}, "
+              f"{hw.sectors} sectors, "
               f"{hw.mem_depth} slots per bank ({hw.mem_depth - 1} features per frame at most)")  # fmt: skip
         print(f"control: {'enabled' if accel.enabled else 'disabled'}, mode {accel.mode}, threshold {accel.threshold}; "
               f"STATUS {status:#x}, IRQ_STATUS {accel.read(regs.IRQ_STATUS):#x}")  # fmt: skip
@@ -300,7 +304,7 @@ def cmd_ros_env(_args: argparse.Namespace) -> int:
 def cmd_sim_server(args: argparse.Namespace) -> int:
     with ExitStack() as stack:
         _start_sim(stack, args.frames, args.scales, args.sectors, args.mem_depth, args.size, args.max_frames, args.top,
-                   args.engine, args.port)  # fmt: skip
+                   args.engine, args.port, args.step)  # fmt: skip
         print("serving until Ctrl-C", flush=True)
         while True:
             time.sleep(3600)

@@ -16,7 +16,14 @@ from pathlib import Path
 import numpy as np
 
 from golden_model import limits
-from golden_model.config import Config, ConfigError
+from golden_model.config import (
+    RECOMMENDED_SCALES,
+    RECOMMENDED_SECTORS,
+    RECOMMENDED_STEP,
+    Config,
+    ConfigError,
+    parse_step,
+)
 from golden_model.features import Features, write_csv
 from golden_model.images import DEFAULT_IMAGE, ImageError, to_luma
 from orb_sim.rtl_backend import RtlUnavailable
@@ -58,6 +65,18 @@ def _sectors(text: str) -> int:
     return _limited(limits.SECTORS, text)
 
 
+def _step(text: str) -> tuple[int, int]:
+    try:
+        num, den = parse_step(text)
+    except ConfigError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+    _limited(limits.STEP_NUM, str(num))
+    _limited(limits.STEP_DEN, str(den))
+    if not den < num <= 2 * den:
+        raise argparse.ArgumentTypeError(f"pyramid step {text}: need DEN < NUM <= 2 DEN")
+    return num, den
+
+
 def _positive_float(text: str) -> float:
     try:
         value = float(text)
@@ -80,9 +99,23 @@ def build_parser() -> argparse.ArgumentParser:
     ex.add_argument(
         "--threshold", type=_threshold, default=20, help=f"FAST threshold {limits.THRESHOLD.text} (default 20)"
     )
-    ex.add_argument("--scales", type=_scales, default=2, help=f"number of scales {limits.SCALES.text} (default 2)")
-    ex.add_argument("--sectors", type=_sectors, default=32,
-                    help=f"orientation sectors in all, {limits.SECTORS.text} (default 32)")  # fmt: skip
+    rec = f"{RECOMMENDED_STEP[0]}:{RECOMMENDED_STEP[1]}"
+    ex.add_argument(
+        "--scales",
+        type=_scales,
+        default=RECOMMENDED_SCALES,
+        help=f"number of scales (pyramid levels) {limits.SCALES.text} (default {RECOMMENDED_SCALES})",
+    )
+    ex.add_argument(
+        "--step",
+        type=_step,
+        default=RECOMMENDED_STEP,
+        help=f"pyramid step NUM:DEN, DEN a power of two, DEN < NUM <= 2 DEN; 2:1 is the thesis's box "
+        f"(default {rec}: with --scales, the recommended 640x480 configuration, docs/pyramid.md)",
+    )
+    ex.add_argument("--sectors", type=_sectors, default=RECOMMENDED_SECTORS,
+                    help=f"orientation sectors in all, {limits.SECTORS.text} "
+                         f"(default {RECOMMENDED_SECTORS})")  # fmt: skip
     ex.add_argument("--fast-only", action="store_true", help="detection only (no sectors or descriptors)")
     ex.add_argument("--out", type=Path, required=True, help="features CSV to write")
     ex.add_argument("--overlay", type=Path, help="PNG with the features drawn on the image")
@@ -157,6 +190,7 @@ def cmd_extract(args: argparse.Namespace) -> int:
     cfg = Config(
         width=w, height=h, scales=args.scales, sectors=args.sectors,
         threshold=args.threshold, mode="fast" if args.fast_only else "orb",
+        step_num=args.step[0], step_den=args.step[1],
     )  # fmt: skip
     t0 = time.perf_counter()
     feats = run_backend(args.backend, img, cfg)
@@ -164,7 +198,8 @@ def cmd_extract(args: argparse.Namespace) -> int:
     args.out.parent.mkdir(parents=True, exist_ok=True)
     write_csv(feats, args.out)
     per_scale = ", ".join(f"scale {s}: {int((feats.scale == s).sum())}" for s in range(cfg.scales))
-    print(f"{path.name} {w}x{h} [{args.backend}, {cfg.mode}, t={cfg.threshold}, {cfg.sectors} sectors]: "
+    print(f"{path.name} {w}x{h} [{args.backend}, {cfg.mode}, t={cfg.threshold}, {cfg.scales} scales of "
+          f"{cfg.step_num}:{cfg.step_den}, {cfg.sectors} sectors]: "
           f"{len(feats)} features ({per_scale}) in {elapsed:.3f} s -> {args.out}")  # fmt: skip
     if args.overlay is not None:
         from orb_tools.drawing import draw_overlay

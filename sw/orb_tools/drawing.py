@@ -23,10 +23,11 @@ def render_overlay(image: np.ndarray, features: Features) -> np.ndarray:
     canvas = np.ascontiguousarray(canvas)
     x0, y0 = features.full_res()
     angles = np.radians(features.angle_deg())
+    radius = 4.0 * features.level_factor()  # 4 full-resolution pixels at scale 0, r^s times that above
     for i in range(len(features)):
         s = int(features.scale[i])
         colour = SCALE_COLOURS[s % len(SCALE_COLOURS)]
-        r = 4 << s
+        r = round(float(radius[i]))
         cx, cy = round(float(x0[i])), round(float(y0[i]))
         cv2.circle(canvas, (cx, cy), r, colour, 1, cv2.LINE_AA)
         if not np.isnan(angles[i]):

@@ -48,7 +48,7 @@ def fast_keypoints(img: np.ndarray, threshold: int, nonmax: bool) -> tuple[np.nd
 
 def _extract_fast(img: np.ndarray, cfg: Config) -> Features:
     parts = []
-    for s, level in enumerate(pyramid(img, cfg.scales)):
+    for s, level in enumerate(pyramid(img, cfg.scales, cfg.step)):
         xs, ys = fast_keypoints(level, cfg.threshold, nonmax=True)
         n = len(xs)
         parts.append(
@@ -57,13 +57,13 @@ def _extract_fast(img: np.ndarray, cfg: Config) -> Features:
                 np.full(n, NO_SECTOR, dtype=np.int64), np.zeros((n, 0), dtype=np.uint8), cfg.sectors,
             )
         )  # fmt: skip
-    return Features.concat(parts, cfg.sectors, 0)
+    return Features.concat(parts, cfg.sectors, 0, cfg.step)
 
 
 def orb_detector(cfg: Config) -> cv2.ORB:
-    """OpenCV ORB with the accelerator's pyramid (2:1, ``cfg.scales`` levels) and FAST threshold."""
+    """OpenCV ORB with the accelerator's pyramid (step num/den, ``cfg.scales`` levels) and FAST threshold."""
     return cv2.ORB_create(
-        nfeatures=1_000_000, scaleFactor=2.0, nlevels=cfg.scales, edgeThreshold=ORB_EDGE_THRESHOLD,
+        nfeatures=1_000_000, scaleFactor=cfg.factor, nlevels=cfg.scales, edgeThreshold=ORB_EDGE_THRESHOLD,
         firstLevel=0, WTA_K=2, scoreType=cv2.ORB_FAST_SCORE, patchSize=ORB_PATCH_SIZE,
         fastThreshold=cfg.threshold,
     )  # fmt: skip
@@ -80,30 +80,30 @@ def _extract_orb(img: np.ndarray, cfg: Config) -> Features:
     octave = np.array([kp.octave for kp in kps], dtype=np.int64)
     pt = np.array([kp.pt for kp in kps], dtype=np.float64).reshape(n, 2)
     angle = np.array([kp.angle for kp in kps], dtype=np.float64)
-    # OpenCV detects at integer level coordinates and reports pt = level_xy * 2^octave. Inverting
-    # the pixel-centre convention of Features.full_res, round((pt + 0.5) / 2^octave - 0.5), gives
+    # OpenCV detects at integer level coordinates and reports pt = level_xy * r^octave. Inverting
+    # the pixel-centre convention of Features.full_res, round((pt + 0.5) / r^octave - 0.5), gives
     # back exactly level_xy for that convention too (the offset is below half a pixel), so it is
     # robust to either convention.
-    f = np.ldexp(1.0, octave.astype(np.int32))
+    f = cfg.factor ** octave.astype(np.float64)
     xs = np.rint((pt[:, 0] + 0.5) / f - 0.5).astype(np.int64)
     ys = np.rint((pt[:, 1] + 0.5) / f - 0.5).astype(np.int64)
-    levels = pyramid(img, cfg.scales)
+    levels = pyramid(img, cfg.scales, cfg.step)
     score = np.zeros(n, dtype=np.int64)
     for s, level in enumerate(levels):
         at = octave == s
         score[at] = sad_score_at(level, xs[at], ys[at])
     descriptor = desc if desc is not None else np.zeros((0, DESCRIPTOR_BYTES), dtype=np.uint8)
-    return Features(octave, xs, ys, score, angle_to_sector(angle, cfg.sectors), descriptor, cfg.sectors)
+    return Features(octave, xs, ys, score, angle_to_sector(angle, cfg.sectors), descriptor, cfg.sectors, cfg.step)
 
 
 def extract_opencv(img: np.ndarray, cfg: Config) -> Features:
     """OpenCV's features of one luma frame, in canonical order, with the configuration's settings.
 
     ``fast`` mode: ``cv2.FastFeatureDetector`` (FAST-9/16, its own 3x3 non-maximum suppression,
-    threshold ``cfg.threshold``) on each level of *our* 2:1 pyramid (``golden_model.scaler``), so
+    threshold ``cfg.threshold``) on each level of *our* pyramid (``golden_model.scaler``), so
     that a comparison with the model isolates the detector from the scaler. Sector -1, no descriptor.
 
-    ``orb`` mode: ``cv2.ORB`` with scale factor 2, ``cfg.scales`` levels (OpenCV's own pyramid,
+    ``orb`` mode: ``cv2.ORB`` with scale factor num/den, ``cfg.scales`` levels (OpenCV's own pyramid,
     bilinear resize), edge threshold 31, patch 31, FAST score, threshold ``cfg.threshold`` and no
     feature limit. Positions are converted from OpenCV's full-resolution ``pt`` to that octave's
     pixel coordinates; the sector is OpenCV's float angle rounded to the nearest of ``cfg.sectors``

@@ -95,14 +95,17 @@ def features_from_msg(msg: Any) -> Features:
     octave, sx, sy = cols["octave"], cols["scale_x"], cols["scale_y"]
     if n and (octave.min() < 0 or octave.max() >= int(msg.scales)):
         raise ValueError(f"octave outside 0 .. scales - 1 = {int(msg.scales) - 1}")
-    f = np.ldexp(1.0, octave.astype(np.int32))
-    for name, pos in (("x", sx), ("y", sy)):
-        bad = np.flatnonzero(np.float32((pos + 0.5) * f - 0.5) != np.float32(cols[name]))
+    num, den = int(msg.step_num), int(msg.step_den)
+    if not 1 <= den < num <= 2 * den:
+        raise ValueError(f"pyramid step {num}:{den}: need 1 <= step_den < step_num <= 2 step_den")
+    at = Features(octave.astype(np.int64), sx.astype(np.int64), sy.astype(np.int64), step=(num, den))
+    for name, pos, want in (("x", sx, at.full_res()[0]), ("y", sy, at.full_res()[1])):
+        bad = np.flatnonzero(np.float32(want) != np.float32(cols[name]))
         if len(bad):
             i = bad[0]
             raise ValueError(
-                f"feature {i}: {name} = {cols[name][i]:g} is not (scale_{name} + 0.5) * 2^octave - 0.5 "
-                f"with scale_{name} = {pos[i]:g}, octave = {octave[i]:g}"
+                f"feature {i}: {name} = {cols[name][i]:g} is not (scale_{name} + 0.5) * r^octave - 0.5 "
+                f"with scale_{name} = {pos[i]:g}, octave = {octave[i]:g}, r = {num}/{den}"
             )
     score = cols["response"]
     if not np.all(np.isfinite(score) & (score == np.round(score))):
@@ -120,7 +123,7 @@ def features_from_msg(msg: Any) -> Features:
         sector = exact.astype(np.int64)
     return Features(
         octave.astype(np.int64), sx.astype(np.int64), sy.astype(np.int64), score.astype(np.int64), sector,
-        desc.reshape(n, DESCRIPTOR_BYTES if mode == "orb" else 0), sectors,
+        desc.reshape(n, DESCRIPTOR_BYTES if mode == "orb" else 0), sectors, (num, den),
     )  # fmt: skip
 
 

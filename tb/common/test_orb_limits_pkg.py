@@ -19,6 +19,7 @@ import json
 import os
 import re
 import subprocess
+from collections.abc import Callable
 from pathlib import Path
 from types import ModuleType
 from typing import Any
@@ -37,7 +38,13 @@ DATA = ROOT / "golden_model" / "data" / "limits.json"
 VIEWS = (Path("hdl") / "common" / "orb_limits_pkg.vhd", Path("golden_model") / "limits.py", Path("docs") / "limits.md")
 RAW: dict[str, dict[str, Any]] = {r["name"]: r for r in json.loads(DATA.read_text())["limits"]}
 CONFIG_LIMITS = [name for name, r in RAW.items() if r.get("config")]
-LEGAL: dict[str, Any] = {"width": 640, "height": 480, "scales": 2, "sectors": 32, "threshold": 20, "mode": "orb"}
+LEGAL: dict[str, Any] = {"width": 1920, "height": 1080, "scales": 2, "sectors": 32, "threshold": 20, "mode": "orb"}
+# The pyramid step's fields are probed beside a partner value (step_den < step_num <= 2 step_den):
+# step_num beside step_den 8 (legal 9..16), step_den beside step_num 5 (legal 4 only, a power of two).
+STEP_PARTNER: dict[str, tuple[dict[str, int], Callable[[int], bool]]] = {
+    "step_num": ({"step_den": 8}, lambda v: 8 < v <= 16),
+    "step_den": ({"step_num": 5}, lambda v: v < 5 <= 2 * v),
+}
 
 
 def gen_module() -> ModuleType:
@@ -84,8 +91,8 @@ def _broken(raw: dict, what: str) -> dict:
         lims["threshold"]["max"] = 256
     elif what == "unknown register":
         lims["width"]["register"] = "CFG_SIZE.breadth"
-    elif what == "smallest scale too narrow":
-        lims["width"]["min"] = 32
+    elif what == "smallest-scale limit not spanning the frame":
+        lims["scale_width"]["max"] = 1280
     elif what == "power-of-two bounds":
         lims["mem_depth"]["min"] = 24
     elif what == "bad generic name":
@@ -106,7 +113,7 @@ def _broken(raw: dict, what: str) -> dict:
         "sectors not a multiple of 4",
         "register too narrow",
         "unknown register",
-        "smallest scale too narrow",
+        "smallest-scale limit not spanning the frame",
         "power-of-two bounds",
         "bad generic name",
         "missing limit",
@@ -161,13 +168,14 @@ def test_docs_list_every_limit() -> None:
 @pytest.mark.parametrize("name", CONFIG_LIMITS)
 def test_config_accepts_exactly_the_legal_values(name: str) -> None:
     wrong = []
+    partner, pair_legal = STEP_PARTNER.get(name, ({}, lambda v: True))
     for value in probe(name):
         try:
-            Config(**{**LEGAL, name: value})
+            Config(**{**LEGAL, **partner, name: value})
             accepted = True
         except ConfigError:
             accepted = False
-        if accepted != legal_in_data(name, value):
+        if accepted != (legal_in_data(name, value) and pair_legal(value)):
             wrong.append(value)
     assert not wrong, f"Config {name}: accepted/refused against {DATA.name} wrongly for {wrong[:10]}"
 

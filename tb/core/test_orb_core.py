@@ -16,6 +16,7 @@ import pytest
 from cocotb.clock import Clock
 from cocotb.triggers import ClockCycles, RisingEdge
 
+from golden_model.config import parse_step
 from orb_sim.feature_stream import FeatureMonitor
 from orb_sim.video import Gaps, VideoSource
 from orbtb import images
@@ -41,6 +42,7 @@ async def detect_frames(dut) -> None:
     modes = _env_list("ORB_MODES", "fast")
     modes = [modes[i % len(modes)] for i in range(len(frames))]
     sectors = int(os.environ.get("ORB_SECTORS", "32"))
+    step = parse_step(os.environ.get("ORB_STEP", "2:1"))
 
     clk = dut.clk
     dut.rst.value = 1
@@ -70,7 +72,7 @@ async def detect_frames(dut) -> None:
         assert got.number == i, f"frame {i}: end-of-frame beat numbered {got.number}"
         assert got.drops == 0, f"frame {i}: {got.drops} features dropped"
         orb = mode == "orb"
-        exp = expected_features(frame, scales, t, mode, sectors)
+        exp = expected_features(frame, scales, t, mode, sectors, step)
         check_frame(got.features(sectors, descriptors=orb), exp, f"frame {i} ({mode}, threshold {t})")
         if orb:
             assert len(exp) > 0 or names[i] == "flat", f"frame {i} ({names[i]}): no feature to compare"
@@ -84,12 +86,21 @@ async def detect_frames(dut) -> None:
 
 
 def run_detect(width: int, height: int, scales: int, images_: str, thresholds: str, gaps: str = "none",
-               modes: str = "fast", sectors: int = 32) -> None:  # fmt: skip
+               modes: str = "fast", sectors: int = 32, step: tuple[int, int] = (2, 1)) -> None:  # fmt: skip
+    generics = {"WIDTH_g": width, "HEIGHT_g": height, "SCALES_g": scales, "SECTORS_g": sectors}
+    if step != (2, 1):
+        generics |= {"STEP_NUM_g": step[0], "STEP_DEN_g": step[1]}
     run(
         "orb_core",
         "test_orb_core",
-        {"WIDTH_g": width, "HEIGHT_g": height, "SCALES_g": scales, "SECTORS_g": sectors},
-        env={"ORB_IMAGES": images_, "ORB_THRESHOLDS": thresholds, "ORB_GAPS": gaps, "ORB_MODES": modes},
+        generics,
+        env={
+            "ORB_IMAGES": images_,
+            "ORB_THRESHOLDS": thresholds,
+            "ORB_GAPS": gaps,
+            "ORB_MODES": modes,
+            "ORB_STEP": f"{step[0]}:{step[1]}",
+        },
     )
 
 
@@ -129,6 +140,24 @@ def test_detect_small(width: int, height: int, scales: int, images_: str, thresh
 def test_orb_small(width: int, height: int, scales: int, sectors: int, images_: str, thresholds: str, gaps: str,
                    modes: str) -> None:  # fmt: skip
     run_detect(width, height, scales, images_, thresholds, gaps, modes, sectors)
+
+
+# The finer pyramids (issue 14): every level of 5:4, 3:2 and 9:8 bit for bit, on photographs, the
+# densest legal input (zero drops) and input gaps; 5:4 x 8 is the deepest legal pyramid shape.
+@pytest.mark.parametrize(
+    ("width", "height", "scales", "step", "images_", "thresholds", "gaps", "modes"),
+    [
+        (160, 120, 6, (5, 4), "photo:astronaut,photo:coffee", "10,15", "none", "orb,orb"),
+        (128, 96, 8, (5, 4), "photo:chelsea", "8", "random:3", "orb"),
+        (128, 96, 5, (5, 4), "dots4,checker,checker4", "20,20,0", "none", "fast,fast,fast"),  # densest corners
+        (96, 96, 4, (5, 4), "dots4,noise", "20,20", "blanking", "orb"),
+        (160, 96, 3, (3, 2), "photo:camera,rotated:astronaut:60", "10,10", "random:2", "orb"),
+        (96, 72, 4, (9, 8), "photo:coffee", "10", "none", "orb"),
+    ],
+)  # fmt: skip
+def test_finer_pyramid(width: int, height: int, scales: int, step: tuple[int, int], images_: str, thresholds: str,
+                       gaps: str, modes: str) -> None:  # fmt: skip
+    run_detect(width, height, scales, images_, thresholds, gaps, modes, 32, step)
 
 
 @pytest.mark.parametrize(("width", "height", "scales"), [(640, 48, 2), (1920, 48, 1)])

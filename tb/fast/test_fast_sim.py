@@ -28,7 +28,7 @@ import cv2
 import numpy as np
 import pytest
 
-from golden_model.config import Config
+from golden_model.config import RECOMMENDED_SCALES, RECOMMENDED_SECTORS, RECOMMENDED_STEP, Config
 from golden_model.features import first_difference, read_csv
 from golden_model.luma import rgb_to_luma
 from golden_model.overlay import render_marker_overlay
@@ -152,11 +152,14 @@ def test_make_sim_fast_and_cli(tmp_path: Path, photos: list[np.ndarray]) -> None
     assert r.returncode == 0, r.stdout + r.stderr
     report = json.loads((tmp_path / "sim" / "report.json").read_text())
     assert report["bit_exact"] and report["overlay_bit_exact"] and report["engine"] == "verilator-netlist"
-    assert report["features"] == len(model(photos[3])) and report["dropped"] == 0
+    # make sim's default is the recommended configuration (golden_model.config.RECOMMENDED_*)
+    luma = rgb_to_luma(photos[3])
+    want = expected_features(luma, RECOMMENDED_SCALES, 20, "orb", RECOMMENDED_SECTORS, RECOMMENDED_STEP)
+    assert report["features"] == len(want) and report["dropped"] == 0
     out = tmp_path / "cli.csv"
     r = subprocess.run([sys.executable, "-m", "orb_tools.cli", "extract", str(img), "--backend", "rtl-fast", "--out",
                         str(out)], capture_output=True, text=True, timeout=900)  # fmt: skip
     assert r.returncode == 0, r.stdout + r.stderr
     luma = rgb_to_luma(cv2.cvtColor(cv2.imread(str(img)), cv2.COLOR_BGR2RGB))
-    want = expected_features(luma, 2, 20, "orb", 32)
+    want = expected_features(luma, RECOMMENDED_SCALES, 20, "orb", RECOMMENDED_SECTORS, RECOMMENDED_STEP)
     assert first_difference(read_csv(out, 32), want) is None

@@ -37,7 +37,17 @@ warnings.filterwarnings("ignore", category=DeprecationWarning, module=r"cocotb_b
 from cocotbext.axi import AxiLiteBus, AxiLiteMaster  # noqa: E402
 
 OKAY, SLVERR = 0, 2
-GENERIC_NAMES = ("WIDTH", "HEIGHT", "SCALES", "SECTORS", "MEM_DEPTH", "MEM_LATENCY", "ADDR_BITS")
+GENERIC_NAMES = (
+    "WIDTH",
+    "HEIGHT",
+    "SCALES",
+    "STEP_NUM",
+    "STEP_DEN",
+    "SECTORS",
+    "MEM_DEPTH",
+    "MEM_LATENCY",
+    "ADDR_BITS",
+)
 OP_TIMEOUT_NS = 2000 * PERIOD_NS  # "nothing hangs": every transaction must finish within this
 
 
@@ -631,6 +641,8 @@ GENERIC_SETS = {
         "WIDTH_g": 640,
         "HEIGHT_g": 480,
         "SCALES_g": 1,
+        "STEP_NUM_g": 2,
+        "STEP_DEN_g": 1,
         "SECTORS_g": 32,
         "MEM_DEPTH_g": 4096,
         "MEM_LATENCY_g": 1,
@@ -639,7 +651,9 @@ GENERIC_SETS = {
     "lat2": {
         "WIDTH_g": 1920,
         "HEIGHT_g": 1080,
-        "SCALES_g": 4,
+        "SCALES_g": 8,
+        "STEP_NUM_g": 16,
+        "STEP_DEN_g": 8,
         "SECTORS_g": 64,
         "MEM_DEPTH_g": 12345,
         "MEM_LATENCY_g": 2,
@@ -649,6 +663,8 @@ GENERIC_SETS = {
         "WIDTH_g": 64,
         "HEIGHT_g": 48,
         "SCALES_g": 2,
+        "STEP_NUM_g": 5,
+        "STEP_DEN_g": 4,
         "SECTORS_g": 16,
         "MEM_DEPTH_g": 1,
         "MEM_LATENCY_g": 5,

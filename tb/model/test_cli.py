@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 from golden_model import Config, extract, read_csv
+from golden_model.config import RECOMMENDED_SCALES, RECOMMENDED_SECTORS, RECOMMENDED_STEP
 from golden_model.images import DEFAULT_IMAGE
 from orb_tools.cli import main
 from orb_tools.images import load_luma
@@ -30,8 +31,8 @@ def _photo_png(tmp_path: Path) -> Path:
 def test_extract_model_writes_csv_and_overlay(tmp_path: Path, extra: list[str], mode: str) -> None:
     png = _photo_png(tmp_path)
     out, overlay = tmp_path / "f.csv", tmp_path / "o.png"
-    rc = main(["extract", str(png), "--backend", "model", "--threshold", "25", "--scales", "2", "--sectors", "64",
-               "--out", str(out), "--overlay", str(overlay), *extra])  # fmt: skip
+    rc = main(["extract", str(png), "--backend", "model", "--threshold", "25", "--scales", "2", "--step", "2:1",
+               "--sectors", "64", "--out", str(out), "--overlay", str(overlay), *extra])  # fmt: skip
     assert rc == 0
     with open(out, newline="") as fh:
         rows = list(csv.DictReader(fh))
@@ -52,6 +53,28 @@ def test_extract_model_writes_csv_and_overlay(tmp_path: Path, extra: list[str], 
     assert not np.array_equal(cv2.cvtColor(drawn, cv2.COLOR_BGR2GRAY), img), "overlay draws nothing"
 
 
+def test_extract_defaults_are_the_recommended_configuration(tmp_path: Path) -> None:
+    out = tmp_path / "f.csv"
+    assert main(["extract", "--default-image", "--out", str(out)]) == 0
+    img = load_luma(DEFAULT_IMAGE)
+    cfg = Config(img.shape[1], img.shape[0], scales=RECOMMENDED_SCALES, sectors=RECOMMENDED_SECTORS, threshold=20,
+                 step_num=RECOMMENDED_STEP[0], step_den=RECOMMENDED_STEP[1])  # fmt: skip
+    got = read_csv(out, sectors_total=cfg.sectors, step=cfg.step)
+    assert got == extract(img, cfg)
+    assert int(got.scale.max()) == RECOMMENDED_SCALES - 1, "every level of the recommended pyramid has features"
+    with open(out, newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    x0, _ = got.sorted().full_res()
+    assert [float(r["x0"]) for r in rows] == pytest.approx(x0.tolist(), abs=1e-4), "x0 is (x + 0.5) r^s - 0.5"
+
+
+@pytest.mark.parametrize(("step", "message"), [("5:2", "DEN < NUM <= 2 DEN"), ("5:3", "step_den must be"),
+                                               ("54", "expected NUM:DEN")])  # fmt: skip
+def test_extract_refuses_an_illegal_step(tmp_path: Path, step: str, message: str) -> None:
+    proc = _run_cli("extract", "--default-image", "--step", step, "--out", str(tmp_path / "out.csv"))
+    assert proc.returncode == 2 and message in proc.stderr and "Traceback" not in proc.stderr, proc.stderr
+
+
 def test_default_image_is_640x480() -> None:
     assert load_luma(DEFAULT_IMAGE).shape == (480, 640)
 
@@ -70,7 +93,7 @@ def _run_cli(*args: str) -> subprocess.CompletedProcess[str]:
         (lambda d: [str(d / "tiny.png")], "smaller than the minimum 64x48"),
         (lambda d: [str(d / "ok.png"), "--threshold", "256"], "threshold must be 0..255"),
         (lambda d: [str(d / "ok.png"), "--threshold", "abc"], "threshold must be an integer"),
-        (lambda d: [str(d / "ok.png"), "--scales", "5"], "scales must be 1..4"),
+        (lambda d: [str(d / "ok.png"), "--scales", "9"], "scales must be 1..8"),
         (lambda d: [str(d / "ok.png"), "--sectors", "24"], "sectors must be 16, 32 or 64"),
         (lambda d: [str(d / "ok.png"), "--backend", "fpga"], "invalid choice"),
     ],

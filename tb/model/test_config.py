@@ -24,8 +24,15 @@ LEGAL: dict[str, Any] = {"width": 640, "height": 480, "scales": 2, "sectors": 32
         ("height", 47),
         ("height", 1081),
         ("scales", 0),
-        ("scales", 5),
+        ("scales", 9),
         ("scales", -1),
+        ("step_num", 1),
+        ("step_num", 17),
+        ("step_num", 5),  # 5:1, more than 2:1
+        ("step_den", 3),  # not a power of two
+        ("step_den", 16),
+        ("step_den", 2),  # 2:2, no reduction
+        ("step_num", 2.0),
         ("sectors", 24),
         ("sectors", 0),
         ("sectors", 8),  # N, not the total
@@ -57,7 +64,7 @@ def test_illegal_values_raise_config_error(field: str, value: Any) -> None:
 
 @pytest.mark.parametrize(
     ("field", "value"),
-    [("width", 64), ("width", 1920), ("height", 48), ("height", 1080), ("scales", 1), ("scales", 4),
+    [("width", 64), ("width", 1920), ("height", 48), ("height", 1080), ("scales", 1), ("scales", 7),
      ("sectors", 16), ("sectors", 64), ("threshold", 0), ("threshold", 255),
      ("mode", "fast")],
 )  # fmt: skip
@@ -68,7 +75,29 @@ def test_legal_extremes_are_accepted(field: str, value: Any) -> None:
 
 def test_defaults() -> None:
     cfg = Config(width=64, height=48)
-    assert (cfg.scales, cfg.sectors, cfg.threshold, cfg.mode) == (1, 32, 20, "orb")
+    assert (cfg.scales, cfg.sectors, cfg.threshold, cfg.mode, cfg.step) == (1, 32, 20, "orb", (2, 1))
+
+
+@pytest.mark.parametrize(
+    ("w", "h", "step", "sizes"),
+    [(640, 480, (5, 4), [(640, 480), (512, 384), (409, 307), (327, 245), (261, 196), (208, 156), (166, 124),
+                         (132, 99)]),
+     (1920, 1080, (3, 2), [(1920, 1080), (1280, 720), (853, 480), (568, 320), (378, 213), (252, 142), (168, 94),
+                           (112, 62)]),
+     (1920, 1080, (2, 1), [(1920 >> s, 1080 >> s) for s in range(8)])],
+)  # fmt: skip
+def test_level_sizes_floor_each_step(w: int, h: int, step: tuple[int, int], sizes: list[tuple[int, int]]) -> None:
+    cfg = Config(width=w, height=h, scales=8, step_num=step[0], step_den=step[1])
+    assert [cfg.scale_size(s) for s in range(8)] == sizes
+    assert cfg.factor == step[0] / step[1]
+
+
+@pytest.mark.parametrize(
+    ("w", "h", "scales", "step"), [(64, 48, 5, (2, 1)), (640, 480, 8, (2, 1)), (64, 48, 7, (3, 2))]
+)
+def test_a_smallest_level_below_8x6_is_refused(w: int, h: int, scales: int, step: tuple[int, int]) -> None:
+    with pytest.raises(ConfigError, match="smallest level"):
+        Config(width=w, height=h, scales=scales, step_num=step[0], step_den=step[1])
 
 
 @pytest.mark.parametrize(("n", "total"), [(4, 16), (8, 32), (16, 64)])
@@ -100,13 +129,13 @@ def test_config_is_frozen() -> None:
         cfg.width = 100  # type: ignore[misc]
 
 
-RANGES = {"width": "64..1920", "height": "48..1080", "scales": "1..4", "sectors": "16, 32 or 64",
+RANGES = {"width": "64..1920", "height": "48..1080", "scales": "1..8", "sectors": "16, 32 or 64",
           "threshold": "0..255", "mode": "'orb', 'fast'"}  # fmt: skip
 
 
 @pytest.mark.parametrize(
     ("field", "value"),
-    [("width", 63), ("height", 1081), ("scales", 5), ("sectors", 24), ("threshold", 256), ("mode", "x"),
+    [("width", 63), ("height", 1081), ("scales", 9), ("sectors", 24), ("threshold", 256), ("mode", "x"),
      ("width", True), ("height", 480.0), ("scales", 2.0), ("sectors", 32.0), ("threshold", False)],
 )  # fmt: skip
 def test_every_refusal_names_the_value_and_the_legal_range(field: str, value: Any) -> None:

@@ -9,9 +9,11 @@ from golden_model import Config, extract, first_difference
 from golden_model.features import Features
 
 
-def expected_features(img: np.ndarray, scales: int, threshold: int, mode: str = "fast", sectors: int = 32) -> Features:
+def expected_features(img: np.ndarray, scales: int, threshold: int, mode: str = "fast", sectors: int = 32,
+                      step: tuple[int, int] = (2, 1)) -> Features:  # fmt: skip
     h, w = img.shape
-    return extract(img, Config(w, h, scales=scales, sectors=sectors, threshold=threshold, mode=mode))
+    return extract(img, Config(w, h, scales=scales, sectors=sectors, threshold=threshold, mode=mode,
+                               step_num=step[0], step_den=step[1]))  # fmt: skip
 
 
 def check_frame(got: Features, expected: Features, what: str) -> None:

@@ -13,7 +13,8 @@ shown), with tuser/tlast passed through, the AXI4-Stream output held while stall
 back-pressure, the fixed latency of 2 clocks. The RTL's own assertion (a mark and a clear never in
 one bank on one clock) is live in every run.
 
-Scenarios: `photos` (features of real photographs at 1 to 4 scales, interleaved scale order),
+Scenarios: `photos` (features of real photographs at 1 to 8 scales of the 2:1 or a finer pyramid
+step (ORB_STEP), interleaved scale order),
 `borders` (features at every border and corner of every scale, plus out-of-range ones),
 `sequence` (a feature in every block at every scale, then an empty feature frame, a photograph's
 features and no feature frame: clearing proven), `timing` (end-of-frame at the same edge as / one
@@ -31,6 +32,7 @@ import pytest
 from cocotb.triggers import RisingEdge
 
 from golden_model import Config, extract
+from golden_model.config import level_size, parse_step
 from golden_model.featcodec import decode_stream_features, encode_eof, encode_feature
 from golden_model.features import NO_SECTOR, Features
 from golden_model.featword import EOF_FLAG, FEAT_BITS, FEATURE_BEAT
@@ -70,9 +72,16 @@ def rgb_photo(name: str, width: int, height: int) -> np.ndarray:
     return np.ascontiguousarray(img[y0 : y0 + height, x0 : x0 + width])
 
 
-def photo_features(rgb: np.ndarray, scales: int, threshold: int = 20) -> Features:
+def photo_features(rgb: np.ndarray, scales: int, step: tuple[int, int] = (2, 1), threshold: int = 20) -> Features:
     h, w = rgb.shape[:2]
-    return extract(to_luma(rgb), Config(w, h, scales=scales, threshold=threshold, mode="fast"))
+    return extract(to_luma(rgb), Config(w, h, scales=scales, threshold=threshold, mode="fast", step_num=step[0],
+                                        step_den=step[1]))  # fmt: skip
+
+
+def level_coord(full: float, s: int, step: tuple[int, int]) -> int:
+    """A level-s coordinate whose centre lies near full-resolution coordinate `full` (stimulus only;
+    the model's marker_bitmap decides which block it marks)."""
+    return max(0, int(np.floor((full + 0.5) / (step[0] / step[1]) ** s - 0.5)))
 
 
 def make_features(scale: list[int], x: list[int], y: list[int]) -> Features:
@@ -111,9 +120,11 @@ def eof_word(number: int) -> int:
     return encode_eof(number)
 
 
-def decode(words: list[int]) -> Features:
+def decode(words: list[int], step: tuple[int, int]) -> Features:
     """The features of a frame's words (fast mode; the random bits above the flag are not checked)."""
-    return decode_stream_features(words, check=False)
+    f = decode_stream_features(words, check=False)
+    f.step = step
+    return f
 
 
 def pack_rgb(rgb: np.ndarray) -> list[int]:
@@ -147,6 +158,7 @@ class Bench:
     def __post_init__(self) -> None:
         self.width, self.height = env_int("ORB_WIDTH"), env_int("ORB_HEIGHT")
         self.scales, self.block_log2 = env_int("ORB_SCALES"), env_int("ORB_BLOCK_LOG2")
+        self.step = parse_step(env_str("ORB_STEP", "2:1"))
         self.backpressure = float(env_str("ORB_BACKPRESSURE", "0"))
         self.video_idle = float(env_str("ORB_VIDEO_IDLE", "0"))
         self.rng = np.random.default_rng(env_int("ORB_SEED", 1))
@@ -284,7 +296,7 @@ class Bench:
         frames, current = [], []
         for w in self.feat_words:
             if w >> FEAT_BITS:
-                frames.append(decode(current))
+                frames.append(decode(current, self.step))
                 current = []
             else:
                 current.append(w)
@@ -344,19 +356,20 @@ async def scenario_photos(b: Bench) -> None:
     feat_scales = env_int("ORB_FEAT_SCALES", b.scales)
     frames = [rgb_photo(n, b.width, b.height) for n in names]
     for k, rgb in enumerate(frames):
-        f = photo_features(rgb, feat_scales)
+        f = photo_features(rgb, feat_scales, b.step)
         assert len(f) > 0, f"{names[k]}: no features"
         words = interleaved_words(f, b.rng) if k < len(frames) - 1 else None
         await b.frame_with_features(rgb, words, k)
     await b.check([None, *range(len(frames) - 1)])
 
 
-def border_features(width: int, height: int, block_log2: int) -> Features:
-    """Features at the four borders and corners of every scale (0..3, whatever SCALES_g), plus
-    ones in the last block column/row and just beyond the block grid (to be ignored)."""
+def border_features(width: int, height: int, block_log2: int, scales: int = 4,
+                    step: tuple[int, int] = (2, 1)) -> Features:  # fmt: skip
+    """Features at the four borders and corners of every scale (0..scales-1, whatever SCALES_g),
+    plus ones in the last block column/row and just beyond the block grid (to be ignored)."""
     sc, xs, ys = [], [], []
-    for s in range(4):
-        ws, hs = width >> s, height >> s
+    for s in range(scales):
+        ws, hs = level_size(width, height, s, step)
         for x in (0, 1, 2, ws // 2, ws - 3, ws - 2, ws - 1):
             for y in (0, 1, 2, hs // 2, hs - 3, hs - 2, hs - 1):
                 if x in (0, 1, 2, ws - 3, ws - 2, ws - 1) or y in (0, 1, 2, hs - 3, hs - 2, hs - 1):
@@ -364,9 +377,13 @@ def border_features(width: int, height: int, block_log2: int) -> Features:
                     xs.append(x)
                     ys.append(y)
         extra = [(ws, 0), (0, hs), (4095, 4095), (4095, 0), (0, 4095)]
-        if s <= block_log2:
+        if step == (2, 1) and s <= block_log2:
             gx, gy = -(-width >> block_log2) << (block_log2 - s), -(-height >> block_log2) << (block_log2 - s)
             extra += [(gx - 1, 5), (gx, 5), (7, gy - 1), (7, gy), (gx - 1, gy - 1), (gx, gy)]
+        elif step != (2, 1):  # around the first level coordinate past the block grid
+            gx = level_coord(-(-width >> block_log2) << block_log2, s, step)
+            gy = level_coord(-(-height >> block_log2) << block_log2, s, step)
+            extra += [(gx + d, 5) for d in (-1, 0, 1)] + [(7, gy + d) for d in (-1, 0, 1)] + [(gx, gy)]
         for x, y in extra:
             sc.append(s)
             xs.append(x)
@@ -376,21 +393,22 @@ def border_features(width: int, height: int, block_log2: int) -> Features:
 
 async def scenario_borders(b: Bench) -> None:
     frames = [rgb_photo(n, b.width, b.height) for n in ("coffee", "astronaut")]
-    f = border_features(b.width, b.height, b.block_log2)
+    f = border_features(b.width, b.height, b.block_log2, max(4, b.scales), b.step)
     await b.frame_with_features(frames[0], shuffled_words(f, b.rng), 0)
     await b.frame_with_features(frames[1], None, 1)
     await b.check([None, 0])
 
 
-def dense_features(width: int, height: int, block_log2: int, rng: np.random.Generator) -> Features:
-    """At every scale 0..3 a feature in every block it can reach, some twice."""
+def dense_features(width: int, height: int, block_log2: int, rng: np.random.Generator, scales: int = 4,
+                   step: tuple[int, int] = (2, 1)) -> Features:  # fmt: skip
+    """At every scale 0..scales-1 a feature in every block it can reach, some twice."""
     sc, xs, ys = [], [], []
     half = 1 << (block_log2 - 1)
-    for s in range(4):
+    for s in range(scales):
         for by in range(-(-height >> block_log2)):
             for bx in range(-(-width >> block_log2)):
-                x = min((bx << block_log2) + half, width - 1) >> s
-                y = min((by << block_log2) + half, height - 1) >> s
+                x = level_coord(min((bx << block_log2) + half, width - 1), s, step)
+                y = level_coord(min((by << block_log2) + half, height - 1), s, step)
                 for _ in range(1 + int(rng.random() < 0.2)):
                     sc.append(s)
                     xs.append(x)
@@ -403,13 +421,14 @@ async def scenario_sequence(b: Bench) -> None:
     frame k never reach frame k + 2, and a bank shown once is empty the next time)."""
     names = ("chelsea", "rocket", "astronaut", "coffee", "camera")
     frames = [rgb_photo(n, b.width, b.height) for n in names]
-    dense = dense_features(b.width, b.height, b.block_log2, b.rng)
+    dense = dense_features(b.width, b.height, b.block_log2, b.rng, max(4, b.scales), b.step)
+    dense.step = b.step
     marks = marker_bitmap(dense, b.width, b.height, b.scales, b.block_log2)
-    if b.block_log2 == 3 and b.width % 8 == 0 and b.height % 8 == 0:
+    if b.block_log2 == 3 and b.width % 8 == 0 and b.height % 8 == 0 and b.step == (2, 1):
         assert marks.all(), "the dense frame must mark every block at every scale"
     await b.frame_with_features(frames[0], shuffled_words(dense, b.rng), 0)
     await b.frame_with_features(frames[1], [], 1)  # empty feature frame
-    await b.frame_with_features(frames[2], interleaved_words(photo_features(frames[2], b.scales), b.rng), 2)
+    await b.frame_with_features(frames[2], interleaved_words(photo_features(frames[2], b.scales, b.step), b.rng), 2)
     await b.frame_with_features(frames[3], None, 3)  # no feature frame completes before frame 4
     await b.frame_with_features(frames[4], None, 3)
     await b.check([None, 0, 1, 2, None])
@@ -418,7 +437,7 @@ async def scenario_sequence(b: Bench) -> None:
 async def scenario_timing(b: Bench) -> None:
     """End-of-frame beats against starts of frame, clock-exact (spec 13.3)."""
     frames = [rgb_photo(RGB_PHOTOS[i % len(RGB_PHOTOS)], b.width, b.height) for i in range(7)]
-    words = [interleaved_words(photo_features(rgb, b.scales), b.rng) for rgb in frames]
+    words = [interleaved_words(photo_features(rgb, b.scales, b.step), b.rng) for rgb in frames]
     span = b.frame_clocks()
     # V0 with F0, whose end-of-frame beat comes on the same edge as V1's start: V1 shows none.
     task = cocotb.start_soon(b.features(words[0], span))
@@ -477,10 +496,14 @@ async def overlay(dut) -> None:
 
 
 def run_overlay(width: int, height: int, scales: int, block_log2: int, scenario: str, **env: str) -> None:
+    generics = {"WIDTH_g": width, "HEIGHT_g": height, "SCALES_g": scales, "BLOCK_LOG2_g": block_log2}
+    if "step" in env:
+        num, den = parse_step(env["step"])
+        generics |= {"STEP_NUM_g": num, "STEP_DEN_g": den}
     run(
         "orb_overlay",
         "test_orb_overlay",
-        {"WIDTH_g": width, "HEIGHT_g": height, "SCALES_g": scales, "BLOCK_LOG2_g": block_log2},
+        generics,
         env={"ORB_SCENARIO": scenario, **{f"ORB_{k.upper()}": v for k, v in env.items()}},
     )
 
@@ -494,6 +517,10 @@ def run_overlay(width: int, height: int, scales: int, block_log2: int, scenario:
         (160, 120, 3, 4, {"photos": "chelsea,astronaut", "backpressure": "0.2", "seed": "3"}),  # 16x16 blocks
         # 4x4 blocks; features of scales 2 and 3 arrive and are ignored
         (100, 52, 2, 2, {"photos": "rocket,camera", "feat_scales": "4", "video_idle": "0.3"}),
+        # finer pyramids (issue 14): 6 and 8 levels of 5:4 in 16x16 blocks, 3:2 with its scales past SCALES_g
+        (160, 120, 6, 4, {"photos": "astronaut,coffee", "step": "5:4", "backpressure": "0.2"}),
+        (128, 96, 8, 4, {"photos": "chelsea,rocket", "step": "5:4", "video_idle": "0.2", "seed": "6"}),
+        (100, 52, 3, 3, {"photos": "coffee,camera", "step": "3:2", "feat_scales": "5"}),
     ],
 )
 def test_overlay_photos(width: int, height: int, scales: int, block_log2: int, env: dict[str, str]) -> None:
@@ -510,6 +537,8 @@ def test_overlay_photos(width: int, height: int, scales: int, block_log2: int, e
         (100, 52, 4, 3, "sequence", {"backpressure": "0.3", "video_idle": "0.3", "seed": "5"}),
         (64, 48, 2, 3, "timing", {}),
         (64, 48, 4, 5, "timing", {"seed": "4"}),  # 32x32 blocks
+        (100, 52, 6, 4, "borders", {"step": "5:4"}),
+        (96, 64, 8, 4, "sequence", {"step": "9:8", "backpressure": "0.2"}),
     ],
 )
 def test_overlay_directed(width: int, height: int, scales: int, block_log2: int, scenario: str,

@@ -54,10 +54,11 @@ class Frame:
 
 @pytest.fixture(scope="module")
 def frames() -> list[Frame]:
-    """Two photographs in orb mode, one in fast mode, one frame without features; frame numbers wrap."""
+    """Two photographs in orb mode (2:1 x 2 and 5:4 x 4), one in fast mode, one frame without features;
+    frame numbers wrap."""
     cases = [
         (ORB, photo("astronaut", 128, 96)),
-        (dataclasses.replace(ORB, threshold=30), photo("coffee", 128, 96)),
+        (dataclasses.replace(ORB, threshold=30, scales=4, step_num=5, step_den=4), photo("coffee", 128, 96)),
         (dataclasses.replace(ORB, mode="fast"), photo("astronaut", 128, 96)),
         (ORB, flat(128, 96)),
     ]
@@ -74,12 +75,12 @@ def make_msg(fr: Frame) -> object:
     """The node's message for one frame (rosbags' ROS 1 classes), as docs of Features.msg say."""
     types = typestore_ros1().types
     f, cfg = fr.features, fr.cfg
-    mult = np.ldexp(1.0, f.scale.astype(np.int32))
+    mult = (cfg.step_num / cfg.step_den) ** f.scale.astype(np.float64)
     stamp = types["builtin_interfaces/msg/Time"](sec=fr.stamp_ns // 10**9, nanosec=fr.stamp_ns % 10**9)
     return types[MSGTYPE](
         header=types["std_msgs/msg/Header"](seq=fr.frame, stamp=stamp, frame_id="orb_accel"),
         width=cfg.width, height=cfg.height, frame=fr.frame, threshold=cfg.threshold, mode=cfg.mode,
-        scales=cfg.scales, sectors=cfg.sectors,
+        scales=cfg.scales, sectors=cfg.sectors, step_num=cfg.step_num, step_den=cfg.step_den,
         x=((f.x + 0.5) * mult - 0.5).astype(np.float32), y=((f.y + 0.5) * mult - 0.5).astype(np.float32),
         size=(31 * mult).astype(np.float32),
         angle=np.where(f.sector >= 0, f.sector * (360.0 / cfg.sectors), -1.0).astype(np.float32),
@@ -170,7 +171,7 @@ def test_features_from_msg(frames: list[Frame]) -> None:
 
 def genpy_like(msg: object) -> SimpleNamespace:
     """What rospy hands a callback: numeric arrays as tuples, uint8[] as bytes."""
-    fields = {name: getattr(msg, name) for name in ("mode", "sectors", "scales", "frame")}
+    fields = {name: getattr(msg, name) for name in ("mode", "sectors", "scales", "step_num", "step_den", "frame")}
     arrays = {name: tuple(getattr(msg, name).tolist()) for name in ARRAYS}
     return SimpleNamespace(**fields, **arrays, descriptors=bytes(msg.descriptors))
 
@@ -358,6 +359,7 @@ with rosbag.Bag(path) as bag:
     for _, m, _ in bag.read_messages(topics=[topic]):
         d = {k: list(getattr(m, k)) for k in %r}
         d.update(md5=m._md5sum, type=m._type, mode=m.mode, frame=m.frame, sectors=m.sectors, scales=m.scales,
+                 step_num=m.step_num, step_den=m.step_den,
                  seq=m.header.seq, stamp=[m.header.stamp.secs, m.header.stamp.nsecs],
                  descriptors=m.descriptors.hex(), shapes=[type(m.x).__name__, type(m.descriptors).__name__])
         out["msgs"].append(d)
@@ -388,7 +390,7 @@ def test_debian_rosbag_reads_the_bag(frames: list[Frame], bag: Path) -> None:
         assert m["shapes"] == ["tuple", "bytes"]
         msg = SimpleNamespace(
             **{k: tuple(m[k]) for k in ARRAYS}, mode=m["mode"], sectors=m["sectors"], scales=m["scales"],
-            descriptors=bytes.fromhex(m["descriptors"]),
+            step_num=m["step_num"], step_den=m["step_den"], descriptors=bytes.fromhex(m["descriptors"]),
         )  # fmt: skip
         assert_same(fr.features, features_from_msg(msg), f"genpy frame {fr.frame}")
 
@@ -416,7 +418,8 @@ with rosbag.Bag(path, "w") as bag:
 def test_bag_written_by_debian_rosbag(frames: list[Frame], tmp_path: Path) -> None:
     """A bag as `rosbag record` writes it (Debian's rosbag.Bag, a genpy class made from the .msg
     text): accepted (same md5sum) and converted to the same features."""
-    scalars = ("width", "height", "frame", "threshold", "mode", "scales", "sectors", "dropped", "truncated", *COUNTERS)
+    scalars = ("width", "height", "frame", "threshold", "mode", "scales", "sectors", "step_num", "step_den", "dropped",
+               "truncated", *COUNTERS)  # fmt: skip
     data = []
     for fr in frames:
         m = make_msg(fr)

@@ -20,6 +20,7 @@ import numpy as np
 
 from golden_model.config import Config
 from golden_model.features import Features, write_csv
+from golden_model.overlay import marker_block_log2
 from orb_accel.driver import Frame, OrbAccel
 
 from .build import build_fast
@@ -34,7 +35,8 @@ H_BLANK, V_BLANK = 16, 64  # as orb_sim.video.Gaps("blanking")
 
 
 def generics_for(cfg: Config, colour: bool, mem_depth: int = ACCEL_MEM_DEPTH) -> dict[str, int | str]:
-    return {"WIDTH_g": cfg.width, "HEIGHT_g": cfg.height, "SCALES_g": cfg.scales, "SECTORS_g": cfg.sectors,
+    return {"WIDTH_g": cfg.width, "HEIGHT_g": cfg.height, "SCALES_g": cfg.scales, "STEP_NUM_g": cfg.step_num,
+            "STEP_DEN_g": cfg.step_den, "SECTORS_g": cfg.sectors, "BLOCK_LOG2_g": marker_block_log2(cfg.scales),
             "MEM_DEPTH_g": mem_depth, "INPUT_g": "RGB" if colour else "LUMA"}  # fmt: skip
 
 
@@ -150,7 +152,7 @@ def extract_fast(img: np.ndarray, cfg: Config, seed: int = 0) -> tuple[Features,
 
     with tempfile.TemporaryDirectory() as tmp:
         r = run_accel_fast(img, cfg, Path(tmp), overlay=False, seed=seed)
-        return read_csv(Path(tmp) / "features.csv", sectors_total=cfg.sectors), r
+        return read_csv(Path(tmp) / "features.csv", sectors_total=cfg.sectors, step=cfg.step), r
 
 
 def run_video_fast(frames: np.ndarray, cfg: Config, seed: int = 0, mem_depth: int = ACCEL_MEM_DEPTH,
