@@ -65,8 +65,10 @@ def write_estimate(config: str, path: Path) -> Path | None:
         return None
     cfg = board()["configs"][config]
     for rec in json.loads(ESTIMATE.read_text()):
-        key = (rec.get("top"), rec.get("width"), rec.get("height"), rec.get("scales"))
-        if key == ("orb_accel_zynq", cfg["width"], cfg["height"], cfg["scales"]):
+        g = rec.get("generics", {})
+        key = (rec.get("top"), rec.get("width"), rec.get("height"), rec.get("scales"),
+               int(g.get("STEP_NUM_g", 2)), int(g.get("STEP_DEN_g", 1)))  # fmt: skip
+        if key == ("orb_accel_zynq", cfg["width"], cfg["height"], cfg["scales"], cfg["step_num"], cfg["step_den"]):
             path.write_text(json.dumps(rec, indent=1) + "\n")
             return path
     return None

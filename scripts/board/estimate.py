@@ -25,8 +25,12 @@ def command(jobs: int, sta: bool) -> list[str]:
     for c in b["configs"].values():
         cmd += ["--config", f"{c['width']}x{c['height']}x{c['scales']}"]
     sectors = {c["sectors"] for c in b["configs"].values()}
-    if len(sectors) != 1:
-        raise SystemExit("estimate.py: the configurations differ in sectors; run synth.py per configuration")
+    steps = {(c["step_num"], c["step_den"]) for c in b["configs"].values()}
+    if len(sectors) != 1 or len(steps) != 1:
+        raise SystemExit("estimate.py: the configurations differ in sectors or pyramid step; run synth.py per "
+                         "configuration")  # fmt: skip
+    if (step := steps.pop()) != (2, 1):  # orb_accel_zynq's default
+        cmd += ["--generic", f"STEP_NUM_g={step[0]}", "--generic", f"STEP_DEN_g={step[1]}"]
     cmd += ["--generic", f"MEM_DEPTH_g={b['accel']['mem_depth']}"]
     if (s := sectors.pop()) != 32:  # orb_accel_zynq's default SECTORS_g
         cmd += ["--generic", f"SECTORS_g={s}"]

@@ -118,7 +118,8 @@ def render_doc(b: dict[str, Any]) -> str:
     for name, c in b["configs"].items():
         patched = " (build-time copy, see below)" if c["patched_clk_range"] else ""
         rows.append(
-            f"| `{name}` | {c['width']}x{c['height']}, {c['scales']} scales, {c['sectors']} sectors, "
+            f"| `{name}` | {c['width']}x{c['height']}, {c['scales']} scales of {c['step_num']}:{c['step_den']}, "
+            f"{c['sectors']} sectors, "
             f"{acc['mem_depth']} slots per bank | {c['mode']} | {c['pixel_mhz']} MHz | {c['core_mhz']} MHz "
             f"| {c['kClkRange']}{patched} | `{c['edid']}` |"
         )

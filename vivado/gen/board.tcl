@@ -26,6 +26,8 @@ namespace eval ::orb_board {
       width 640 \
       height 480 \
       scales 2 \
+      step_num 2 \
+      step_den 1 \
       sectors 32 \
       mode {640x480@60 (VESA DMT / CEA-861 VIC 1)} \
       pixel_mhz 25.175 \
@@ -38,6 +40,8 @@ namespace eval ::orb_board {
       width 1280 \
       height 720 \
       scales 2 \
+      step_num 2 \
+      step_den 1 \
       sectors 32 \
       mode {1280x720@60 (CEA-861 VIC 4)} \
       pixel_mhz 74.25 \
@@ -50,6 +54,8 @@ namespace eval ::orb_board {
       width 1920 \
       height 1080 \
       scales 2 \
+      step_num 2 \
+      step_den 1 \
       sectors 32 \
       mode {1920x1080@60 (CEA-861 VIC 16)} \
       pixel_mhz 148.5 \

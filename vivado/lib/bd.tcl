@@ -102,6 +102,8 @@ proc orb_create_bd {design cfg board_part} {
     CONFIG.WIDTH_g [dict get $cfg width] \
     CONFIG.HEIGHT_g [dict get $cfg height] \
     CONFIG.SCALES_g [dict get $cfg scales] \
+    CONFIG.STEP_NUM_g [dict get $cfg step_num] \
+    CONFIG.STEP_DEN_g [dict get $cfg step_den] \
     CONFIG.SECTORS_g [dict get $cfg sectors] \
     CONFIG.MEM_DEPTH_g [dict get $acc mem_depth] \
     CONFIG.INPUT_g [dict get $acc input] \
