@@ -14,11 +14,20 @@ from . import limits
 
 MODES = ("orb", "fast")
 
-# The recommended configuration for 640x480 on the XC7Z020 (docs/pyramid.md: measured on the scale
-# benchmark, within 80% of the device): what `make sim` and `orb-accel extract` use unless told.
-RECOMMENDED_SCALES = 6
+# The recommended configuration for 640x480 on the XC7Z020 (docs/pyramid.md: the best measured on
+# the scale benchmark within 80% of the device's LUTs): what `make sim` and `orb-accel extract` use
+# unless told. The budget (host side, golden_model.select) is per 640x480 frame; recommended_budget
+# scales it with the frame's area.
+RECOMMENDED_SCALES = 4
 RECOMMENDED_STEP = (5, 4)
-RECOMMENDED_SECTORS = 32
+RECOMMENDED_SECTORS = 64
+RECOMMENDED_BUDGET = 1000
+
+
+def recommended_budget(width: int, height: int) -> int:
+    """RECOMMENDED_BUDGET features per 640x480 frame, in proportion to the frame's area."""
+    return max(1, round(RECOMMENDED_BUDGET * width * height / (640 * 480)))
+
 
 # The Config fields checked against golden_model.limits, in the order they are checked.
 _LIMITED = tuple(lim for lim in limits.LIMITS if lim.config)

@@ -1,6 +1,6 @@
 -- SPDX-License-Identifier: MIT
--- orb_smooth: 7x7 binomial smoothing (docs/spec.md section 7) of the centre of a 7x7 window from
--- orb_window: B = (sum k_i k_j P + 2048) >> 12 with k = (1, 6, 15, 20, 15, 6, 1). Column sums
+-- orb_smooth: 7x7 smoothing (docs/spec.md section 7) of the centre of a 7x7 window from
+-- orb_window: B = (sum k_i k_j P + 2048) >> 12 with k = (5, 8, 12, 14, 12, 8, 5). Column sums
 -- first (constant shift-add multiplies, no DSP), then the weighted row of column sums, then the
 -- rounding shift: three pipeline stages. The window's newest pixel is at (in_x, in_y), so the
 -- output is the smoothed value of (in_x - 3, in_y - 3) and carries the input's (x, y) tag;
@@ -45,14 +45,14 @@ architecture rtl of orb_smooth is
   signal total2     : total_t := 0;
   signal out3       : unsigned(PIXEL_BITS_c - 1 downto 0) := (others => '0');
 
-  -- k * v for the binomial weights, as shifts and adds (multiplications by powers of two).
+  -- k * v for the kernel's weights, as shifts and adds (multiplications by powers of two).
   function weigh (k : natural; v : natural) return natural is
   begin
     case k is
-      when 0 | 6  => return v;                  -- 1
-      when 1 | 5  => return v * 4 + v * 2;      -- 6
-      when 2 | 4  => return v * 16 - v;         -- 15
-      when others => return v * 16 + v * 4;     -- 20
+      when 0 | 6  => return v * 4 + v;          -- 5
+      when 1 | 5  => return v * 8;              -- 8
+      when 2 | 4  => return v * 8 + v * 4;      -- 12
+      when others => return v * 16 - v * 2;     -- 14
     end case;
   end function weigh;
 

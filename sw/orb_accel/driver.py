@@ -17,7 +17,7 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 from contextlib import contextmanager
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -32,6 +32,7 @@ from golden_model.featmem import (
     decode_record,
 )
 from golden_model.features import Features
+from golden_model.select import best_per_level
 
 from .bus import Bus
 
@@ -142,6 +143,14 @@ class Frame:
     def descriptors(self) -> np.ndarray:
         """(N, 32) uint8 in OpenCV's ORB byte and bit order; (N, 0) in fast mode."""
         return self.features.descriptor
+
+    def best(self, total: int) -> Frame:
+        """This frame with only the features a budget of `total` keeps: each pyramid level's
+        strongest, split over the levels as OpenCV's ORB splits nfeatures (docs/spec.md section 14;
+        golden_model.select). Record and counters are this frame's, unchanged."""
+        if self.hw is None:
+            raise ValueError("a frame without its configuration (hw) has no level count for the budget")
+        return replace(self, features=best_per_level(self.features, total, self.hw.scales))
 
 
 BANK_READS = ("bank", "slot")

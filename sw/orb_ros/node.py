@@ -75,7 +75,8 @@ def message_arrays(frame: Frame) -> dict[str, np.ndarray | bytes]:
     return arrays
 
 
-def build_message(msg_cls: type, frame: Frame, threshold: int, stamp: object, frame_id: str) -> object:
+def build_message(msg_cls: type, frame: Frame, threshold: int, stamp: object, frame_id: str,
+                  budget: int = 0) -> object:  # fmt: skip
     """An orb_accel_msgs/Features message (`msg_cls`: the generated class, or its numpy_msg form)
     of a frame detected with `threshold`."""
     hw = frame.hw
@@ -85,7 +86,7 @@ def build_message(msg_cls: type, frame: Frame, threshold: int, stamp: object, fr
     msg.header.frame_id = frame_id
     msg.width, msg.height, msg.frame = hw.width, hw.height, frame.number
     msg.threshold, msg.mode, msg.scales, msg.sectors = threshold, frame.mode, hw.scales, hw.sectors
-    msg.step_num, msg.step_den = hw.step_num, hw.step_den
+    msg.step_num, msg.step_den, msg.budget = hw.step_num, hw.step_den, budget
     msg.dropped, msg.truncated = frame.dropped, frame.truncated
     c = frame.counters
     msg.frames_total, msg.dropped_total = c.get("frame_count", 0), c.get("dropped", 0)
@@ -112,13 +113,14 @@ class FeatureNode:
 
     def __init__(self, rospy: ModuleType, msgs: ModuleType, srvs: ModuleType, accel: OrbAccel, params: Params,
                  frame_id: str, timeout_s: float, diag_period_s: float = 1.0, hardware_id: str = "orb-accel",
-                 service_timeout_s: float = 600.0) -> None:  # fmt: skip
+                 service_timeout_s: float = 600.0, budget: int = 0) -> None:  # fmt: skip
         from diagnostic_msgs.msg import DiagnosticArray  # Debian's python3-diagnostic-msgs
         from rospy.numpy_msg import numpy_msg
         from std_srvs.srv import Trigger, TriggerResponse
 
         self.rospy, self.srvs, self.accel = rospy, srvs, accel
         self.params, self.frame_id, self.timeout_s = params, frame_id, timeout_s
+        self.budget = budget  # 0: every feature; else Frame.best(budget) (docs/spec.md section 14)
         self.diag_period_s, self.hardware_id, self.service_timeout_s = diag_period_s, hardware_id, service_timeout_s
         self._trigger_response = TriggerResponse
         self._diag_array = DiagnosticArray
@@ -225,7 +227,9 @@ class FeatureNode:
             accel.soft_reset()
         self.last_frame = frame.number
         self._finish(requests, frame.number)
-        self.pub.publish(build_message(self.msg_cls, frame, frame_params.threshold, stamp, self.frame_id))
+        if self.budget:
+            frame = frame.best(self.budget)
+        self.pub.publish(build_message(self.msg_cls, frame, frame_params.threshold, stamp, self.frame_id, self.budget))
         self.published += 1
         self._stats["published"] += 1
         self._stats["features"] += len(frame)
@@ -280,12 +284,13 @@ class FeatureNode:
 @dataclass(frozen=True)
 class Settings:
     """The node's start-up parameters (private: ~threshold, ~mode, ~enable, ~frame_id, ~timeout,
-    ~diagnostics_period); timeout_s None: the caller's default for its bus."""
+    ~diagnostics_period, ~budget); timeout_s None: the caller's default for its bus."""
 
     params: Params
     frame_id: str = "orb_accel"
     timeout_s: float | None = None
     diag_period_s: float = 1.0
+    budget: int = 0
 
 
 def init_node(rospy: ModuleType, defaults: Params, argv: list[str] | None = None) -> Settings:
@@ -301,13 +306,16 @@ def init_node(rospy: ModuleType, defaults: Params, argv: list[str] | None = None
     for name, value in (("timeout", timeout), ("diagnostics_period", period)):
         if value is not None and (isinstance(value, bool) or not isinstance(value, (int, float)) or not value > 0):
             error = error or f"{name} must be a positive number of seconds, got {value!r}"
+    budget = rospy.get_param("~budget", 0)
+    if isinstance(budget, bool) or not isinstance(budget, int) or budget < 0:
+        error = error or f"budget must be a non-negative integer (0: every feature), got {budget!r}"
     if error is not None:
         rospy.logfatal(f"illegal start-up parameter: {error}")
         rospy.signal_shutdown("illegal parameter")
         raise ValueError(error)
     frame_id = str(rospy.get_param("~frame_id", "orb_accel"))
     return Settings(Params(int(threshold), mode, bool(enable)), frame_id,
-                    None if timeout is None else float(timeout), float(period))  # fmt: skip
+                    None if timeout is None else float(timeout), float(period), int(budget))  # fmt: skip
 
 
 def run_node(rospy: ModuleType, msgs: ModuleType, srvs: ModuleType, bus: Bus, settings: Settings,
@@ -316,7 +324,7 @@ def run_node(rospy: ModuleType, msgs: ModuleType, srvs: ModuleType, bus: Bus, se
     accel = OrbAccel(bus)
     timeout_s = settings.timeout_s or default_timeout_s
     node = FeatureNode(rospy, msgs, srvs, accel, settings.params, settings.frame_id, timeout_s,
-                       settings.diag_period_s, hardware_id)  # fmt: skip
+                       settings.diag_period_s, hardware_id, budget=settings.budget)  # fmt: skip
     hw, p = accel.hw, settings.params
     rospy.loginfo(f"{NODE_NAME}: {hw.width}x{hw.height}, {hw.scales} scales of {hw.step_num}:{hw.step_den}, "
                   f"{hw.sectors} sectors; threshold "

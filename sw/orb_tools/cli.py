@@ -17,20 +17,27 @@ import numpy as np
 
 from golden_model import limits
 from golden_model.config import (
+    RECOMMENDED_BUDGET,
     RECOMMENDED_SCALES,
     RECOMMENDED_SECTORS,
     RECOMMENDED_STEP,
     Config,
     ConfigError,
     parse_step,
+    recommended_budget,
 )
 from golden_model.features import Features, write_csv
 from golden_model.images import DEFAULT_IMAGE, ImageError, to_luma
+from golden_model.select import best_per_level
 from orb_sim.rtl_backend import RtlUnavailable
 from orb_tools import board_cli
 
 BACKENDS = ("model", "opencv", "rtl", "rtl-fast")
-SCALE_BENCH_DEFAULT = ("2:1x4", "5:4x6", "cv-2:1x4", "cv-5:4x6", "cv-default@2:1x4", "cv-default@5:4x6")
+# the thesis's pyramid, ours at the recommended configuration (with its 640x480 budget), OpenCV at
+# both pyramids and at its defaults with each one's feature count as the budget
+_REC = f"{RECOMMENDED_STEP[0]}:{RECOMMENDED_STEP[1]}x{RECOMMENDED_SCALES}"
+SCALE_BENCH_DEFAULT = ("2:1x4", f"{_REC}s{RECOMMENDED_SECTORS}/{RECOMMENDED_BUDGET}", "cv-2:1x4", f"cv-{_REC}",
+                       "cv-default@2:1x4", f"cv-default@{_REC}s{RECOMMENDED_SECTORS}/{RECOMMENDED_BUDGET}")  # fmt: skip
 
 
 class UsageError(Exception):
@@ -63,6 +70,16 @@ def _scales(text: str) -> int:
 
 def _sectors(text: str) -> int:
     return _limited(limits.SECTORS, text)
+
+
+def _budget(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"budget must be an integer (0: every feature), got {text!r}") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"budget must be 0 or more, got {value}")
+    return value
 
 
 def _step(text: str) -> tuple[int, int]:
@@ -116,6 +133,9 @@ def build_parser() -> argparse.ArgumentParser:
     ex.add_argument("--sectors", type=_sectors, default=RECOMMENDED_SECTORS,
                     help=f"orientation sectors in all, {limits.SECTORS.text} "
                          f"(default {RECOMMENDED_SECTORS})")  # fmt: skip
+    ex.add_argument("--budget", type=_budget, default=None,
+                    help=f"keep each level's best of N features in all (docs/spec.md section 14; 0: every feature; "
+                         f"default {RECOMMENDED_BUDGET} per 640x480, in proportion to the image's area)")  # fmt: skip
     ex.add_argument("--fast-only", action="store_true", help="detection only (no sectors or descriptors)")
     ex.add_argument("--out", type=Path, required=True, help="features CSV to write")
     ex.add_argument("--overlay", type=Path, help="PNG with the features drawn on the image")
@@ -194,13 +214,18 @@ def cmd_extract(args: argparse.Namespace) -> int:
     )  # fmt: skip
     t0 = time.perf_counter()
     feats = run_backend(args.backend, img, cfg)
+    found = len(feats)
+    budget = recommended_budget(w, h) if args.budget is None else args.budget
+    if budget:
+        feats = best_per_level(feats, budget, cfg.scales)
     elapsed = time.perf_counter() - t0
     args.out.parent.mkdir(parents=True, exist_ok=True)
     write_csv(feats, args.out)
     per_scale = ", ".join(f"scale {s}: {int((feats.scale == s).sum())}" for s in range(cfg.scales))
+    kept = f"{len(feats)} of {found} features (budget {budget})" if budget else f"{found} features"
     print(f"{path.name} {w}x{h} [{args.backend}, {cfg.mode}, t={cfg.threshold}, {cfg.scales} scales of "
           f"{cfg.step_num}:{cfg.step_den}, {cfg.sectors} sectors]: "
-          f"{len(feats)} features ({per_scale}) in {elapsed:.3f} s -> {args.out}")  # fmt: skip
+          f"{kept} ({per_scale}) in {elapsed:.3f} s -> {args.out}")  # fmt: skip
     if args.overlay is not None:
         from orb_tools.drawing import draw_overlay
 

@@ -9,9 +9,11 @@ pair is correct matches / reference features whose warped position stays inside 
 (at least DESC_BORDER pixels from its border); pooled scores sum both over pairs.
 
 Extractors:
-- ours, `STEP x LEVELS` (e.g. `2:1x4`, `5:4x6`): the golden model level by level on the pyramid
-  of golden_model.scaler (2:1 is the hardware's box scaler; other steps the fixed-phase bilinear
-  resampler), 32 sectors, threshold 20; a level-k feature is centred at (x + 0.5) r^k - 0.5;
+- ours, `NUM:DENxLEVELS[sSECTORS][/BUDGET]` (e.g. `2:1x4`, `5:4x6`, `5:4x4s64/1000`): the golden
+  model level by level on the pyramid of golden_model.scaler (2:1 is the hardware's box scaler;
+  other steps the fixed-phase bilinear resampler), 32 sectors unless `sSECTORS`, threshold 20; with
+  `/BUDGET`, each level's best of a per-level budget (golden_model.select, what the driver's
+  Frame.best keeps); a level-k feature is centred at (x + 0.5) r^k - 0.5;
 - `cv-STEPxLEVELS`: OpenCV ORB with that pyramid (scale factor, levels), FAST score, threshold 20,
   no feature limit;
 - `cv-default@OURS` (e.g. `cv-default@5:4x6`): OpenCV ORB's defaults (8 levels x 1.2, Harris
@@ -23,17 +25,20 @@ from __future__ import annotations
 
 import csv
 import math
+import re
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import cv2
 import numpy as np
 
 from golden_model.config import Config
+from golden_model.features import Features
 from golden_model.pipeline import DESC_BORDER, extract_scale
 from golden_model.scaler import pyramid
+from golden_model.select import best_per_level
 
 MATCH_RADIUS = 3.0
 ROTATIONS = (0.0, 30.0, 60.0, 90.0)
@@ -44,6 +49,7 @@ THRESHOLD = 20
 SECTORS = 32
 # what extract_scale reads of a configuration; a level may be smaller than a frame may be (64x48)
 LEVEL_CFG = Config(64, 48, scales=1, sectors=SECTORS, threshold=THRESHOLD, mode="orb")
+EXTRACTOR_RE = re.compile(r"(?P<num>\d+):(?P<den>\d+)x(?P<levels>\d+)(?:s(?P<sectors>\d+))?(?:/(?P<budget>\d+))?")
 
 
 @dataclass(frozen=True)
@@ -53,6 +59,8 @@ class Extractor:
     step: tuple[int, int] = (2, 1)
     levels: int = 4
     budget_of: str = ""  # opencv-default: the extractor of ours whose feature count is the budget
+    sectors: int = SECTORS  # ours: orientation sectors in all
+    budget: int = 0  # ours: features kept per image, each level's best (0: every feature)
 
     @property
     def factor(self) -> float:
@@ -60,19 +68,22 @@ class Extractor:
 
 
 def parse_extractor(text: str) -> Extractor:
-    """`2:1x4`, `5:4x6` (ours), `cv-2:1x4` (OpenCV with that pyramid), `cv-default[@OURS]`."""
+    """`2:1x4`, `5:4x6`, `5:4x4s64/1000` (ours), `cv-2:1x4` (OpenCV with that pyramid),
+    `cv-default[@OURS]`."""
     if text == "cv-default" or text.startswith("cv-default@"):
         return Extractor(text, "opencv-default", budget_of=text.partition("@")[2])
     kind = "opencv" if text.startswith("cv-") else "ours"
     body = text[3:] if kind == "opencv" else text
-    try:
-        step, levels = body.split("x")
-        num, den = (int(v) for v in step.split(":"))
-        ext = Extractor(text, kind, (num, den), int(levels))
-    except ValueError:
-        raise ValueError(f"extractor {text!r}: expected NUM:DENxLEVELS, cv-NUM:DENxLEVELS or cv-default") from None
-    if not (num > den >= 1 and 1 <= ext.levels <= 12):
-        raise ValueError(f"extractor {text!r}: need num > den >= 1 and 1..12 levels")
+    m = EXTRACTOR_RE.fullmatch(body)
+    if m is None or (kind == "opencv" and (m["sectors"] or m["budget"])):
+        raise ValueError(
+            f"extractor {text!r}: expected NUM:DENxLEVELS[sSECTORS][/BUDGET], cv-NUM:DENxLEVELS or cv-default"
+        )
+    num, den, levels = int(m["num"]), int(m["den"]), int(m["levels"])
+    ext = Extractor(text, kind, (num, den), levels, sectors=int(m["sectors"] or SECTORS),
+                    budget=int(m["budget"] or 0))  # fmt: skip
+    if not (num > den >= 1 and 1 <= ext.levels <= 12 and ext.sectors in (16, 32, 64)):
+        raise ValueError(f"extractor {text!r}: need num > den >= 1, 1..12 levels and 16, 32 or 64 sectors")
     return ext
 
 
@@ -89,17 +100,18 @@ class Points:
 
 
 def extract_ours(img: np.ndarray, ext: Extractor) -> Points:
-    xs, ys, ds = [], [], []
-    r = ext.factor
+    cfg = replace(LEVEL_CFG, sectors=ext.sectors)
+    parts = []
     for k, level in enumerate(pyramid(img, ext.levels, ext.step)):
         h, w = level.shape
         if w < 2 * DESC_BORDER + 1 or h < 2 * DESC_BORDER + 1:
             break
-        f = extract_scale(level, k, LEVEL_CFG)
-        xs.append((f.x + 0.5) * r**k - 0.5)
-        ys.append((f.y + 0.5) * r**k - 0.5)
-        ds.append(f.descriptor)
-    return Points(np.concatenate(xs), np.concatenate(ys), np.concatenate(ds).reshape(-1, 32))
+        parts.append(extract_scale(level, k, cfg))
+    feats = Features.concat(parts, ext.sectors, 32, ext.step)
+    if ext.budget:
+        feats = best_per_level(feats, ext.budget, ext.levels)
+    x0, y0 = feats.full_res()
+    return Points(x0, y0, feats.descriptor.reshape(-1, 32))
 
 
 def extract_opencv_orb(img: np.ndarray, ext: Extractor, budget: int) -> Points:

@@ -84,12 +84,20 @@ async def synthetic(dut) -> None:
                 win[r, c] = v
                 add(win, f"impulse {v} at ({r}, {c})")
     # rounding ties: a flat window of 0 plus weight-1 corners giving sums with remainder 2048
-    kernel = np.outer((1, 6, 15, 20, 15, 6, 1), (1, 6, 15, 20, 15, 6, 1))
-    for _ in range(300):
+    kernel = np.outer((5, 8, 12, 14, 12, 8, 5), (5, 8, 12, 14, 12, 8, 5))
+    inv25 = pow(25, -1, 4096)  # the corner weight is 25, odd: a corner change of d moves the sum by 25 d
+    ties = 0
+    while ties < 40:
         win = rng.integers(0, 256, (7, 7))
         rem = int((kernel * win).sum()) % 4096
-        win[0, 0] = (int(win[0, 0]) + (2048 - rem)) % 256  # nudges toward a .5 tie when it fits
-        add(win, "near a rounding tie")
+        d = ((2048 - rem) * inv25) % 4096
+        for delta in (d, d - 4096):
+            if 0 <= int(win[0, 0]) + delta <= 255:  # an exact .5 tie when the corner can take it
+                win[0, 0] += delta
+                assert int((kernel * win).sum()) % 4096 == 2048
+                ties += 1
+                add(win, "a rounding tie")
+                break
     for _ in range(600):
         add(rng.integers(0, 256, (7, 7)), "random window")
     for x, y in ((5, 40), (40, 5), (6, 6), (5, 5), (0, 0), (4095, 4095)):

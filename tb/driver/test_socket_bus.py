@@ -185,7 +185,7 @@ def _png(frames: np.ndarray, tmp: Path) -> None:
 def test_cli_board(server: SimServer, frames: np.ndarray, tmp_path: Path) -> None:
     info = subprocess.run([*CLI, "board", "info", "--connect", server.address], capture_output=True, text=True)
     assert info.returncode == 0, info.stderr
-    assert "ID 0x4f524231" in info.stdout and f"{W}x{H}, {SCALES} scales, {SECTORS} sectors" in info.stdout
+    assert "ID 0x4f524231" in info.stdout and f"{W}x{H}, {SCALES} scales of 2:1, {SECTORS} sectors" in info.stdout
     out = tmp_path / "csv"
     stream = subprocess.run([*CLI, "board", "stream", "--connect", server.address, "--frames", "2", "--threshold",
                              "25", "--csv", str(out)], capture_output=True, text=True)  # fmt: skip

@@ -157,8 +157,8 @@ def test_make_sim_fast_and_cli(tmp_path: Path, photos: list[np.ndarray]) -> None
     want = expected_features(luma, RECOMMENDED_SCALES, 20, "orb", RECOMMENDED_SECTORS, RECOMMENDED_STEP)
     assert report["features"] == len(want) and report["dropped"] == 0
     out = tmp_path / "cli.csv"
-    r = subprocess.run([sys.executable, "-m", "orb_tools.cli", "extract", str(img), "--backend", "rtl-fast", "--out",
-                        str(out)], capture_output=True, text=True, timeout=900)  # fmt: skip
+    r = subprocess.run([sys.executable, "-m", "orb_tools.cli", "extract", str(img), "--backend", "rtl-fast", "--budget",
+                        "0", "--out", str(out)], capture_output=True, text=True, timeout=900)  # fmt: skip
     assert r.returncode == 0, r.stdout + r.stderr
     luma = rgb_to_luma(cv2.cvtColor(cv2.imread(str(img)), cv2.COLOR_BGR2RGB))
     want = expected_features(luma, RECOMMENDED_SCALES, 20, "orb", RECOMMENDED_SECTORS, RECOMMENDED_STEP)

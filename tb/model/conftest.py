@@ -23,7 +23,7 @@ Grid = list[list[int]]
 Row = tuple[int, int, int, int, int, str]  # (scale, y, x, score, sector, descriptor hex)
 
 # Every constant below is transcribed from a docstring (or derived from it as commented).
-KERNEL = (1, 6, 15, 20, 15, 6, 1)  # smooth.py
+KERNEL = (5, 8, 12, 14, 12, 8, 5)  # smooth.py
 UMAX = (15, 15, 15, 15, 14, 14, 14, 13, 13, 12, 11, 10, 9, 8, 6, 3)  # OpenCV's radius-15 table, by hand
 DESC_BORDER = 18  # pipeline.py: patch radius 15 + smoothing radius 3
 ONE = 1 << 16  # orientation.py: 16-bit fixed point

@@ -13,8 +13,9 @@ import numpy as np
 import pytest
 
 from golden_model import Config, extract, read_csv
-from golden_model.config import RECOMMENDED_SCALES, RECOMMENDED_SECTORS, RECOMMENDED_STEP
+from golden_model.config import RECOMMENDED_BUDGET, RECOMMENDED_SCALES, RECOMMENDED_SECTORS, RECOMMENDED_STEP
 from golden_model.images import DEFAULT_IMAGE
+from golden_model.select import best_per_level
 from orb_tools.cli import main
 from orb_tools.images import load_luma
 
@@ -32,7 +33,7 @@ def test_extract_model_writes_csv_and_overlay(tmp_path: Path, extra: list[str], 
     png = _photo_png(tmp_path)
     out, overlay = tmp_path / "f.csv", tmp_path / "o.png"
     rc = main(["extract", str(png), "--backend", "model", "--threshold", "25", "--scales", "2", "--step", "2:1",
-               "--sectors", "64", "--out", str(out), "--overlay", str(overlay), *extra])  # fmt: skip
+               "--sectors", "64", "--budget", "0", "--out", str(out), "--overlay", str(overlay), *extra])  # fmt: skip
     assert rc == 0
     with open(out, newline="") as fh:
         rows = list(csv.DictReader(fh))
@@ -60,7 +61,8 @@ def test_extract_defaults_are_the_recommended_configuration(tmp_path: Path) -> N
     cfg = Config(img.shape[1], img.shape[0], scales=RECOMMENDED_SCALES, sectors=RECOMMENDED_SECTORS, threshold=20,
                  step_num=RECOMMENDED_STEP[0], step_den=RECOMMENDED_STEP[1])  # fmt: skip
     got = read_csv(out, sectors_total=cfg.sectors, step=cfg.step)
-    assert got == extract(img, cfg)
+    full = extract(img, cfg)
+    assert got == best_per_level(full, RECOMMENDED_BUDGET, cfg.scales) and len(got) == RECOMMENDED_BUDGET < len(full)
     assert int(got.scale.max()) == RECOMMENDED_SCALES - 1, "every level of the recommended pyramid has features"
     with open(out, newline="") as fh:
         rows = list(csv.DictReader(fh))

@@ -211,7 +211,8 @@ def test_cli_rotation_bench(photo_png: Path, tmp_path: Path, capsys: pytest.Capt
 @pytest.mark.parametrize("fast_only", [False, True])
 def test_cli_extract_opencv_backend(photo_png: Path, tmp_path: Path, fast_only: bool) -> None:
     out = tmp_path / "features.csv"
-    argv = ["extract", str(photo_png), "--backend", "opencv", "--scales", "2", "--out", str(out)]
+    argv = ["extract", str(photo_png), "--backend", "opencv", "--scales", "2", "--step", "2:1", "--sectors", "32",
+            "--budget", "0", "--out", str(out)]  # fmt: skip
     assert main(argv + (["--fast-only"] if fast_only else [])) == 0
     feats = read_csv(out)
     assert len(feats) > 100 and set(feats.scale.tolist()) == {0, 1}

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: MIT
-"""7x7 binomial smoothing, (sum k[i] k[j] I + 2048) >> 12: hand values and a naive reference."""
+"""7x7 smoothing, k = (5 8 12 14 12 8 5), (sum k[i] k[j] I + 2048) >> 12: hand values and a naive reference."""
 
 from __future__ import annotations
 
@@ -12,16 +12,16 @@ PHOTOS = ("astronaut", "camera", "coffee", "chelsea")
 
 # Impulse of 255 at the centre: s = (k[i] k[j] * 255 + 2048) >> 12, by (|dx|, |dy|), hand-computed.
 IMPULSE_255 = {
-    (0, 0): 25,  # 400 * 255 = 102000 / 4096 = 24.90 -> 25
-    (1, 0): 19,  # 300 * 255 = 76500 / 4096 = 18.68 -> 19
-    (2, 0): 7,  # 120 * 255 = 30600 / 4096 = 7.47 -> 7
-    (3, 0): 1,  # 20 * 255 = 5100 / 4096 = 1.25 -> 1
-    (1, 1): 14,  # 225 * 255 = 57375 / 4096 = 14.01 -> 14
-    (2, 1): 6,  # 90 * 255 = 22950 / 4096 = 5.60 -> 6
-    (3, 1): 1,  # 15 * 255 = 3825 / 4096 = 0.93 -> 1
-    (2, 2): 2,  # 36 * 255 = 9180 / 4096 = 2.24 -> 2
-    (3, 2): 0,  # 6 * 255 = 1530 / 4096 = 0.37 -> 0
-    (3, 3): 0,  # 1 * 255 / 4096 = 0.06 -> 0
+    (0, 0): 12,  # 196 * 255 = 49980 / 4096 = 12.20 -> 12
+    (1, 0): 10,  # 168 * 255 = 42840 / 4096 = 10.46 -> 10
+    (2, 0): 7,  # 112 * 255 = 28560 / 4096 = 6.97 -> 7
+    (3, 0): 4,  # 70 * 255 = 17850 / 4096 = 4.36 -> 4
+    (1, 1): 9,  # 144 * 255 = 36720 / 4096 = 8.96 -> 9
+    (2, 1): 6,  # 96 * 255 = 24480 / 4096 = 5.98 -> 6
+    (3, 1): 4,  # 60 * 255 = 15300 / 4096 = 3.74 -> 4
+    (2, 2): 4,  # 64 * 255 = 16320 / 4096 = 3.98 -> 4
+    (3, 2): 2,  # 40 * 255 = 10200 / 4096 = 2.49 -> 2
+    (3, 3): 2,  # 25 * 255 = 6375 / 4096 = 1.56 -> 2
 }
 
 
@@ -53,17 +53,18 @@ def test_impulse_of_255_gives_the_rounded_kernel() -> None:
 
 
 @pytest.mark.parametrize(
-    ("background", "centre", "expected"),
+    ("background", "value", "expected"),
     [
-        (0, 128, 13),  # 400 * 128 / 4096 = 12.5 exactly: half rounds up
-        (0, 127, 12),  # 12.40
-        (0, 129, 13),  # 12.60
-        (100, 228, 113),  # 100 + 400 * 128 / 4096 = 112.5 exactly -> 113
+        (0, 32, 1),  # weight 8 * 8 = 64 at (x=1, y=1): 64 * 32 / 4096 = 0.5 exactly: half rounds up
+        (0, 31, 0),  # 0.48
+        (0, 33, 1),  # 0.52
+        (0, 96, 2),  # 1.5 exactly -> 2
+        (100, 132, 101),  # 100 + 64 * 32 / 4096 = 100.5 exactly -> 101
     ],
 )
-def test_rounding_tie_rounds_half_up(background: int, centre: int, expected: int) -> None:
+def test_rounding_tie_rounds_half_up(background: int, value: int, expected: int) -> None:
     img = np.full((7, 7), background, dtype=np.uint8)
-    img[3, 3] = centre
+    img[1, 1] = value
     out = smooth(img)
     assert int(out[3, 3]) == expected, f"centre (x=3, y=3) = {out[3, 3]}, expected {expected}"
     assert np.count_nonzero(out) == int(expected > 0), "a 7x7 image has exactly one defined pixel"

@@ -22,7 +22,8 @@ TIMEOUT_S = 300.0
 
 def _features(m) -> dict:
     out = {name: getattr(m, name) for name in ("width", "height", "frame", "threshold", "mode", "scales", "sectors",
-                                               "dropped", "truncated", "frames_total", "overrun_total")}  # fmt: skip
+                                               "step_num", "step_den", "budget", "dropped", "truncated",
+                                               "frames_total", "overrun_total")}  # fmt: skip
     for name in ("x", "y", "size", "angle", "response", "octave", "scale_x", "scale_y"):
         out[name] = list(getattr(m, name))
     out["descriptors"] = bytes(m.descriptors).hex()

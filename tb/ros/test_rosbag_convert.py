@@ -80,7 +80,7 @@ def make_msg(fr: Frame) -> object:
     return types[MSGTYPE](
         header=types["std_msgs/msg/Header"](seq=fr.frame, stamp=stamp, frame_id="orb_accel"),
         width=cfg.width, height=cfg.height, frame=fr.frame, threshold=cfg.threshold, mode=cfg.mode,
-        scales=cfg.scales, sectors=cfg.sectors, step_num=cfg.step_num, step_den=cfg.step_den,
+        scales=cfg.scales, sectors=cfg.sectors, step_num=cfg.step_num, step_den=cfg.step_den, budget=0,
         x=((f.x + 0.5) * mult - 0.5).astype(np.float32), y=((f.y + 0.5) * mult - 0.5).astype(np.float32),
         size=(31 * mult).astype(np.float32),
         angle=np.where(f.sector >= 0, f.sector * (360.0 / cfg.sectors), -1.0).astype(np.float32),
@@ -418,8 +418,8 @@ with rosbag.Bag(path, "w") as bag:
 def test_bag_written_by_debian_rosbag(frames: list[Frame], tmp_path: Path) -> None:
     """A bag as `rosbag record` writes it (Debian's rosbag.Bag, a genpy class made from the .msg
     text): accepted (same md5sum) and converted to the same features."""
-    scalars = ("width", "height", "frame", "threshold", "mode", "scales", "sectors", "step_num", "step_den", "dropped",
-               "truncated", *COUNTERS)  # fmt: skip
+    scalars = ("width", "height", "frame", "threshold", "mode", "scales", "sectors", "step_num", "step_den", "budget",
+               "dropped", "truncated", *COUNTERS)  # fmt: skip
     data = []
     for fr in frames:
         m = make_msg(fr)

@@ -23,9 +23,24 @@ def test_parse_extractor() -> None:
     assert sb.parse_extractor("cv-2:1x4").kind == "opencv"
     d = sb.parse_extractor("cv-default@5:4x6")
     assert (d.kind, d.budget_of) == ("opencv-default", "5:4x6")
-    for bad in ("5x4", "4:5x3", "2:1x0", "cv-x", "2:1"):
+    b = sb.parse_extractor("5:4x4s64/1000")
+    assert (b.kind, b.step, b.levels, b.sectors, b.budget) == ("ours", (5, 4), 4, 64, 1000)
+    assert (e.sectors, e.budget) == (32, 0)
+    for bad in ("5x4", "4:5x3", "2:1x0", "cv-x", "2:1", "5:4x4s24", "cv-5:4x4/100", "5:4x4/", "5:4x4s64/1000x"):
         with pytest.raises(ValueError, match="extractor"):
             sb.parse_extractor(bad)
+
+
+def test_budgeted_extractor_keeps_each_levels_best() -> None:
+    img = photo("camera", 320, 240)
+    full = sb.extract_ours(img, sb.parse_extractor("5:4x4"))
+    kept = sb.extract_ours(img, sb.parse_extractor("5:4x4/300"))
+    assert len(kept) == 300 < len(full)
+    # every kept feature is one of the full set (same position and descriptor)
+    pos = {(round(x, 6), round(y, 6), d.tobytes()) for x, y, d in zip(full.x, full.y, full.desc, strict=True)}
+    assert all(
+        (round(x, 6), round(y, 6), d.tobytes()) in pos for x, y, d in zip(kept.x, kept.y, kept.desc, strict=True)
+    )
 
 
 def test_homography() -> None:
