@@ -19,23 +19,27 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[2]
 
 
-def command(jobs: int, sta: bool) -> list[str]:
+def commands(jobs: int, sta: bool) -> list[list[str]]:
+    """One synth.py run per group of configurations that share sectors and pyramid step (the
+    generics synth.py applies to all its configurations)."""
     b = json.loads((ROOT / "vivado" / "board.json").read_text())
-    cmd = [sys.executable, str(ROOT / "scripts" / "flow" / "synth.py"), "--top", b["accel"]["entity"]]
+    groups: dict[tuple[int, int, int], list[str]] = {}
     for c in b["configs"].values():
-        cmd += ["--config", f"{c['width']}x{c['height']}x{c['scales']}"]
-    sectors = {c["sectors"] for c in b["configs"].values()}
-    steps = {(c["step_num"], c["step_den"]) for c in b["configs"].values()}
-    if len(sectors) != 1 or len(steps) != 1:
-        raise SystemExit("estimate.py: the configurations differ in sectors or pyramid step; run synth.py per "
-                         "configuration")  # fmt: skip
-    if (step := steps.pop()) != (2, 1):  # orb_accel_zynq's default
-        cmd += ["--generic", f"STEP_NUM_g={step[0]}", "--generic", f"STEP_DEN_g={step[1]}"]
-    cmd += ["--generic", f"MEM_DEPTH_g={b['accel']['mem_depth']}"]
-    if (s := sectors.pop()) != 32:  # orb_accel_zynq's default SECTORS_g
-        cmd += ["--generic", f"SECTORS_g={s}"]
-    cmd += ["--out", str(ROOT / "build" / "vivado" / "estimate"), "--jobs", str(jobs)]
-    return cmd + (["--sta"] if sta else [])
+        key = (c["sectors"], c["step_num"], c["step_den"])
+        groups.setdefault(key, []).append(f"{c['width']}x{c['height']}x{c['scales']}")
+    out = []
+    for (sectors, num, den), configs in groups.items():
+        cmd = [sys.executable, str(ROOT / "scripts" / "flow" / "synth.py"), "--top", b["accel"]["entity"]]
+        for config in configs:
+            cmd += ["--config", config]
+        cmd += ["--generic", f"MEM_DEPTH_g={b['accel']['mem_depth']}"]
+        if sectors != 32:  # orb_accel_zynq's default SECTORS_g
+            cmd += ["--generic", f"SECTORS_g={sectors}"]
+        if (num, den) != (2, 1):  # orb_accel_zynq's default pyramid step
+            cmd += ["--generic", f"STEP_NUM_g={num}", "--generic", f"STEP_DEN_g={den}"]
+        cmd += ["--out", str(ROOT / "build" / "vivado" / "estimate"), "--jobs", str(jobs)]
+        out.append(cmd + (["--sta"] if sta else []))
+    return out
 
 
 def main() -> int:
@@ -43,9 +47,11 @@ def main() -> int:
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--sta", action="store_true", help="also the slow logic-delay pass")
     args = ap.parse_args()
-    cmd = command(args.jobs, args.sta)
-    print(" ".join(cmd))
-    return subprocess.run(cmd, check=False).returncode
+    status = 0
+    for cmd in commands(args.jobs, args.sta):
+        print(" ".join(cmd), flush=True)
+        status = max(status, subprocess.run(cmd, check=False).returncode)
+    return status
 
 
 if __name__ == "__main__":

@@ -25,10 +25,10 @@ namespace eval ::orb_board {
     640x480 [dict create \
       width 640 \
       height 480 \
-      scales 2 \
-      step_num 2 \
-      step_den 1 \
-      sectors 32 \
+      scales 4 \
+      step_num 5 \
+      step_den 4 \
+      sectors 64 \
       mode {640x480@60 (VESA DMT / CEA-861 VIC 1)} \
       pixel_mhz 25.175 \
       core_mhz 100 \
