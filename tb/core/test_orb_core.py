@@ -16,7 +16,7 @@ import pytest
 from cocotb.clock import Clock
 from cocotb.triggers import ClockCycles, RisingEdge
 
-from golden_model.config import parse_step
+from golden_model.config import RECOMMENDED_SCALES, RECOMMENDED_SECTORS, RECOMMENDED_STEP, parse_step
 from orb_sim.feature_stream import FeatureMonitor
 from orb_sim.video import Gaps, VideoSource
 from orbtb import images
@@ -158,6 +158,13 @@ def test_orb_small(width: int, height: int, scales: int, sectors: int, images_: 
 def test_finer_pyramid(width: int, height: int, scales: int, step: tuple[int, int], images_: str, thresholds: str,
                        gaps: str, modes: str) -> None:  # fmt: skip
     run_detect(width, height, scales, images_, thresholds, gaps, modes, 32, step)
+
+
+def test_recommended_configuration_densest_input() -> None:
+    """The recommended pyramid (golden_model.config.RECOMMENDED_*: 5:4 x 4, 64 sectors) in orb mode on
+    the densest legal corner pattern and a photograph, with input gaps: bit for bit, zero drops."""
+    run_detect(128, 96, RECOMMENDED_SCALES, "dots4,photo:coffee,checker", "20,20,20", "random:2", "orb",
+               RECOMMENDED_SECTORS, RECOMMENDED_STEP)  # fmt: skip
 
 
 @pytest.mark.parametrize(("width", "height", "scales"), [(640, 48, 2), (1920, 48, 1)])
