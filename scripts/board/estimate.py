@@ -20,19 +20,19 @@ ROOT = Path(__file__).resolve().parents[2]
 
 
 def commands(jobs: int, sta: bool) -> list[list[str]]:
-    """One synth.py run per group of configurations that share sectors and pyramid step (the
-    generics synth.py applies to all its configurations)."""
+    """One synth.py run per group of configurations that share sectors, pyramid step and memory
+    depth (the generics synth.py applies to all its configurations)."""
     b = json.loads((ROOT / "vivado" / "board.json").read_text())
-    groups: dict[tuple[int, int, int], list[str]] = {}
+    groups: dict[tuple[int, int, int, int], list[str]] = {}
     for c in b["configs"].values():
-        key = (c["sectors"], c["step_num"], c["step_den"])
+        key = (c["sectors"], c["step_num"], c["step_den"], c["mem_depth"])
         groups.setdefault(key, []).append(f"{c['width']}x{c['height']}x{c['scales']}")
     out = []
-    for (sectors, num, den), configs in groups.items():
+    for (sectors, num, den, mem_depth), configs in groups.items():
         cmd = [sys.executable, str(ROOT / "scripts" / "flow" / "synth.py"), "--top", b["accel"]["entity"]]
         for config in configs:
             cmd += ["--config", config]
-        cmd += ["--generic", f"MEM_DEPTH_g={b['accel']['mem_depth']}"]
+        cmd += ["--generic", f"MEM_DEPTH_g={mem_depth}"]
         if sectors != 32:  # orb_accel_zynq's default SECTORS_g
             cmd += ["--generic", f"SECTORS_g={sectors}"]
         if (num, den) != (2, 1):  # orb_accel_zynq's default pyramid step

@@ -120,7 +120,7 @@ def render_doc(b: dict[str, Any]) -> str:
         rows.append(
             f"| `{name}` | {c['width']}x{c['height']}, {c['scales']} scales of {c['step_num']}:{c['step_den']}, "
             f"{c['sectors']} sectors, "
-            f"{acc['mem_depth']} slots per bank | {c['mode']} | {c['pixel_mhz']} MHz | {c['core_mhz']} MHz "
+            f"{c['mem_depth']} slots per bank | {c['mode']} | {c['pixel_mhz']} MHz | {c['core_mhz']} MHz "
             f"| {c['kClkRange']}{patched} | `{c['edid']}` |"
         )
     rows += [

@@ -17,7 +17,6 @@ namespace eval ::orb_board {
     irq_f2p 0 \
     gic_spi 29 \
     dt_name orb-accel \
-    mem_depth 2048 \
     input RBG \
     block_log2 3 \
   ]
@@ -29,6 +28,7 @@ namespace eval ::orb_board {
       step_num 5 \
       step_den 4 \
       sectors 64 \
+      mem_depth 4096 \
       mode {640x480@60 (VESA DMT / CEA-861 VIC 1)} \
       pixel_mhz 25.175 \
       core_mhz 100 \
@@ -43,6 +43,7 @@ namespace eval ::orb_board {
       step_num 2 \
       step_den 1 \
       sectors 32 \
+      mem_depth 2048 \
       mode {1280x720@60 (CEA-861 VIC 4)} \
       pixel_mhz 74.25 \
       core_mhz 100 \
@@ -57,6 +58,7 @@ namespace eval ::orb_board {
       step_num 2 \
       step_den 1 \
       sectors 32 \
+      mem_depth 2048 \
       mode {1920x1080@60 (CEA-861 VIC 16)} \
       pixel_mhz 148.5 \
       core_mhz 150 \

@@ -105,7 +105,7 @@ proc orb_create_bd {design cfg board_part} {
     CONFIG.STEP_NUM_g [dict get $cfg step_num] \
     CONFIG.STEP_DEN_g [dict get $cfg step_den] \
     CONFIG.SECTORS_g [dict get $cfg sectors] \
-    CONFIG.MEM_DEPTH_g [dict get $acc mem_depth] \
+    CONFIG.MEM_DEPTH_g [dict get $cfg mem_depth] \
     CONFIG.INPUT_g [dict get $acc input] \
     CONFIG.BLOCK_LOG2_g [dict get $acc block_log2] \
     CONFIG.C_S_AXI_CTRL_ADDR_WIDTH [dict get $acc addr_width] \
