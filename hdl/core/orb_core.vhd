@@ -5,9 +5,10 @@
 -- source cannot be stalled. Scale 0 is the input; each further scale is the STEP_NUM_g:STEP_DEN_g
 -- reduction of the previous one: an orb_scaler (the 2x2 box) for 2:1, an orb_resampler
 -- (fixed-phase bilinear) for any other step, each a streaming path at its fraction of the pixel
--- rate with no frame buffer (docs/spec.md section 3, docs/pyramid.md). Each scale's orb_scale_path reports, per frame, either every NMS survivor (fast mode,
--- mode_orb = 0) or every survivor inside the descriptor border with its sector and 256-bit
--- rBRIEF descriptor (orb mode, mode_orb = 1; needs DESC_g = true, which builds the descriptor
+-- rate with no frame buffer (docs/spec.md section 3, docs/pyramid.md). Each scale's
+-- orb_scale_path reports, per frame, either every NMS survivor (fast mode, mode_orb = 0) or
+-- every survivor inside the descriptor border with its sector and 256-bit rBRIEF descriptor
+-- (orb mode, mode_orb = 1; needs DESC_g = true, which builds the descriptor
 -- path), merged by orb_feat_merge into m_axis_feat (layout in orb_feat_pkg) with an end-of-frame
 -- beat after each frame. The FAST threshold and the mode are sampled with each frame's first pixel
 -- (tuser) and hold for every scale of that frame. Pixels outside the configured WIDTH_g x
@@ -27,10 +28,10 @@ entity orb_core is
     WIDTH_g      : width_t                 := 640;
     HEIGHT_g     : height_t                := 480;
     SCALES_g     : scales_t                := 1;
-    STEP_NUM_g   : step_num_t              := 2;   -- pyramid step STEP_NUM_g:STEP_DEN_g
+    STEP_NUM_g   : step_num_t              := 2;  -- pyramid step STEP_NUM_g:STEP_DEN_g
     STEP_DEN_g   : step_den_t              := 1;
     FIFO_DEPTH_g : positive range 2 to 512 := 32;
-    SECTORS_g    : sectors_t               := 32;  -- orientation sectors in all (orb_limits_pkg)
+    SECTORS_g    : sectors_t               := 32; -- orientation sectors in all (orb_limits_pkg)
     DESC_g       : boolean                 := true
   );
   port (

@@ -86,8 +86,8 @@ architecture rtl of orb_overlay is
     return p;
   end function num_powers;
 
-  constant NUM_POW_c  : nat_arr_t := num_powers;
-  constant DEN_LOG_c  : natural   := clog2(STEP_DEN_g);
+  constant NUM_POW_c   : nat_arr_t := num_powers;
+  constant DEN_LOG_c   : natural   := clog2(STEP_DEN_g);
   constant PROD_BITS_c : positive := COORD_BITS_c + 1 + clog2(NUM_POW_c(SCALES_g - 1) + 1);
 
   function bit_of (n : natural) return std_logic is

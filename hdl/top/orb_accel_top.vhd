@@ -304,8 +304,8 @@ begin
 
   detect : entity work.orb_core
     generic map (
-      WIDTH_g   => WIDTH_g,
-      HEIGHT_g  => HEIGHT_g,
+      WIDTH_g    => WIDTH_g,
+      HEIGHT_g   => HEIGHT_g,
       SCALES_g   => SCALES_g,
       STEP_NUM_g => STEP_NUM_g,
       STEP_DEN_g => STEP_DEN_g,
