@@ -239,10 +239,20 @@ begin
   f_scale <= unsigned(s_axis_feat_tdata(FEAT_SCALE_LO_c + FEAT_SCALE_BITS_c - 1 downto FEAT_SCALE_LO_c));
 
   -- Block of a feature: ((2x + 1) NUM^s - DEN^s) >> (1 + s log2(DEN) + b), likewise in y (for 2:1
-  -- the same as x >> (b - s)). Scales >= SCALES_g are ignored.
+  -- the same as x >> (b - s)). Scales >= SCALES_g are ignored; a block number too large for
+  -- COORD_BITS_c saturates (it is outside the grid either way, never wraps into it).
   block_of : process (s_axis_feat_tdata, f_scale) is
     variable fx, fy : unsigned(COORD_BITS_c downto 0);
     variable px, py : unsigned(PROD_BITS_c - 1 downto 0);
+
+    function to_block (v : unsigned) return unsigned is
+    begin
+      if v(v'high downto COORD_BITS_c) /= 0 then
+        return to_unsigned(2 ** COORD_BITS_c - 1, COORD_BITS_c);
+      end if;
+      return v(COORD_BITS_c - 1 downto 0);
+    end function to_block;
+
   begin
     fx   := unsigned(s_axis_feat_tdata(FEAT_X_LO_c + COORD_BITS_c - 1 downto FEAT_X_LO_c)) & '1';  -- 2x + 1
     fy   := unsigned(s_axis_feat_tdata(FEAT_Y_LO_c + COORD_BITS_c - 1 downto FEAT_Y_LO_c)) & '1';
@@ -254,8 +264,8 @@ begin
                 - 2 ** (k * DEN_LOG_c);
         py   := resize(fy * to_unsigned(NUM_POW_c(k), PROD_BITS_c - COORD_BITS_c - 1), PROD_BITS_c)
                 - 2 ** (k * DEN_LOG_c);
-        f_bx <= resize(shift_right(px, 1 + k * DEN_LOG_c + BLOCK_LOG2_g), COORD_BITS_c);
-        f_by <= resize(shift_right(py, 1 + k * DEN_LOG_c + BLOCK_LOG2_g), COORD_BITS_c);
+        f_bx <= to_block(shift_right(px, 1 + k * DEN_LOG_c + BLOCK_LOG2_g));
+        f_by <= to_block(shift_right(py, 1 + k * DEN_LOG_c + BLOCK_LOG2_g));
       end if;
     end loop;
   end process block_of;
