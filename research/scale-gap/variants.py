@@ -3,7 +3,6 @@ G7_64 = (5, 8, 12, 14, 12, 8, 5)      # ~ Gaussian sigma 2, 7 taps, sum 64
 G7_40 = (1, 4, 9, 12, 9, 4, 1)        # brief's suggestion, sum 40
 G7_32 = (2, 4, 6, 8, 6, 4, 2)         # sum 32
 B5 = (1, 4, 6, 4, 1)                  # binomial 5, sigma 1
-G5_16 = (2, 3, 6, 3, 2)               # placeholder replaced below
 G5_16 = (3, 3, 4, 3, 3)               # ~ sigma 2 truncated to 5, sum 16
 B9 = (1, 8, 28, 56, 70, 56, 28, 8, 1) # binomial 9, sigma sqrt 2, sum 256
 G9_64 = (2, 4, 8, 11, 14, 11, 8, 4, 2)  # ~ Gaussian sigma 2, 9 taps, sum 64
