@@ -72,14 +72,12 @@ class Config:
                 raise ConfigError(f"{lim.name} must be {lim.text}, got {value}")
         if self.mode not in MODES:
             raise ConfigError(f"mode {self.mode!r} not one of {MODES}")
-        if not self.step_den < self.step_num <= 2 * self.step_den:
-            raise ConfigError(f"pyramid step {self.step_num}:{self.step_den}: need step_den < step_num <= 2 step_den")
+        check_step(self.step_num, self.step_den)
         w, h = self.scale_size(self.scales - 1)
         if not (limits.SCALE_WIDTH.legal(w) and limits.SCALE_HEIGHT.legal(h)):
             raise ConfigError(
-                f"{self.scales} levels of {self.step_num}:{self.step_den} leave a {w}x{h} smallest level; it must be "
-                f"at "
-                f"least {limits.SCALE_WIDTH.min}x{limits.SCALE_HEIGHT.min} (fewer scales or a larger frame)"
+                f"{self.scales} levels of {self.step_num}:{self.step_den} leave a {w}x{h} smallest level; it must "
+                f"be at least {limits.SCALE_WIDTH.min}x{limits.SCALE_HEIGHT.min} (fewer scales or a larger frame)"
             )
 
     @property
@@ -100,6 +98,16 @@ class Config:
     def scale_size(self, scale: int) -> tuple[int, int]:
         """(width, height) of scale ``scale``: level_size applied ``scale`` times."""
         return level_size(self.width, self.height, scale, self.step)
+
+
+def check_step(num: int, den: int) -> None:
+    """ConfigError unless num:den is a legal pyramid step: each part inside its limit (den a power of
+    two) and den < num <= 2 den (the one rule; Config, the CLI and the bag converter call it)."""
+    for lim, value in ((limits.STEP_NUM, num), (limits.STEP_DEN, den)):
+        if isinstance(value, bool) or not isinstance(value, numbers.Integral) or not lim.legal(int(value)):
+            raise ConfigError(f"{lim.name} must be {lim.text}, got {value!r}")
+    if not den < num <= 2 * den:
+        raise ConfigError(f"pyramid step {num}:{den}: need step_den < step_num <= 2 step_den")
 
 
 def parse_step(text: str) -> tuple[int, int]:

@@ -23,6 +23,7 @@ from golden_model.config import (
     RECOMMENDED_STEP,
     Config,
     ConfigError,
+    check_step,
     parse_step,
     recommended_budget,
 )
@@ -85,12 +86,9 @@ def _budget(text: str) -> int:
 def _step(text: str) -> tuple[int, int]:
     try:
         num, den = parse_step(text)
+        check_step(num, den)
     except ConfigError as exc:
         raise argparse.ArgumentTypeError(str(exc)) from None
-    _limited(limits.STEP_NUM, str(num))
-    _limited(limits.STEP_DEN, str(den))
-    if not den < num <= 2 * den:
-        raise argparse.ArgumentTypeError(f"pyramid step {text}: need DEN < NUM <= 2 DEN")
     return num, den
 
 

@@ -26,7 +26,7 @@ from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 from rosbags.typesys.store import Typestore
 
 from golden_model.brief import DESCRIPTOR_BYTES
-from golden_model.config import MODES
+from golden_model.config import MODES, check_step
 from golden_model.features import NO_SECTOR, Features
 from orb_accel.csvdir import CsvDir
 
@@ -96,10 +96,11 @@ def features_from_msg(msg: Any) -> Features:
     if n and (octave.min() < 0 or octave.max() >= int(msg.scales)):
         raise ValueError(f"octave outside 0 .. scales - 1 = {int(msg.scales) - 1}")
     num, den = int(msg.step_num), int(msg.step_den)
-    if not 1 <= den < num <= 2 * den:
-        raise ValueError(f"pyramid step {num}:{den}: need 1 <= step_den < step_num <= 2 step_den")
-    at = Features(octave.astype(np.int64), sx.astype(np.int64), sy.astype(np.int64), step=(num, den))
-    for name, pos, want in (("x", sx, at.full_res()[0]), ("y", sy, at.full_res()[1])):
+    check_step(num, den)  # ConfigError, a ValueError
+    want_x, want_y = Features(
+        octave.astype(np.int64), sx.astype(np.int64), sy.astype(np.int64), step=(num, den)
+    ).full_res()
+    for name, pos, want in (("x", sx, want_x), ("y", sy, want_y)):
         bad = np.flatnonzero(np.float32(want) != np.float32(cols[name]))
         if len(bad):
             i = bad[0]

@@ -70,8 +70,8 @@ def test_extract_defaults_are_the_recommended_configuration(tmp_path: Path) -> N
     assert [float(r["x0"]) for r in rows] == pytest.approx(x0.tolist(), abs=1e-4), "x0 is (x + 0.5) r^s - 0.5"
 
 
-@pytest.mark.parametrize(("step", "message"), [("5:2", "DEN < NUM <= 2 DEN"), ("5:3", "step_den must be"),
-                                               ("54", "expected NUM:DEN")])  # fmt: skip
+@pytest.mark.parametrize(("step", "message"), [("5:2", "need step_den < step_num <= 2 step_den"),
+                                               ("5:3", "step_den must be"), ("54", "expected NUM:DEN")])  # fmt: skip
 def test_extract_refuses_an_illegal_step(tmp_path: Path, step: str, message: str) -> None:
     proc = _run_cli("extract", "--default-image", "--step", step, "--out", str(tmp_path / "out.csv"))
     assert proc.returncode == 2 and message in proc.stderr and "Traceback" not in proc.stderr, proc.stderr

@@ -208,6 +208,7 @@ def _set(name: str, i: int, value: float):
         (_set("angle", 2, float("nan")), "not on a sector"),
         (_set("response", 1, 20.5), "not an integer"),
         (_set("octave", 1, 2), "octave outside"),
+        (lambda m: dataclasses.replace(m, step_den=3), "step_den must be"),
         (lambda m: dataclasses.replace(m, mode="brief"), "mode 'brief'"),
         (lambda m: dataclasses.replace(m, mode="fast"), "in fast mode"),
     ],
