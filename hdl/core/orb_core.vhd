@@ -10,7 +10,8 @@
 -- every survivor inside the descriptor border with its sector and 256-bit rBRIEF descriptor
 -- (orb mode, mode_orb = 1; needs DESC_g = true, which builds the descriptor
 -- path), merged by orb_feat_merge into m_axis_feat (layout in orb_feat_pkg) with an end-of-frame
--- beat after each frame. The FAST threshold and the mode are sampled with each frame's first pixel
+-- beat after each frame; the descriptor paths leave their tests unrotated and one orb_desc_rotate
+-- after the merge applies every feature's orbit rotation. The FAST threshold and the mode are sampled with each frame's first pixel
 -- (tuser) and hold for every scale of that frame. Pixels outside the configured WIDTH_g x
 -- HEIGHT_g frame (a long line or extra lines) are ignored and counted in bad_pixels; features
 -- the descriptor path had to discard (only on a malformed frame) are counted in desc_lost.
@@ -85,6 +86,12 @@ architecture rtl of orb_core is
   signal lost     : lost_arr_t;
   signal lost_q   : unsigned(31 downto 0) := (others => '0');
   signal mode_frm : std_logic := '0';
+
+  -- the merged stream, before the shared orbit rotation
+  signal mg_tdata  : std_logic_vector(FEAT_BITS_c - 1 downto 0);
+  signal mg_tvalid : std_logic;
+  signal mg_tready : std_logic;
+  signal mg_tlast  : std_logic;
 
 begin
 
@@ -200,7 +207,8 @@ begin
         LINE_WIDTH_g   => level_size(WIDTH_g, STEP_NUM_g, STEP_DEN_g, s),
         FRAME_HEIGHT_g => level_size(HEIGHT_g, STEP_NUM_g, STEP_DEN_g, s),
         SECTORS_g      => SECTORS_g,
-        DESC_g         => DESC_g
+        DESC_g         => DESC_g,
+        ROTATE_g       => false  -- one orb_desc_rotate after the merge serves every scale
       )
       port map (
         clk         => clk,
@@ -239,12 +247,41 @@ begin
       in_sector          => f_sect,
       in_desc            => f_desc,
       in_done            => f_done,
-      m_axis_feat_tdata  => m_axis_feat_tdata,
-      m_axis_feat_tvalid => m_axis_feat_tvalid,
-      m_axis_feat_tready => m_axis_feat_tready,
-      m_axis_feat_tlast  => m_axis_feat_tlast,
+      m_axis_feat_tdata  => mg_tdata,
+      m_axis_feat_tvalid => mg_tvalid,
+      m_axis_feat_tready => mg_tready,
+      m_axis_feat_tlast  => mg_tlast,
       dropped            => dropped
     );
+
+  -- The scales' descriptors leave unrotated (sector-0 tests); one rotation stage serves them all.
+  gen_rotate : if DESC_g generate
+
+    rotate : entity work.orb_desc_rotate
+      generic map (
+        SECTORS_g => SECTORS_g
+      )
+      port map (
+        clk                => clk,
+        rst                => rst,
+        s_axis_feat_tdata  => mg_tdata,
+        s_axis_feat_tvalid => mg_tvalid,
+        s_axis_feat_tready => mg_tready,
+        s_axis_feat_tlast  => mg_tlast,
+        m_axis_feat_tdata  => m_axis_feat_tdata,
+        m_axis_feat_tvalid => m_axis_feat_tvalid,
+        m_axis_feat_tready => m_axis_feat_tready,
+        m_axis_feat_tlast  => m_axis_feat_tlast
+      );
+
+  else generate
+
+    m_axis_feat_tdata  <= mg_tdata;
+    m_axis_feat_tvalid <= mg_tvalid;
+    m_axis_feat_tlast  <= mg_tlast;
+    mg_tready          <= m_axis_feat_tready;
+
+  end generate gen_rotate;
 
   bad_pixels <= std_logic_vector(bad_cnt);
 

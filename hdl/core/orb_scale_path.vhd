@@ -21,7 +21,8 @@ entity orb_scale_path is
     LINE_WIDTH_g   : positive range 8 to 4095 := 640;
     FRAME_HEIGHT_g : positive range 1 to 4095 := 480;
     SECTORS_g      : sectors_t                := 32;  -- orientation sectors in all
-    DESC_g         : boolean                  := true
+    DESC_g         : boolean                  := true;
+    ROTATE_g       : boolean                  := true   -- orb_desc_path's ROTATE_g
   );
   port (
     clk         : in    std_logic;
@@ -110,7 +111,14 @@ begin
     signal s_valid  : std_logic;
     signal s_x, s_y : std_logic_vector(COORD_BITS_c - 1 downto 0);
     signal s_data   : std_logic_vector(PIXEL_BITS_c - 1 downto 0);
+    signal w_col    : std_logic_vector(7 * PIXEL_BITS_c - 1 downto 0);
   begin
+
+    -- the window's newest column (c = 6), top pixel first: orb_smooth slides its own column sums
+    newest : for r in 0 to 6 generate
+      w_col((r + 1) * PIXEL_BITS_c - 1 downto r * PIXEL_BITS_c) <=
+        w_win((r * 7 + 7) * PIXEL_BITS_c - 1 downto (r * 7 + 6) * PIXEL_BITS_c);
+    end generate newest;
 
     smooth : entity work.orb_smooth
       port map (
@@ -119,7 +127,7 @@ begin
         in_valid  => w_valid,
         in_x      => w_x,
         in_y      => w_y,
-        in_win    => w_win,
+        in_col    => w_col,
         out_valid => s_valid,
         out_x     => s_x,
         out_y     => s_y,
@@ -130,7 +138,8 @@ begin
       generic map (
         LINE_WIDTH_g   => LINE_WIDTH_g,
         FRAME_HEIGHT_g => FRAME_HEIGHT_g,
-        SECTORS_g      => SECTORS_g
+        SECTORS_g      => SECTORS_g,
+        ROTATE_g       => ROTATE_g
       )
       port map (
         clk         => clk,

@@ -9,10 +9,12 @@
 -- FIFO (in raster order, as the window visits them) until the window reaches them: the 256 tests
 -- of the orbit pattern's sector-0 table (orb_pattern_pkg) are evaluated on the window in that
 -- clock, and when the feature's sector s arrives the bits of each orbit of 4N tests are rotated
--- by s, which gives the sector-s pattern's descriptor. The FIFO holds every feature of 16 image
--- lines at the densest legal NMS output, so it cannot overflow; a feature whose window position
--- is never reached (a malformed frame) is discarded at the next frame start or once the window
--- has passed it, and counted in `lost`, as is one that found the FIFO full.
+-- by s, which gives the sector-s pattern's descriptor (with ROTATE_g = false the sector-0 tests
+-- leave unrotated, beside their sector, and one orb_desc_rotate after the merge of the scales
+-- rotates them: orb_core does so). The FIFO holds every feature of 16 image lines at the densest
+-- legal NMS output, so it cannot overflow; a feature whose window position is never reached (a
+-- malformed frame) is discarded at the next frame start or once the window has passed it, and
+-- counted in `lost`, as is one that found the FIFO full. Page: docs/rtl-description.md.
 
 library ieee;
 use ieee.std_logic_1164.all;
@@ -26,7 +28,9 @@ entity orb_desc_path is
   generic (
     LINE_WIDTH_g   : positive range 37 to 4095 := 640;
     FRAME_HEIGHT_g : positive range 37 to 4095 := 480;
-    SECTORS_g      : sectors_t                 := 32   -- orientation sectors in all
+    SECTORS_g      : sectors_t                 := 32;  -- orientation sectors in all
+    -- false: feat_desc holds the sector-0 table's tests, for one shared orb_desc_rotate
+    ROTATE_g       : boolean                   := true
   );
   port (
     clk : in    std_logic;
@@ -402,8 +406,10 @@ begin
         o2_sector <= std_logic_vector(o1_sector);
         for j in 0 to 256 / ORBIT_c - 1 loop
           orbit := unsigned(o1_bits((j + 1) * ORBIT_c - 1 downto j * ORBIT_c));
-          o2_desc((j + 1) * ORBIT_c - 1 downto j * ORBIT_c) <=
-            std_logic_vector(rotate_right(orbit, to_integer(o1_sector)));
+          if ROTATE_g then
+            orbit := rotate_right(orbit, to_integer(o1_sector));
+          end if;
+          o2_desc((j + 1) * ORBIT_c - 1 downto j * ORBIT_c) <= std_logic_vector(orbit);
         end loop;
       end if;
       done_q <= o2_last;

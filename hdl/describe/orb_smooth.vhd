@@ -1,11 +1,15 @@
 -- SPDX-License-Identifier: MIT
--- orb_smooth: 7x7 smoothing (docs/spec.md section 7) of the centre of a 7x7 window from
--- orb_window: B = (sum k_i k_j P + 2048) >> 12 with k = (5, 8, 12, 14, 12, 8, 5). Column sums
--- first (constant shift-add multiplies, no DSP), then the weighted row of column sums, then the
--- rounding shift: three pipeline stages. The window's newest pixel is at (in_x, in_y), so the
--- output is the smoothed value of (in_x - 3, in_y - 3) and carries the input's (x, y) tag;
--- positions whose window wraps around a line or frame edge (in_x < 6 or in_y < 6) give 0. The
--- sums are ranged integers (their ranges set the hardware widths; GHDL simulates them natively).
+-- orb_smooth: 7x7 smoothing (docs/spec.md section 7) of the centre of a sliding 7x7 window:
+-- B = (sum k_i k_j P + 2048) >> 12 with k = (5, 8, 12, 14, 12, 8, 5). The window is the last seven
+-- columns given (in_col, one column per valid beat, top pixel in the low byte), as orb_window
+-- slides its window, so only the newest column is weighed each beat (constant shift-add
+-- multiplies, no DSP) and the seven weighted column sums slide in a register row beside the
+-- window; then the weighted row of column sums, then the rounding shift: three pipeline stages,
+-- latency 3. The newest column is at (in_x, in_y), so the output is the smoothed value of
+-- (in_x - 3, in_y - 3) and carries the input's (x, y) tag; positions whose window wraps around a
+-- line or frame edge (in_x < 6 or in_y < 6) give 0, so a column sum from an earlier line, frame
+-- or reset never reaches an output. The sums are ranged integers (their ranges set the hardware
+-- widths; GHDL simulates them natively). Page: docs/rtl-description.md.
 
 library ieee;
 use ieee.std_logic_1164.all;
@@ -20,7 +24,7 @@ entity orb_smooth is
     in_valid  : in    std_logic;
     in_x      : in    std_logic_vector(COORD_BITS_c - 1 downto 0);
     in_y      : in    std_logic_vector(COORD_BITS_c - 1 downto 0);
-    in_win    : in    std_logic_vector(49 * PIXEL_BITS_c - 1 downto 0);
+    in_col    : in    std_logic_vector(7 * PIXEL_BITS_c - 1 downto 0);
     out_valid : out   std_logic;
     out_x     : out   std_logic_vector(COORD_BITS_c - 1 downto 0);
     out_y     : out   std_logic_vector(COORD_BITS_c - 1 downto 0);
@@ -41,7 +45,7 @@ architecture rtl of orb_smooth is
   signal x3, y3     : std_logic_vector(COORD_BITS_c - 1 downto 0) := (others => '0');
   signal inner1     : std_logic := '0';
   signal inner2     : std_logic := '0';
-  signal cols1      : col_sums_t := (others => 0);
+  signal cols1      : col_sums_t := (others => 0);  -- cols1(6) is the newest column's sum
   signal total2     : total_t := 0;
   signal out3       : unsigned(PIXEL_BITS_c - 1 downto 0) := (others => '0');
 
@@ -62,19 +66,17 @@ begin
     variable acc : total_t;
   begin
     if rising_edge(clk) then
-      -- stage 1: weighted column sums
+      -- stage 1: the newest column's weighted sum slides into the row of column sums
       v1 <= in_valid;
       if in_valid = '1' then
         x1     <= in_x;
         y1     <= in_y;
         inner1 <= '1' when unsigned(in_x) >= 6 and unsigned(in_y) >= 6 else '0';
-        for c in 0 to 6 loop
-          acc := 0;
-          for r in 0 to 6 loop
-            acc := acc + weigh(r, to_integer(window_pixel(in_win, 7, r, c)));
-          end loop;
-          cols1(c) <= acc;
+        acc    := 0;
+        for r in 0 to 6 loop
+          acc := acc + weigh(r, to_integer(unsigned(in_col((r + 1) * PIXEL_BITS_c - 1 downto r * PIXEL_BITS_c))));
         end loop;
+        cols1 <= cols1(1 to 6) & acc;
       end if;
       -- stage 2: weighted sum of the column sums, plus the rounding constant
       v2 <= v1;

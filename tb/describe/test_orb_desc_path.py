@@ -5,7 +5,8 @@ The smoothed stream is driven with orb_smooth's tagging (the value tagged (x, y)
 smoothed pixel (x - 3, y - 3), 0 off the image) and each NMS survivor (x, y) is offered in the
 clock of tag (x + 4, y + 4), about when orb_fast_nms reports it. Expected: the model's features
 of that frame (border rule, moments, quantised sector, orbit-pattern rBRIEF) in raster order, one
-frame_done per frame after its last feature, `lost` unchanged. Cases: photographs at 16, 32 and
+frame_done per frame after its last feature, `lost` unchanged; with ROTATE_g false (as orb_core
+builds it) the descriptor is the sector-0 table's tests, which orb_desc_rotate rotates later. Cases: photographs at 16, 32 and
 64 sectors with and without input gaps, back-to-back frames; the densest legal feature pattern
 (one feature per 2x2 block over the whole frame, on a random smoothed image); a frame cut short,
 whose waiting features must be counted in `lost` exactly and must not disturb the next frame.
@@ -31,12 +32,13 @@ Feature = tuple[int, int, int, int, int]  # x, y, score, sector, descriptor (bit
 
 
 def expected(smoothed: np.ndarray, xs: np.ndarray, ys: np.ndarray, score: np.ndarray, n: int) -> list[Feature]:
+    """With ROTATE_g false the descriptor is the sector-0 table's tests (orb_desc_rotate's input)."""
     h, w = smoothed.shape
     keep = in_desc_border(xs, ys, w, h)
     xs, ys, score = xs[keep], ys[keep], score[keep]
     m10, m01 = moments(smoothed, xs, ys)
     sector = quantise(m10, m01, n)
-    desc = describe(smoothed, xs, ys, sector, n)
+    desc = describe(smoothed, xs, ys, sector if env_int("ORB_ROTATE") else np.zeros_like(sector), n)
     return [
         (int(x), int(y), int(s), int(q), int.from_bytes(d.tobytes(), "little"))
         for x, y, s, q, d in zip(xs, ys, score, sector, desc, strict=True)
@@ -200,7 +202,8 @@ async def cut_frame(dut) -> None:
     assert len(bench.done_at) == 1
 
 
-@pytest.mark.parametrize("sectors", [16, 32, 64])
-def test_desc_path(sectors: int) -> None:
+@pytest.mark.parametrize(("sectors", "rotate"), [(16, True), (32, True), (64, True), (32, False), (64, False)])
+def test_desc_path(sectors: int, rotate: bool) -> None:
     run("orb_desc_path", "test_orb_desc_path",
-        {"LINE_WIDTH_g": 128, "FRAME_HEIGHT_g": 72, "SECTORS_g": sectors}, env=SIM_ENV)  # fmt: skip
+        {"LINE_WIDTH_g": 128, "FRAME_HEIGHT_g": 72, "SECTORS_g": sectors, "ROTATE_g": rotate},
+        env={**SIM_ENV, "ORB_ROTATE": str(int(rotate))})  # fmt: skip
