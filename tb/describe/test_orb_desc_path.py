@@ -6,10 +6,11 @@ smoothed pixel (x - 3, y - 3), 0 off the image) and each NMS survivor (x, y) is 
 clock of tag (x + 4, y + 4), about when orb_fast_nms reports it. Expected: the model's features
 of that frame (border rule, moments, quantised sector, orbit-pattern rBRIEF) in raster order, one
 frame_done per frame after its last feature, `lost` unchanged; with ROTATE_g false (as orb_core
-builds it) the descriptor is the sector-0 table's tests, which orb_desc_rotate rotates later. Cases: photographs at 16, 32 and
-64 sectors with and without input gaps, back-to-back frames; the densest legal feature pattern
-(one feature per 2x2 block over the whole frame, on a random smoothed image); a frame cut short,
-whose waiting features must be counted in `lost` exactly and must not disturb the next frame.
+builds it) the descriptor is the sector-0 table's tests, which orb_desc_rotate rotates later.
+Cases: photographs at 16, 32 and 64 sectors with and without input gaps, back-to-back frames;
+the densest legal feature pattern (one feature per 2x2 block over the whole frame, on a random
+smoothed image); a frame cut short, whose waiting features must be counted in `lost` exactly and
+must not disturb the next frame.
 """
 
 from __future__ import annotations

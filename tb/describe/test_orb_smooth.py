@@ -68,7 +68,8 @@ async def check(dut, cols: Columns, seed: int) -> None:
     for i, ((x, y, _), exp, label, (_, (xv, yv, dv))) in enumerate(
         zip(cols.items, cols.expected, cols.labels, stream.samples, strict=True)
     ):
-        assert (to_int(xv), to_int(yv)) == (x, y), f"beat {i}, {label}: tag (x={x}, y={y}) came out as {(to_int(xv), to_int(yv))}"
+        tag = (to_int(xv), to_int(yv))
+        assert tag == (x, y), f"beat {i}, {label}: tag (x={x}, y={y}) came out as {tag}"
         got = to_int(dv)
         assert got == exp, f"beat {i}, {label}, centre (x={x - 3}, y={y - 3}): smoothed {got}, model {exp}"
 
