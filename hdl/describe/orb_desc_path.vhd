@@ -69,8 +69,10 @@ architecture rtl of orb_desc_path is
   -- per pair of lines. A feature waits from its detection (about 4 lines after its own) to its
   -- window (18 lines after): at most 16 lines, 8 pairs, plus pipeline slack.
   constant ROW_FEATS_c : positive := (LINE_WIDTH_g - 2 * BORDER_c + 1) / 2;
-  constant QBITS_c     : positive := clog2(8 * ROW_FEATS_c + 64);
-  constant QDEPTH_c    : positive := 2 ** QBITS_c;
+  -- The queue's depth is that bound rounded up to whole 512-entry blocks (a RAMB18E1 holds 512
+  -- entries of 36 bits), not to a power of two, so the pointers wrap at QDEPTH_c.
+  constant QDEPTH_c    : positive := ((8 * ROW_FEATS_c + 64 + 511) / 512) * 512;
+  constant QBITS_c     : positive := clog2(QDEPTH_c);
   constant ENTRY_c     : positive := 2 * COORD_BITS_c + SCORE_BITS_c;
   -- clocks from the column stage to the sector: orb_orient_moments (9) + orb_orient_sector (4);
   -- the tests are registered 2 clocks after the column stage, so they wait 11 clocks
@@ -164,6 +166,15 @@ architecture rtl of orb_desc_path is
     return 0;
   end function b2n;
 
+  -- the queue pointer after p (the queue's depth need not be a power of two)
+  function wrap_next (p : unsigned) return unsigned is
+  begin
+    if p = QDEPTH_c - 1 then
+      return to_unsigned(0, p'length);
+    end if;
+    return p + 1;
+  end function wrap_next;
+
   function pack (tx, ty : unsigned; score : std_logic_vector) return entry_t is
   begin
     return std_logic_vector(ty) & std_logic_vector(tx) & score;
@@ -229,7 +240,11 @@ begin
       push     := det_valid = '1' and dx >= BORDER_c and dx <= LINE_WIDTH_g - 1 - BORDER_c and
                   dy >= BORDER_c and dy <= FRAME_HEIGHT_g - 1 - BORDER_c;
       pop      := match = '1' or stale = '1';
-      avail    := resize(wr_ptr - rd_ptr, avail'length);
+      if wr_ptr >= rd_ptr then
+        avail := resize(wr_ptr - rd_ptr, avail'length);
+      else
+        avail := resize(wr_ptr, avail'length) + QDEPTH_c - rd_ptr;
+      end if;
       lost_inc := (others => '0');
       if stale = '1' then
         lost_inc := lost_inc + 1;
@@ -239,7 +254,7 @@ begin
           lost_inc := lost_inc + 1;
         else
           queue(to_integer(wr_ptr)) <= pack(dx + BORDER_c, dy + BORDER_c, det_score);
-          wr_ptr                    <= wr_ptr + 1;
+          wr_ptr                    <= wrap_next(wr_ptr);
         end if;
       end if;
       if col_valid = '1' and col_x = 0 and col_y = 0 then
@@ -250,7 +265,7 @@ begin
       elsif head_valid = '0' or pop then
         if avail /= 0 then
           head       <= queue(to_integer(rd_ptr));
-          rd_ptr     <= rd_ptr + 1;
+          rd_ptr     <= wrap_next(rd_ptr);
           head_valid <= '1';
         else
           head_valid <= '0';

@@ -5,14 +5,14 @@
 -- it leaves with the sector-s descriptor: test j * ORBIT + k is test j * ORBIT + (k + s) mod ORBIT
 -- of the input (ORBIT = SECTORS_g, one member per sector), every other field unchanged. An
 -- end-of-frame word (tlast = 1) passes unchanged. One orb_desc_rotate after orb_feat_merge
--- replaces a rotator per scale (orb_desc_path with ROTATE_g = false): about 1,000 LUT per scale
--- at 64 sectors. AXI4-Stream register slice: s_axis_feat_tready = not m_axis_feat_tvalid or
+-- replaces a rotator per scale (orb_desc_path with ROTATE_g = false). AXI4-Stream register slice: s_axis_feat_tready = not m_axis_feat_tvalid or
 -- m_axis_feat_tready (full throughput, no bubble); latency 1 clock. Page: docs/rtl-description.md.
 
 library ieee;
 use ieee.std_logic_1164.all;
 use ieee.numeric_std.all;
 
+use work.orb_util_pkg.all;
 use work.orb_feat_pkg.all;
 use work.orb_limits_pkg.all;
 
@@ -36,7 +36,8 @@ end entity orb_desc_rotate;
 
 architecture rtl of orb_desc_rotate is
 
-  constant ORBIT_c : positive := SECTORS_g;
+  constant ORBIT_c  : positive := SECTORS_g;
+  constant STAGES_c : positive := clog2(SECTORS_g);
 
   signal q_data  : std_logic_vector(FEAT_BITS_c - 1 downto 0) := (others => '0');
   signal q_valid : std_logic := '0';
@@ -56,7 +57,7 @@ begin
   take <= not q_valid or m_axis_feat_tready;
 
   stage : process (clk) is
-    variable sector : natural range 0 to 2 ** FEAT_SECTOR_BITS_c - 1;
+    variable sector : unsigned(FEAT_SECTOR_BITS_c - 1 downto 0);
     variable orbit  : unsigned(ORBIT_c - 1 downto 0);
     variable word   : std_logic_vector(FEAT_BITS_c - 1 downto 0);
   begin
@@ -66,14 +67,20 @@ begin
         if s_axis_feat_tvalid = '1' then
           word := s_axis_feat_tdata;
           if s_axis_feat_tlast = '0' then
-            -- sectors are below SECTORS_g, so the amount needs only log2(SECTORS_g) bits
-            sector := to_integer(unsigned(s_axis_feat_tdata(FEAT_SECTOR_LO_c + FEAT_SECTOR_BITS_c - 1 downto
-                                                            FEAT_SECTOR_LO_c)) mod ORBIT_c);
+            -- A logarithmic rotator: stage k rotates by 2^k when bit k of the sector is set
+            -- (sectors are below SECTORS_g, so bits 0 .. log2(SECTORS_g) - 1 say it all). Written
+            -- as stages, it maps to about two LUT6 per bit (4:1 muxes) instead of wide muxes.
+            sector := unsigned(s_axis_feat_tdata(FEAT_SECTOR_LO_c + FEAT_SECTOR_BITS_c - 1 downto FEAT_SECTOR_LO_c));
             for j in 0 to FEAT_DESC_BITS_c / ORBIT_c - 1 loop
               orbit := unsigned(s_axis_feat_tdata(FEAT_DESC_LO_c + (j + 1) * ORBIT_c - 1 downto
                                                   FEAT_DESC_LO_c + j * ORBIT_c));
+              for k in 0 to STAGES_c - 1 loop
+                if sector(k) = '1' then
+                  orbit := orbit(2 ** k - 1 downto 0) & orbit(ORBIT_c - 1 downto 2 ** k);
+                end if;
+              end loop;
               word(FEAT_DESC_LO_c + (j + 1) * ORBIT_c - 1 downto FEAT_DESC_LO_c + j * ORBIT_c) :=
-                std_logic_vector(rotate_right(orbit, sector));
+                std_logic_vector(orbit);
             end loop;
           end if;
           q_data <= word;

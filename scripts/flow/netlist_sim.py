@@ -64,7 +64,7 @@ CASES = (
     Case("orb_orient_sector", "describe/test_orb_orient_sector.py::test_orient_sector[16]"),
     Case("orb_overlay", "output/test_orb_overlay.py::test_overlay_photos[64-48-1-3-env0]"),
     Case("orb_desc_rotate", "describe/test_orb_desc_rotate.py::test_desc_rotate[32-1]"),
-    Case("orb_desc_path", "describe/test_orb_desc_path.py::test_desc_path[16-True]", slow=True),
+    Case("orb_desc_path", "describe/test_orb_desc_path.py::test_desc_path[16-True-128]", slow=True),
     Case("orb_core", "core/test_orb_core.py::test_orb_small[64-48-1-32-photo:camera-5-none-orb]"),
     Case("orb_accel_top", "top/test_orb_accel_top.py::test_accel_overflow_overrun", slow=True),
 )

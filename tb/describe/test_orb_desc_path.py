@@ -117,6 +117,11 @@ async def start(dut) -> Bench:
     return Bench(dut)
 
 
+def queue_depth(w: int) -> int:
+    """orb_desc_path's QDEPTH_c: the waiting bound 8 * ceil((W - 36) / 2) + 64, in 512-entry blocks."""
+    return -(-(8 * ((w - 2 * DESC_BORDER + 1) // 2) + 64) // 512) * 512
+
+
 def check(got: list[Feature], exp: list[Feature], what: str) -> None:
     for i, (g, e) in enumerate(zip(got, exp, strict=False)):
         if g != e:
@@ -177,7 +182,8 @@ async def densest(dut) -> None:
 
 @cocotb.test()
 async def cut_frame(dut) -> None:
-    """A frame cut short: its waiting features are counted in `lost`, the next frame is exact."""
+    """A frame cut short: its waiting features are counted in `lost`, also when they straddle the
+    wrap of the queue's pointers; the next frame is exact."""
     n = env_int("ORB_SECTORS") // 4  # N, the sectors per quadrant
     w, h = env_int("ORB_LINE_WIDTH"), env_int("ORB_FRAME_HEIGHT")
     stream, feats, exp = photo_case("astronaut", w, h, 10, n)
@@ -191,6 +197,19 @@ async def cut_frame(dut) -> None:
     reached = [f for f in exp if (f[1] + DESC_BORDER, f[0] + DESC_BORDER) <= last]
     assert pending and reached
     bench = await start(dut)
+    # A first frame of dense features leaves the queue's pointers just short of its depth, so the
+    # cut frame's waiting features straddle the wrap (the count of a wrapped queue is checked).
+    ys0, xs0 = np.mgrid[DESC_BORDER : h - DESC_BORDER : 2, DESC_BORDER : w - DESC_BORDER : 2]
+    k = queue_depth(w) - len(reached) - 3  # at the cut: read pointer 2 short of the wrap (the head holds one)
+    assert 0 < k <= ys0.size, f"no pre-frame of {k} features fits {w}x{h}"
+    xs0, ys0 = xs0.ravel()[:k], ys0.ravel()[:k]
+    sm0 = smooth(np.random.default_rng(6).integers(0, 256, (h, w)).astype(np.uint8))
+    score0 = np.full(k, 99)
+    await bench.frame(tagged(sm0), {(int(x), int(y)): 99 for x, y in zip(xs0, ys0, strict=True)}, None)
+    await bench.idle(60)
+    check(bench.out, expected(sm0, xs0, ys0, score0, n), "pre-frame")
+    bench.out.clear()
+    bench.done_at.clear()
     await bench.frame(stream, feats, None, stop=stop)
     await bench.idle(40)
     check(bench.out, reached, "cut frame, features before the cut")
@@ -203,8 +222,11 @@ async def cut_frame(dut) -> None:
     assert len(bench.done_at) == 1
 
 
-@pytest.mark.parametrize(("sectors", "rotate"), [(16, True), (32, True), (64, True), (32, False), (64, False)])
-def test_desc_path(sectors: int, rotate: bool) -> None:
+# 300 wide: the feature queue's depth (the bound 8 * 132 + 64 = 1120, rounded up to 1536) is not a
+# power of two, and the densest pattern's 2,376 features wrap its pointers.
+@pytest.mark.parametrize(("sectors", "rotate", "width"),
+                         [(16, True, 128), (32, True, 128), (64, True, 128), (32, False, 300), (64, False, 128)])  # fmt: skip
+def test_desc_path(sectors: int, rotate: bool, width: int) -> None:
     run("orb_desc_path", "test_orb_desc_path",
-        {"LINE_WIDTH_g": 128, "FRAME_HEIGHT_g": 72, "SECTORS_g": sectors, "ROTATE_g": rotate},
+        {"LINE_WIDTH_g": width, "FRAME_HEIGHT_g": 72, "SECTORS_g": sectors, "ROTATE_g": rotate},
         env={**SIM_ENV, "ORB_ROTATE": str(int(rotate))})  # fmt: skip
