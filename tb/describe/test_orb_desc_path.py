@@ -224,8 +224,10 @@ async def cut_frame(dut) -> None:
 
 # 300 wide: the feature queue's depth (the bound 8 * 132 + 64 = 1120, rounded up to 1536) is not a
 # power of two, and the densest pattern's 2,376 features wrap its pointers.
-@pytest.mark.parametrize(("sectors", "rotate", "width"),
-                         [(16, True, 128), (32, True, 128), (64, True, 128), (32, False, 300), (64, False, 128)])  # fmt: skip
+CASES = [(16, True, 128), (32, True, 128), (64, True, 128), (32, False, 300), (64, False, 128)]
+
+
+@pytest.mark.parametrize(("sectors", "rotate", "width"), CASES)
 def test_desc_path(sectors: int, rotate: bool, width: int) -> None:
     run("orb_desc_path", "test_orb_desc_path",
         {"LINE_WIDTH_g": width, "FRAME_HEIGHT_g": 72, "SECTORS_g": sectors, "ROTATE_g": rotate},
