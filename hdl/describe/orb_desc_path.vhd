@@ -66,12 +66,14 @@ architecture rtl of orb_desc_path is
   constant ORBIT_c    : positive := SECTORS_g;      -- an orbit: one member per sector
   constant PAT_c      : pattern_t := base_pattern(N_c);
   -- Densest legal NMS output: one feature per 2x2 block, so ceil((W - 36) / 2) per line and
-  -- per pair of lines. A feature waits from its detection (about 4 lines after its own) to its
-  -- window (18 lines after): at most 16 lines, 8 pairs, plus pipeline slack.
+  -- per pair of lines. A feature waits from its detection (at least 4 lines after its own: the
+  -- FAST window's centre, then the NMS) to its window (18 lines after): at most 14 lines, which
+  -- hold at most 7 feature lines of the densest pattern plus two partial ones; 8 full lines are
+  -- allowed, plus 40 entries of pipeline slack (the head register, a push in flight).
   constant ROW_FEATS_c : positive := (LINE_WIDTH_g - 2 * BORDER_c + 1) / 2;
   -- The queue's depth is that bound rounded up to whole 512-entry blocks (a RAMB18E1 holds 512
   -- entries of 36 bits), not to a power of two, so the pointers wrap at QDEPTH_c.
-  constant QDEPTH_c    : positive := ((8 * ROW_FEATS_c + 64 + 511) / 512) * 512;
+  constant QDEPTH_c    : positive := ((8 * ROW_FEATS_c + 40 + 511) / 512) * 512;
   constant QBITS_c     : positive := clog2(QDEPTH_c);
   constant ENTRY_c     : positive := 2 * COORD_BITS_c + SCORE_BITS_c;
   -- clocks from the column stage to the sector: orb_orient_moments (9) + orb_orient_sector (4);

@@ -161,7 +161,7 @@ def test_finer_pyramid(width: int, height: int, scales: int, step: tuple[int, in
 
 
 def test_recommended_configuration_densest_input() -> None:
-    """The recommended pyramid (golden_model.config.RECOMMENDED_*: 5:4 x 4, 64 sectors) in orb mode on
+    """The recommended pyramid (golden_model.config.RECOMMENDED_*: 5:4 x 5, 64 sectors) in orb mode on
     the densest legal corner pattern and a photograph, with input gaps: bit for bit, zero drops."""
     run_detect(128, 96, RECOMMENDED_SCALES, "dots4,photo:coffee,checker", "20,20,20", "random:2", "orb",
                RECOMMENDED_SECTORS, RECOMMENDED_STEP)  # fmt: skip

@@ -118,8 +118,8 @@ async def start(dut) -> Bench:
 
 
 def queue_depth(w: int) -> int:
-    """orb_desc_path's QDEPTH_c: the waiting bound 8 * ceil((W - 36) / 2) + 64, in 512-entry blocks."""
-    return -(-(8 * ((w - 2 * DESC_BORDER + 1) // 2) + 64) // 512) * 512
+    """orb_desc_path's QDEPTH_c: the waiting bound 8 * ceil((W - 36) / 2) + 40, in 512-entry blocks."""
+    return -(-(8 * ((w - 2 * DESC_BORDER + 1) // 2) + 40) // 512) * 512
 
 
 def check(got: list[Feature], exp: list[Feature], what: str) -> None:
@@ -222,7 +222,7 @@ async def cut_frame(dut) -> None:
     assert len(bench.done_at) == 1
 
 
-# 300 wide: the feature queue's depth (the bound 8 * 132 + 64 = 1120, rounded up to 1536) is not a
+# 300 wide: the feature queue's depth (the bound 8 * 132 + 40 = 1096, rounded up to 1536) is not a
 # power of two, and the densest pattern's 2,376 features wrap its pointers.
 CASES = [(16, True, 128), (32, True, 128), (64, True, 128), (32, False, 300), (64, False, 128)]
 
