@@ -15,10 +15,10 @@ from . import limits
 MODES = ("orb", "fast")
 
 # The recommended configuration for 640x480 on the XC7Z020 (docs/pyramid.md: the best measured on
-# the scale benchmark within 80% of the device's LUTs): what `make sim` and `orb-accel extract` use
-# unless told. The budget (host side, golden_model.select) is per 640x480 frame; recommended_budget
-# scales it with the frame's area.
-RECOMMENDED_SCALES = 4
+# the scale benchmark within 80% of the device's LUTs and block RAM): what `make sim` and
+# `orb-accel extract` use unless told. The budget (host side, golden_model.select) is per 640x480
+# frame; recommended_budget scales it with the frame's area.
+RECOMMENDED_SCALES = 5
 RECOMMENDED_STEP = (5, 4)
 RECOMMENDED_SECTORS = 64
 RECOMMENDED_BUDGET = 1000

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: MIT
 """`make board-estimate`: the yosys estimate of the board's whole accelerator (orb_accel_zynq) for
-each configuration of vivado/board.json, with the board's generics (MEM_DEPTH_g, SECTORS_g), by
+each configuration of vivado/board.json, with the board's generics (MEM_DEPTH_g, SECTORS_g, STEP_*_g, BLOCK_LOG2_g), by
 scripts/flow/synth.py into build/vivado/estimate/ (records cached there). `make bitstream` puts
 each record beside Vivado's figures in summary.json; docs/board.md quotes them.
 
@@ -20,15 +20,15 @@ ROOT = Path(__file__).resolve().parents[2]
 
 
 def commands(jobs: int, sta: bool) -> list[list[str]]:
-    """One synth.py run per group of configurations that share sectors, pyramid step and memory
-    depth (the generics synth.py applies to all its configurations)."""
+    """One synth.py run per group of configurations that share sectors, pyramid step, memory depth
+    and overlay block (the generics synth.py applies to all its configurations)."""
     b = json.loads((ROOT / "vivado" / "board.json").read_text())
-    groups: dict[tuple[int, int, int, int], list[str]] = {}
+    groups: dict[tuple[int, int, int, int, int], list[str]] = {}
     for c in b["configs"].values():
-        key = (c["sectors"], c["step_num"], c["step_den"], c["mem_depth"])
+        key = (c["sectors"], c["step_num"], c["step_den"], c["mem_depth"], c["block_log2"])
         groups.setdefault(key, []).append(f"{c['width']}x{c['height']}x{c['scales']}")
     out = []
-    for (sectors, num, den, mem_depth), configs in groups.items():
+    for (sectors, num, den, mem_depth, block_log2), configs in groups.items():
         cmd = [sys.executable, str(ROOT / "scripts" / "flow" / "synth.py"), "--top", b["accel"]["entity"]]
         for config in configs:
             cmd += ["--config", config]
@@ -37,6 +37,8 @@ def commands(jobs: int, sta: bool) -> list[list[str]]:
             cmd += ["--generic", f"SECTORS_g={sectors}"]
         if (num, den) != (2, 1):  # orb_accel_zynq's default pyramid step
             cmd += ["--generic", f"STEP_NUM_g={num}", "--generic", f"STEP_DEN_g={den}"]
+        if block_log2 != 3:  # orb_accel_zynq's default overlay block
+            cmd += ["--generic", f"BLOCK_LOG2_g={block_log2}"]
         cmd += ["--out", str(ROOT / "build" / "vivado" / "estimate"), "--jobs", str(jobs)]
         out.append(cmd + (["--sta"] if sta else []))
     return out

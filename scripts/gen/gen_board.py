@@ -18,6 +18,7 @@ import json
 from pathlib import Path
 from typing import Any
 
+from golden_model.overlay import check_marker_config
 from orb_tools.codegen import generator_main
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -38,6 +39,10 @@ def load(path: Path) -> dict[str, Any]:
             raise ValueError(f"{path}: configuration {name!r} must be named WIDTHxHEIGHT")
         if cfg["core_mhz"] < cfg["pixel_mhz"]:
             raise ValueError(f"{path}: {name}: the core clock must be at least the pixel clock (one pixel per clock)")
+        try:  # the overlay's rule (orb_overlay refuses the same at elaboration)
+            check_marker_config(cfg["scales"], cfg["block_log2"])
+        except ValueError as e:
+            raise ValueError(f"{path}: {name}: block_log2: {e}") from e
     if board["default_config"] not in board["configs"]:
         raise ValueError(f"{path}: default_config {board['default_config']!r} is not a configuration")
     return board
@@ -120,7 +125,8 @@ def render_doc(b: dict[str, Any]) -> str:
         rows.append(
             f"| `{name}` | {c['width']}x{c['height']}, {c['scales']} scales of {c['step_num']}:{c['step_den']}, "
             f"{c['sectors']} sectors, "
-            f"{c['mem_depth']} slots per bank | {c['mode']} | {c['pixel_mhz']} MHz | {c['core_mhz']} MHz "
+            f"{c['mem_depth']} slots per bank, {1 << c['block_log2']}-pixel overlay blocks "
+            f"| {c['mode']} | {c['pixel_mhz']} MHz | {c['core_mhz']} MHz "
             f"| {c['kClkRange']}{patched} | `{c['edid']}` |"
         )
     rows += [

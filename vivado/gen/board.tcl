@@ -18,17 +18,17 @@ namespace eval ::orb_board {
     gic_spi 29 \
     dt_name orb-accel \
     input RBG \
-    block_log2 3 \
   ]
   variable configs [dict create \
     640x480 [dict create \
       width 640 \
       height 480 \
-      scales 4 \
+      scales 5 \
       step_num 5 \
       step_den 4 \
       sectors 64 \
       mem_depth 4096 \
+      block_log2 4 \
       mode {640x480@60 (VESA DMT / CEA-861 VIC 1)} \
       pixel_mhz 25.175 \
       core_mhz 100 \
@@ -44,6 +44,7 @@ namespace eval ::orb_board {
       step_den 1 \
       sectors 32 \
       mem_depth 2048 \
+      block_log2 3 \
       mode {1280x720@60 (CEA-861 VIC 4)} \
       pixel_mhz 74.25 \
       core_mhz 100 \
@@ -59,6 +60,7 @@ namespace eval ::orb_board {
       step_den 1 \
       sectors 32 \
       mem_depth 2048 \
+      block_log2 3 \
       mode {1920x1080@60 (CEA-861 VIC 16)} \
       pixel_mhz 148.5 \
       core_mhz 150 \

@@ -107,7 +107,7 @@ proc orb_create_bd {design cfg board_part} {
     CONFIG.SECTORS_g [dict get $cfg sectors] \
     CONFIG.MEM_DEPTH_g [dict get $cfg mem_depth] \
     CONFIG.INPUT_g [dict get $acc input] \
-    CONFIG.BLOCK_LOG2_g [dict get $acc block_log2] \
+    CONFIG.BLOCK_LOG2_g [dict get $cfg block_log2] \
     CONFIG.C_S_AXI_CTRL_ADDR_WIDTH [dict get $acc addr_width] \
   ] [get_bd_cells $accel]
   # The interface parameters GHDL 2.0 cannot carry as port attributes (orb_accel_zynq.vhd): aclk
