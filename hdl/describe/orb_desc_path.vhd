@@ -108,6 +108,8 @@ architecture rtl of orb_desc_path is
   signal head_ty    : coord_t;
   signal match      : std_logic;
   signal stale      : std_logic;
+  signal count      : unsigned(QBITS_c downto 0) := (others => '0');
+  signal lost_q     : unsigned(QBITS_c + 1 downto 0) := (others => '0');
   signal lost_cnt   : unsigned(31 downto 0) := (others => '0');
 
   -- window stage (the window itself is a variable of the tests process)
@@ -229,10 +231,14 @@ begin
   stale   <= col_valid and head_valid when head_ty < col_y or (head_ty = col_y and head_tx < col_x) else
              '0';
 
+  -- `count` is the number of entries in the RAM (the head register holds one more), kept as a
+  -- register so that no pointer arithmetic sits on the paths of the full and empty decisions; a
+  -- clock's losses are added to `lost` one clock later.
   queue_ctrl : process (clk) is
     variable push     : boolean;
     variable pop      : boolean;
-    variable avail    : unsigned(QBITS_c downto 0);
+    variable write    : boolean;
+    variable read     : boolean;
     variable lost_inc : unsigned(QBITS_c + 1 downto 0);
     variable dx, dy   : unsigned(COORD_BITS_c - 1 downto 0);
   begin
@@ -242,42 +248,55 @@ begin
       push     := det_valid = '1' and dx >= BORDER_c and dx <= LINE_WIDTH_g - 1 - BORDER_c and
                   dy >= BORDER_c and dy <= FRAME_HEIGHT_g - 1 - BORDER_c;
       pop      := match = '1' or stale = '1';
-      if wr_ptr >= rd_ptr then
-        avail := resize(wr_ptr - rd_ptr, avail'length);
-      else
-        avail := resize(wr_ptr, avail'length) + QDEPTH_c - rd_ptr;
-      end if;
+      write    := push and count < QDEPTH_c - 1;  -- the RAM holds QDEPTH_c - 1 entries, the head one more
+      read     := false;
       lost_inc := (others => '0');
       if stale = '1' then
         lost_inc := lost_inc + 1;
       end if;
-      if push then
-        if avail >= QDEPTH_c - 1 then  -- the RAM holds QDEPTH_c - 1 entries, the head one more
-          lost_inc := lost_inc + 1;
-        else
-          queue(to_integer(wr_ptr)) <= pack(dx + BORDER_c, dy + BORDER_c, det_score);
-          wr_ptr                    <= wrap_next(wr_ptr);
-        end if;
+      if push and not write then
+        lost_inc := lost_inc + 1;
+      end if;
+      if write then
+        queue(to_integer(wr_ptr)) <= pack(dx + BORDER_c, dy + BORDER_c, det_score);
+        wr_ptr                    <= wrap_next(wr_ptr);
       end if;
       if col_valid = '1' and col_x = 0 and col_y = 0 then
-        -- A new frame reaches the window: whatever still waits belongs to a malformed frame.
-        lost_inc   := lost_inc + avail + b2n(head_valid) - b2n(stale);
+        -- A new frame reaches the window: whatever still waits belongs to a malformed frame (an
+        -- entry written in this clock stays: the read pointer takes the write pointer before it).
+        lost_inc   := lost_inc + count + b2n(head_valid) - b2n(stale);
         rd_ptr     <= wr_ptr;
         head_valid <= '0';
-      elsif head_valid = '0' or pop then
-        if avail /= 0 then
-          head       <= queue(to_integer(rd_ptr));
-          rd_ptr     <= wrap_next(rd_ptr);
-          head_valid <= '1';
+        if write then
+          count <= to_unsigned(1, count'length);
         else
-          head_valid <= '0';
+          count <= (others => '0');
+        end if;
+      else
+        if head_valid = '0' or pop then
+          if count /= 0 then
+            head       <= queue(to_integer(rd_ptr));
+            rd_ptr     <= wrap_next(rd_ptr);
+            head_valid <= '1';
+            read       := true;
+          else
+            head_valid <= '0';
+          end if;
+        end if;
+        if write and not read then
+          count <= count + 1;
+        elsif read and not write then
+          count <= count - 1;
         end if;
       end if;
-      lost_cnt <= lost_cnt + lost_inc;
+      lost_q   <= lost_inc;
+      lost_cnt <= lost_cnt + lost_q;
       if rst = '1' then
         wr_ptr     <= (others => '0');
         rd_ptr     <= (others => '0');
+        count      <= (others => '0');
         head_valid <= '0';
+        lost_q     <= (others => '0');
         lost_cnt   <= (others => '0');
       end if;
     end if;
