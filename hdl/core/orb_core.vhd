@@ -202,13 +202,14 @@ begin
         );
     end generate has_resampler;
 
+    -- ROTATE_g false: one orb_desc_rotate after the merge serves every scale
     path : entity work.orb_scale_path
       generic map (
         LINE_WIDTH_g   => level_size(WIDTH_g, STEP_NUM_g, STEP_DEN_g, s),
         FRAME_HEIGHT_g => level_size(HEIGHT_g, STEP_NUM_g, STEP_DEN_g, s),
         SECTORS_g      => SECTORS_g,
         DESC_g         => DESC_g,
-        ROTATE_g       => false  -- one orb_desc_rotate after the merge serves every scale
+        ROTATE_g       => false
       )
       port map (
         clk         => clk,

@@ -22,7 +22,7 @@ entity orb_scale_path is
     FRAME_HEIGHT_g : positive range 1 to 4095 := 480;
     SECTORS_g      : sectors_t                := 32;  -- orientation sectors in all
     DESC_g         : boolean                  := true;
-    ROTATE_g       : boolean                  := true   -- orb_desc_path's ROTATE_g
+    ROTATE_g       : boolean                  := true -- orb_desc_path's ROTATE_g
   );
   port (
     clk         : in    std_logic;
@@ -116,8 +116,7 @@ begin
 
     -- the window's newest column (c = 6), top pixel first: orb_smooth slides its own column sums
     newest : for r in 0 to 6 generate
-      w_col((r + 1) * PIXEL_BITS_c - 1 downto r * PIXEL_BITS_c) <=
-        w_win((r * 7 + 7) * PIXEL_BITS_c - 1 downto (r * 7 + 6) * PIXEL_BITS_c);
+      w_col((r + 1) * PIXEL_BITS_c - 1 downto r * PIXEL_BITS_c) <= w_win((r * 7 + 7) * PIXEL_BITS_c - 1 downto (r * 7 + 6) * PIXEL_BITS_c);
     end generate newest;
 
     smooth : entity work.orb_smooth

@@ -30,7 +30,7 @@ entity orb_desc_path is
     FRAME_HEIGHT_g : positive range 37 to 4095 := 480;
     SECTORS_g      : sectors_t                 := 32;  -- orientation sectors in all
     -- false: feat_desc holds the sector-0 table's tests, for one shared orb_desc_rotate
-    ROTATE_g       : boolean                   := true
+    ROTATE_g : boolean := true
   );
   port (
     clk : in    std_logic;
@@ -73,9 +73,9 @@ architecture rtl of orb_desc_path is
   constant ROW_FEATS_c : positive := (LINE_WIDTH_g - 2 * BORDER_c + 1) / 2;
   -- The queue's depth is that bound rounded up to whole 512-entry blocks (a RAMB18E1 holds 512
   -- entries of 36 bits), not to a power of two, so the pointers wrap at QDEPTH_c.
-  constant QDEPTH_c    : positive := ((8 * ROW_FEATS_c + 40 + 511) / 512) * 512;
-  constant QBITS_c     : positive := clog2(QDEPTH_c);
-  constant ENTRY_c     : positive := 2 * COORD_BITS_c + SCORE_BITS_c;
+  constant QDEPTH_c : positive := ((8 * ROW_FEATS_c + 40 + 511) / 512) * 512;
+  constant QBITS_c  : positive := clog2(QDEPTH_c);
+  constant ENTRY_c  : positive := 2 * COORD_BITS_c + SCORE_BITS_c;
   -- clocks from the column stage to the sector: orb_orient_moments (9) + orb_orient_sector (4);
   -- the tests are registered 2 clocks after the column stage, so they wait 11 clocks
   constant MOMENTS_LAT_c : positive := 9;

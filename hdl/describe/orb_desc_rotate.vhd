@@ -79,8 +79,7 @@ begin
                   orbit := orbit(2 ** k - 1 downto 0) & orbit(ORBIT_c - 1 downto 2 ** k);
                 end if;
               end loop;
-              word(FEAT_DESC_LO_c + (j + 1) * ORBIT_c - 1 downto FEAT_DESC_LO_c + j * ORBIT_c) :=
-                std_logic_vector(orbit);
+              word(FEAT_DESC_LO_c + (j + 1) * ORBIT_c - 1 downto FEAT_DESC_LO_c + j * ORBIT_c) := std_logic_vector(orbit);
             end loop;
           end if;
           q_data <= word;
