@@ -94,7 +94,8 @@ eval: $(STAMP)
 
 # the figures of docs/img (docs/img/README.md): the evaluation, copied
 figures: eval
-	cp build/eval/compare-fast/compare_fast.png build/eval/rotation-bench/rotation_bench.png docs/img/
+	cp build/eval/compare-fast/compare_fast.png build/eval/rotation-bench/rotation_bench.png \
+		build/eval/scale-bench/scale_bench.png docs/img/
 
 lint: $(STAMP)
 	$(BIN)/ruff check golden_model sw tb scripts
