@@ -11,10 +11,11 @@
 -- (orb mode, mode_orb = 1; needs DESC_g = true, which builds the descriptor
 -- path), merged by orb_feat_merge into m_axis_feat (layout in orb_feat_pkg) with an end-of-frame
 -- beat after each frame; the descriptor paths leave their tests unrotated and one orb_desc_rotate
--- after the merge applies every feature's orbit rotation. The FAST threshold and the mode are sampled with each frame's first pixel
--- (tuser) and hold for every scale of that frame. Pixels outside the configured WIDTH_g x
--- HEIGHT_g frame (a long line or extra lines) are ignored and counted in bad_pixels; features
--- the descriptor path had to discard (only on a malformed frame) are counted in desc_lost.
+-- after the merge applies every feature's orbit rotation. The FAST threshold and the mode are
+-- sampled with each frame's first pixel (tuser) and hold for every scale of that frame. Pixels
+-- outside the configured WIDTH_g x HEIGHT_g frame (a long line or extra lines) are ignored and
+-- counted in bad_pixels; features the descriptor path had to discard (only on a malformed frame)
+-- are counted in desc_lost.
 
 library ieee;
 use ieee.std_logic_1164.all;

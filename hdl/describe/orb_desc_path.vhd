@@ -11,10 +11,11 @@
 -- clock, and when the feature's sector s arrives the bits of each orbit of 4N tests are rotated
 -- by s, which gives the sector-s pattern's descriptor (with ROTATE_g = false the sector-0 tests
 -- leave unrotated, beside their sector, and one orb_desc_rotate after the merge of the scales
--- rotates them: orb_core does so). The FIFO holds every feature of 16 image lines at the densest
--- legal NMS output, so it cannot overflow; a feature whose window position is never reached (a
--- malformed frame) is discarded at the next frame start or once the window has passed it, and
--- counted in `lost`, as is one that found the FIFO full. Page: docs/rtl-description.md.
+-- rotates them: orb_core does so). The FIFO holds every feature that can be waiting at the
+-- densest legal NMS output (see QDEPTH_c), so it cannot overflow; a feature whose window
+-- position is never reached (a malformed frame) is discarded at the next frame start or once the
+-- window has passed it, and counted in `lost`, as is one that found the FIFO full. Page:
+-- docs/rtl-description.md.
 
 library ieee;
 use ieee.std_logic_1164.all;

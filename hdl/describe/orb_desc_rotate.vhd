@@ -5,8 +5,9 @@
 -- it leaves with the sector-s descriptor: test j * ORBIT + k is test j * ORBIT + (k + s) mod ORBIT
 -- of the input (ORBIT = SECTORS_g, one member per sector), every other field unchanged. An
 -- end-of-frame word (tlast = 1) passes unchanged. One orb_desc_rotate after orb_feat_merge
--- replaces a rotator per scale (orb_desc_path with ROTATE_g = false). AXI4-Stream register slice: s_axis_feat_tready = not m_axis_feat_tvalid or
--- m_axis_feat_tready (full throughput, no bubble); latency 1 clock. Page: docs/rtl-description.md.
+-- replaces a rotator per scale (orb_desc_path with ROTATE_g = false). AXI4-Stream register
+-- slice: s_axis_feat_tready = not m_axis_feat_tvalid or m_axis_feat_tready (full throughput, no
+-- bubble); latency 1 clock. Page: docs/rtl-description.md.
 
 library ieee;
 use ieee.std_logic_1164.all;
