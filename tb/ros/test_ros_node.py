@@ -59,12 +59,19 @@ def _free_port() -> int:
 
 
 def _stop(proc: subprocess.Popen, sig: int = signal.SIGINT, wait_s: float = 60.0) -> int | None:
-    """Signal the process group; SIGKILL it when it does not end within wait_s. The exit status."""
+    """Signal the process group; when it does not end within wait_s, SIGABRT the process (a Python
+    started with PYTHONFAULTHANDLER=1 writes every thread's stack to its log: where it hung), then
+    SIGKILL the group. The exit status, None when it had to be killed."""
     if proc.poll() is None:
         try:
             os.killpg(proc.pid, sig)
             proc.wait(wait_s)
         except subprocess.TimeoutExpired:
+            os.kill(proc.pid, signal.SIGABRT)
+            try:
+                proc.wait(5.0)
+            except subprocess.TimeoutExpired:
+                pass
             os.killpg(proc.pid, signal.SIGKILL)
             proc.wait()
             return None
@@ -173,7 +180,8 @@ def test_node_end_to_end(ros_master: dict[str, str], tmp_path: Path) -> None:
         procs["node"] = subprocess.Popen(
             [sys.executable, "-m", "orb_tools.cli", "ros", "--sim", *pngs, "--sim-mem-depth", "1024",
              "_frame_id:=test_camera", "_threshold:=20", f"_budget:={BUDGET}"],
-            env=env, stdout=log, stderr=subprocess.STDOUT, start_new_session=True,
+            env={**env, "PYTHONUNBUFFERED": "1", "PYTHONFAULTHANDLER": "1"},  # a hang leaves its stacks in the log
+            stdout=log, stderr=subprocess.STDOUT, start_new_session=True,
         )  # fmt: skip
     got = lambda: _records(heard, "features")  # noqa: E731
     try:
@@ -197,7 +205,7 @@ def test_node_end_to_end(ros_master: dict[str, str], tmp_path: Path) -> None:
         for fh in logs:
             fh.close()
     log_text = node_log.read_text()
-    assert status == 0, f"the node ended with {status}:\n{log_text[-3000:]}"
+    assert status == 0, f"the node ended with {status}:\n{log_text[-8000:]}"
     job = log_text.split("(log: ")[1].split("/sim.log")[0]
     deadline = time.monotonic() + 10
     while _alive(job) and time.monotonic() < deadline:
