@@ -19,7 +19,9 @@ over one TCP connection, little-endian:
 
 Time: the simulation advances only inside bus operations, so `wait_irq(timeout_s)` counts
 simulated seconds (as in orb_accel.bus.Bus); the wall-clock limit of one operation is
-`op_timeout_s` (a simulated frame takes seconds to minutes of wall time). numpy only.
+`op_timeout_s` (a simulated frame takes seconds to minutes of wall time), waited in slices of
+SLICE_S so that Ctrl-C or SIGTERM stops a client within a slice whichever thread the signal
+reached (the ROS node's rospy threads). numpy only.
 """
 
 from __future__ import annotations
@@ -27,6 +29,7 @@ from __future__ import annotations
 import json
 import socket
 import struct
+import time
 from types import TracebackType
 
 import numpy as np
@@ -40,6 +43,7 @@ RESPONSE = struct.Struct("<BI")
 READ, WRITE, BLOCK, WAIT_IRQ, HELLO, SHUTDOWN = 1, 2, 3, 4, 5, 6
 OK, BUS_ERROR, BAD_REQUEST = 0, 1, 2
 MAX_BLOCK_WORDS = 1 << 20
+SLICE_S = 0.2  # the longest a client's recv sleeps before Python runs again (signals, Ctrl-C)
 
 
 def parse_address(address: str) -> tuple[str, int]:
@@ -54,11 +58,20 @@ def parse_address(address: str) -> tuple[str, int]:
     return host or "127.0.0.1", number
 
 
-def recv_exact(sock: socket.socket, n: int) -> bytes:
-    """Exactly n bytes; ConnectionError when the peer closes first."""
+def recv_exact(sock: socket.socket, n: int, deadline: float | None = None) -> bytes:
+    """Exactly n bytes; ConnectionError when the peer closes first. With `deadline` (a
+    time.monotonic() value) the socket must have a short timeout (SLICE_S): each slice that
+    passes without data returns to Python, so a KeyboardInterrupt is raised within a slice even
+    when the signal was delivered to another thread (rospy's), which leaves this thread's recv
+    asleep; TimeoutError once the deadline has passed."""
     buf = bytearray()
     while len(buf) < n:
-        chunk = sock.recv(n - len(buf))
+        try:
+            chunk = sock.recv(n - len(buf))
+        except TimeoutError:
+            if deadline is None or time.monotonic() >= deadline:
+                raise
+            continue
         if not chunk:
             raise ConnectionError(f"connection closed after {len(buf)} of {n} bytes")
         buf += chunk
@@ -79,7 +92,8 @@ class SocketBus:
             raise ConnectionError(
                 f"no simulator at {host}:{port} ({exc}); start one with `orb-accel sim-server`"
             ) from None
-        self._sock.settimeout(op_timeout_s)
+        self.op_timeout_s = op_timeout_s
+        self._sock.settimeout(SLICE_S)  # recv_exact waits in slices up to op_timeout_s
         self._sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
         self.info: dict = json.loads(self._call(HELLO, 0, 0).decode())
         if self.info.get("magic") != MAGIC or self.info.get("protocol") != PROTOCOL:
@@ -92,13 +106,12 @@ class SocketBus:
         self._broken = True  # until the answer is complete (a KeyboardInterrupt may cut it)
         try:
             self._sock.sendall(REQUEST.pack(op, addr, arg))
-            status, length = RESPONSE.unpack(recv_exact(self._sock, RESPONSE.size))
-            payload = recv_exact(self._sock, length)
+            deadline = time.monotonic() + self.op_timeout_s
+            status, length = RESPONSE.unpack(recv_exact(self._sock, RESPONSE.size, deadline))
+            payload = recv_exact(self._sock, length, deadline)
             self._broken = False
         except TimeoutError:
-            raise TimeoutError(
-                f"the simulator at {self.address} did not answer within {self._sock.gettimeout()} s"
-            ) from None
+            raise TimeoutError(f"the simulator at {self.address} did not answer within {self.op_timeout_s} s") from None
         except (ConnectionError, OSError) as exc:
             raise ConnectionError(f"the simulator at {self.address} went away ({exc})") from None
         if status == BUS_ERROR:

@@ -274,3 +274,58 @@ def test_cli_sim_fast_engine(frames: np.ndarray, tmp_path: Path) -> None:
     ks = [which_photo(frames, feats, 20) for _, feats in rows]
     assert len(ks) == 4 and all((b - a) % 3 == 1 for a, b in itertools.pairwise(ks)), ks
     assert [row["frame"] for row, _ in rows] == list(range(rows[0][0]["frame"], rows[0][0]["frame"] + 4))
+
+
+class _Interrupted(Exception):
+    pass
+
+
+def test_client_wait_stops_on_a_signal_taken_by_another_thread() -> None:
+    """A client waiting for a silent simulator (the ROS node in wait_irq) must stop at a signal
+    even when the kernel hands it to another thread (rospy's): its recv waits in slices of
+    SLICE_S, so the main thread runs the Python handler within a slice, not after op_timeout_s."""
+    import signal
+    import threading
+    import time
+
+    from orb_accel import socket_bus
+
+    srv = socket.socket()
+    srv.bind(("127.0.0.1", 0))
+    srv.listen(1)
+    conns: list[socket.socket] = []
+
+    def serve() -> None:  # answers HELLO, then reads the next request and never answers
+        conn, _ = srv.accept()
+        conns.append(conn)
+        recv_exact(conn, REQUEST.size)
+        hello = json.dumps({"magic": socket_bus.MAGIC, "protocol": socket_bus.PROTOCOL}).encode()
+        conn.sendall(RESPONSE.pack(0, len(hello)) + hello)
+        recv_exact(conn, REQUEST.size)
+
+    def raise_interrupted(_sig: int, _frame: object) -> None:
+        raise _Interrupted
+
+    server = threading.Thread(target=serve, daemon=True)
+    server.start()
+    old = signal.signal(signal.SIGUSR1, raise_interrupted)
+    try:
+        with SocketBus(f"127.0.0.1:{srv.getsockname()[1]}", op_timeout_s=120.0) as bus:
+
+            def signal_this_thread() -> None:  # the signal goes to a helper thread, as a process-directed one may
+                time.sleep(0.5)
+                signal.pthread_kill(threading.get_ident(), signal.SIGUSR1)
+
+            helper = threading.Thread(target=signal_this_thread)
+            t0 = time.monotonic()
+            helper.start()
+            with pytest.raises(_Interrupted):
+                bus.wait_irq(1.0)
+            waited = time.monotonic() - t0
+            helper.join()
+        assert waited < 30.0, f"the client slept {waited:.1f} s through the signal (op_timeout_s 120 s)"
+    finally:
+        signal.signal(signal.SIGUSR1, old)
+        for c in conns:
+            c.close()
+        srv.close()
