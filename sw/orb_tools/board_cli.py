@@ -286,6 +286,10 @@ def cmd_ros(args: argparse.Namespace, ros_args: list[str]) -> int:
             _start_roscore(stack, uri)
         settings = init_node(rospy, Params(args.threshold, args.mode, True), argv=[sys.argv[0], *ros_args])
         signal.signal(signal.SIGTERM, _raise_interrupt)  # rospy's handlers are off: stop the loop at once
+        # SIGINT too, whatever was inherited: a shell without job control starts background jobs
+        # with SIGINT ignored, and Python then installs no KeyboardInterrupt handler (roslaunch and
+        # the tests stop nodes with SIGINT)
+        signal.signal(signal.SIGINT, signal.default_int_handler)
         with open_bus(args) as (bus, what, timeout):
             return run_node(rospy, msg_mod, srv_mod, bus, settings, timeout, what)
 

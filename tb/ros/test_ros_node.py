@@ -72,7 +72,10 @@ def _stop(proc: subprocess.Popen, sig: int = signal.SIGINT, wait_s: float = 60.0
                 proc.wait(5.0)
             except subprocess.TimeoutExpired:
                 pass
-            os.killpg(proc.pid, signal.SIGKILL)
+            try:
+                os.killpg(proc.pid, signal.SIGKILL)
+            except ProcessLookupError:  # the SIGABRT ended the whole group
+                pass
             proc.wait()
             return None
         except ProcessLookupError:
