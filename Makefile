@@ -18,7 +18,7 @@ help:
 	@echo "make setup   create .venv and install the project with test extras (idempotent)"
 	@echo "make test    run the test suite (pytest -n $(JOBS), slow tests excluded)"
 	@echo "make test-all  run every test, slow full-frame ones included"
-	@echo "make sim     the complete accelerator in GHDL on the bundled image, recommended configuration 5:4 x 6"
+	@echo "make sim     the complete accelerator in GHDL on the bundled image, recommended configuration 5:4 x 5, 64 sectors"
 	@echo "             (IMAGE=, SCALES=, PYRAMID=NUM:DEN, SECTORS=, THRESHOLD=;"
 	@echo "             FAST=1: its synthesised netlist in Verilator; VIDEO=file: every frame of a video, fast; docs/fast-sim.md)"
 	@echo "make bench   model speed benchmark (scripts/bench/bench_model.py)"
