@@ -7,6 +7,10 @@
 -- The caller supplies the column index, so the buffer needs no counters of its own; input gaps
 -- of any length are fine. Lines from an earlier frame stay in the RAM until overwritten: callers
 -- mask what they read near the top of a frame.
+-- Latency LATENCY_g clocks: 1 gives the block RAM's read register itself; 2 adds an output
+-- register (the whole column, its valid and its index), so that no logic follows the block RAM's
+-- clock-to-output time (docs/synthesis.md, "Timing"). The read-modify-write of the RAM is the same
+-- either way.
 
 library ieee;
 use ieee.std_logic_1164.all;
@@ -18,7 +22,8 @@ entity orb_line_buffer is
   generic (
     LINE_WIDTH_g : positive range 2 to 4096 := 640;
     LINES_g      : positive range 1 to 32   := 6;
-    DATA_WIDTH_g : positive range 1 to 64   := 8
+    DATA_WIDTH_g : positive range 1 to 64   := 8;
+    LATENCY_g    : positive range 1 to 2    := 1
   );
   port (
     clk       : in    std_logic;
@@ -93,8 +98,31 @@ begin
     end if;
   end process ctrl;
 
-  out_valid <= wr_en;
-  out_col   <= col_dly;
-  out_data  <= rd_word & data_dly;
+  gen_out : if LATENCY_g = 2 generate
+    signal o_valid : std_logic := '0';
+    signal o_col   : std_logic_vector(COORD_BITS_c - 1 downto 0) := (others => '0');
+    signal o_data  : std_logic_vector((LINES_g + 1) * DATA_WIDTH_g - 1 downto 0) := (others => '0');
+  begin
+
+    out_reg : process (clk) is
+    begin
+      if rising_edge(clk) then
+        o_valid <= wr_en;
+        o_col   <= col_dly;
+        o_data  <= rd_word & data_dly;
+        if rst = '1' then
+          o_valid <= '0';
+        end if;
+      end if;
+    end process out_reg;
+
+    out_valid <= o_valid;
+    out_col   <= o_col;
+    out_data  <= o_data;
+  else generate
+    out_valid <= wr_en;
+    out_col   <= col_dly;
+    out_data  <= rd_word & data_dly;
+  end generate gen_out;
 
 end architecture rtl;

@@ -1,9 +1,11 @@
 -- SPDX-License-Identifier: MIT
 -- orb_scaler: 2:1 image scaler (docs/spec.md section 3). Each output pixel is the 2x2 box
--- average (a + b + c + d + 2) >> 2 of one input block; it leaves one clock after the block's
+-- average (a + b + c + d + 2) >> 2 of one input block; it leaves two clocks after the block's
 -- last (bottom-right) input pixel, so the output runs at a quarter of the input rate, in bursts
 -- on odd input lines. Horizontal pair sums of even lines wait in one block-RAM line of
--- LINE_WIDTH_g / 2 words. An odd last column or line of the input is not used. The output carries
+-- LINE_WIDTH_g / 2 words; the upper pair's sum, read at the block's lower left pixel, is
+-- registered once more before the final addition (no adder behind the block RAM's
+-- clock-to-output time: docs/synthesis.md, "Timing"). Latency 2 clocks. An odd last column or line of the input is not used. The output carries
 -- its position in the reduced image, so scalers chain for further scales.
 
 library ieee;
@@ -38,6 +40,11 @@ architecture rtl of orb_scaler is
 
   signal mem     : mem_t;
   signal rd_sum  : unsigned(PIXEL_BITS_c downto 0) := (others => '0');
+  signal rd_q    : unsigned(PIXEL_BITS_c downto 0) := (others => '0');
+  signal p_valid : std_logic := '0';  -- a complete block's lower pair, waiting for rd_q
+  signal p_x     : unsigned(COORD_BITS_c - 1 downto 0) := (others => '0');
+  signal p_y     : unsigned(COORD_BITS_c - 1 downto 0) := (others => '0');
+  signal p_pair  : unsigned(PIXEL_BITS_c + 1 downto 0) := (others => '0');
   signal left_px : unsigned(PIXEL_BITS_c - 1 downto 0) := (others => '0');
   signal o_valid : std_logic := '0';
   signal o_x     : unsigned(COORD_BITS_c - 1 downto 0) := (others => '0');
@@ -53,7 +60,12 @@ begin
     variable total : unsigned(PIXEL_BITS_c + 1 downto 0);
   begin
     if rising_edge(clk) then
-      o_valid <= '0';
+      -- The upper pair sum read at a block's lower left pixel is in rd_sum after that edge and in
+      -- rd_q after the next, at the latest the block's right pixel's edge; the next read (the
+      -- next block's left pixel) comes one edge after that at the earliest, the edge that adds
+      -- rd_q.
+      rd_q    <= rd_sum;
+      p_valid <= '0';
       if in_valid = '1' then
         x    := unsigned(in_x);
         y    := unsigned(in_y);
@@ -70,14 +82,22 @@ begin
           mem(half) <= pair;
         else
           -- right pixel of a lower pair: the block is complete
-          total   := resize(rd_sum, PIXEL_BITS_c + 2) + pair + 2;
-          o_valid <= '1';
-          o_x     <= resize(x(COORD_BITS_c - 1 downto 1), COORD_BITS_c);
-          o_y     <= resize(y(COORD_BITS_c - 1 downto 1), COORD_BITS_c);
-          o_data  <= total(PIXEL_BITS_c + 1 downto 2);
+          p_valid <= '1';
+          p_x     <= resize(x(COORD_BITS_c - 1 downto 1), COORD_BITS_c);
+          p_y     <= resize(y(COORD_BITS_c - 1 downto 1), COORD_BITS_c);
+          p_pair  <= resize(pair, PIXEL_BITS_c + 2) + 2;
         end if;
       end if;
+      -- the block's output, one clock after its last pixel
+      o_valid <= p_valid;
+      if p_valid = '1' then
+        total  := resize(rd_q, PIXEL_BITS_c + 2) + p_pair;
+        o_x    <= p_x;
+        o_y    <= p_y;
+        o_data <= total(PIXEL_BITS_c + 1 downto 2);
+      end if;
       if rst = '1' then
+        p_valid <= '0';
         o_valid <= '0';
       end if;
     end if;

@@ -95,6 +95,7 @@ architecture rtl of orb_desc_path is
   signal col_valid : std_logic;
   signal col_xs    : std_logic_vector(COORD_BITS_c - 1 downto 0);
   signal col_data  : std_logic_vector(COL_BITS_c - 1 downto 0);
+  signal y_in      : std_logic_vector(COORD_BITS_c - 1 downto 0) := (others => '0');
   signal y_dly     : std_logic_vector(COORD_BITS_c - 1 downto 0) := (others => '0');
   signal col_x     : coord_t;
   signal col_y     : coord_t;
@@ -103,6 +104,8 @@ architecture rtl of orb_desc_path is
   signal queue      : queue_t;
   signal wr_ptr     : unsigned(QBITS_c - 1 downto 0) := (others => '0');
   signal rd_ptr     : unsigned(QBITS_c - 1 downto 0) := (others => '0');
+  signal pf         : entry_t := (others => '0');  -- the RAM's read register (prefetch)
+  signal pf_valid   : std_logic := '0';
   signal head       : entry_t := (others => '0');
   signal head_valid : std_logic := '0';
   signal head_tx    : coord_t;
@@ -199,7 +202,8 @@ begin
     generic map (
       LINE_WIDTH_g => LINE_WIDTH_g,
       LINES_g      => WIN_c - 1,
-      DATA_WIDTH_g => PIXEL_BITS_c
+      DATA_WIDTH_g => PIXEL_BITS_c,
+      LATENCY_g    => 2
     )
     port map (
       clk       => clk,
@@ -212,12 +216,14 @@ begin
       out_data  => col_data
     );
 
+  -- the line tag beside the buffer's two clocks: held over input gaps, then one clock more
   ytag : process (clk) is
   begin
     if rising_edge(clk) then
       if in_valid = '1' then
-        y_dly <= in_y;
+        y_in <= in_y;
       end if;
+      y_dly <= y_in;
     end if;
   end process ytag;
 
@@ -232,14 +238,17 @@ begin
   stale   <= col_valid and head_valid when head_ty < col_y or (head_ty = col_y and head_tx < col_x) else
              '0';
 
-  -- `count` is the number of entries in the RAM (the head register holds one more), kept as a
-  -- register so that no pointer arithmetic sits on the paths of the full and empty decisions; a
-  -- clock's losses are added to `lost` one clock later.
+  -- `count` is the number of entries in the RAM; the read register `pf` and the head register
+  -- hold one more each. The RAM's output only ever loads the head register, so no logic follows
+  -- the block RAM's clock-to-output time, and pf refills in the clock the head takes it: one pop
+  -- per clock. `count` is a register so that no pointer arithmetic sits on the paths of the full
+  -- and empty decisions; a clock's losses are added to `lost` one clock later.
   queue_ctrl : process (clk) is
     variable push     : boolean;
     variable pop      : boolean;
     variable write    : boolean;
     variable read     : boolean;
+    variable take     : boolean;
     variable lost_inc : unsigned(QBITS_c + 1 downto 0);
     variable dx, dy   : unsigned(COORD_BITS_c - 1 downto 0);
   begin
@@ -249,7 +258,7 @@ begin
       push     := det_valid = '1' and dx >= BORDER_c and dx <= LINE_WIDTH_g - 1 - BORDER_c and
                   dy >= BORDER_c and dy <= FRAME_HEIGHT_g - 1 - BORDER_c;
       pop      := match = '1' or stale = '1';
-      write    := push and count < QDEPTH_c - 1;  -- the RAM holds QDEPTH_c - 1 entries, the head one more
+      write    := push and count < QDEPTH_c - 1;  -- the RAM holds QDEPTH_c - 1 entries, pf and head two more
       read     := false;
       lost_inc := (others => '0');
       if stale = '1' then
@@ -265,8 +274,9 @@ begin
       if col_valid = '1' and col_x = 0 and col_y = 0 then
         -- A new frame reaches the window: whatever still waits belongs to a malformed frame (an
         -- entry written in this clock stays: the read pointer takes the write pointer before it).
-        lost_inc   := lost_inc + count + b2n(head_valid) - b2n(stale);
+        lost_inc   := lost_inc + count + b2n(pf_valid) + b2n(head_valid) - b2n(stale);
         rd_ptr     <= wr_ptr;
+        pf_valid   <= '0';
         head_valid <= '0';
         if write then
           count <= to_unsigned(1, count'length);
@@ -274,14 +284,19 @@ begin
           count <= (others => '0');
         end if;
       else
-        if head_valid = '0' or pop then
+        take := head_valid = '0' or pop;
+        if take then
+          head       <= pf;
+          head_valid <= pf_valid;
+        end if;
+        if pf_valid = '0' or take then
           if count /= 0 then
-            head       <= queue(to_integer(rd_ptr));
-            rd_ptr     <= wrap_next(rd_ptr);
-            head_valid <= '1';
-            read       := true;
+            pf       <= queue(to_integer(rd_ptr));
+            rd_ptr   <= wrap_next(rd_ptr);
+            pf_valid <= '1';
+            read     := true;
           else
-            head_valid <= '0';
+            pf_valid <= '0';
           end if;
         end if;
         if write and not read then
@@ -296,6 +311,7 @@ begin
         wr_ptr     <= (others => '0');
         rd_ptr     <= (others => '0');
         count      <= (others => '0');
+        pf_valid   <= '0';
         head_valid <= '0';
         lost_q     <= (others => '0');
         lost_cnt   <= (others => '0');

@@ -3,9 +3,11 @@
 -- differences score (docs/spec.md section 4) on a 7x7 window from orb_window. The window's newest
 -- pixel is at (in_x, in_y), so the tested centre is (in_x - 3, in_y - 3); the output score is 0
 -- unless the centre is a corner at least 3 pixels from the left and top borders (the right and
--- bottom borders are implied: the window only reaches them with its newest pixel). Three pipeline
--- stages: differences and comparisons, arc test and partial sums, final score. The output keeps
--- the input's (x, y) tag.
+-- bottom borders are implied: the window only reaches them with its newest pixel). Four pipeline
+-- stages: the 17 pixels of the test registered (the window's shift registers map to SRLs, whose
+-- clock-to-output time leaves no room for arithmetic behind them: docs/synthesis.md, "Timing"),
+-- differences and comparisons, arc test and partial sums, final score: latency 4 clocks. The
+-- output keeps the input's (x, y) tag.
 
 library ieee;
 use ieee.std_logic_1164.all;
@@ -38,8 +40,15 @@ architecture rtl of orb_fast_score is
   subtype score_t is integer range 0 to 16 * 255;
 
   type abs_t is array (0 to 15) of mag_t;
+  type ring_t is array (0 to 15) of std_logic_vector(PIXEL_BITS_c - 1 downto 0);
   type part_t is array (0 to 3) of part_sum_t;
 
+  -- stage 0: the circle, its centre and the threshold, registered
+  signal v0      : std_logic := '0';
+  signal x0, y0  : std_logic_vector(COORD_BITS_c - 1 downto 0) := (others => '0');
+  signal ring0   : ring_t := (others => (others => '0'));
+  signal centre0 : std_logic_vector(PIXEL_BITS_c - 1 downto 0) := (others => '0');
+  signal t0      : std_logic_vector(7 downto 0) := (others => '0');
   -- stage 1
   signal v1      : std_logic := '0';
   signal x1, y1  : std_logic_vector(COORD_BITS_c - 1 downto 0) := (others => '0');
@@ -57,10 +66,6 @@ architecture rtl of orb_fast_score is
   signal x3, y3 : std_logic_vector(COORD_BITS_c - 1 downto 0) := (others => '0');
   signal score3 : score_t := 0;
 
-  function pixel (win : std_logic_vector; r, c : natural) return mag_t is
-  begin
-    return to_integer(window_pixel(win, 7, r, c));
-  end function pixel;
 
 begin
 
@@ -70,15 +75,26 @@ begin
     variable t      : mag_t;
   begin
     if rising_edge(clk) then
-      -- stage 1: the 16 differences against the centre (3, 3)
-      v1 <= in_valid;
+      -- stage 0: the pixels of the test, out of the window (its centre is (3, 3))
+      v0 <= in_valid;
       if in_valid = '1' then
-        x1     <= in_x;
-        y1     <= in_y;
-        centre := pixel(in_win, 3, 3);
-        t      := to_integer(unsigned(threshold));
+        x0      <= in_x;
+        y0      <= in_y;
+        centre0 <= std_logic_vector(window_pixel(in_win, 7, 3, 3));
         for i in 0 to 15 loop
-          diff       := pixel(in_win, 3 + CIRCLE_c(i).dy, 3 + CIRCLE_c(i).dx) - centre;
+          ring0(i) <= std_logic_vector(window_pixel(in_win, 7, 3 + CIRCLE_c(i).dy, 3 + CIRCLE_c(i).dx));
+        end loop;
+        t0 <= threshold;
+      end if;
+      -- stage 1: the 16 differences against the centre
+      v1 <= v0;
+      if v0 = '1' then
+        x1     <= x0;
+        y1     <= y0;
+        centre := to_integer(unsigned(centre0));
+        t      := to_integer(unsigned(t0));
+        for i in 0 to 15 loop
+          diff       := to_integer(unsigned(ring0(i))) - centre;
           bright1(i) <= '1' when diff > t else '0';
           dark1(i)   <= '1' when -diff > t else '0';
           if diff < 0 then  -- (ghdl synth has no integer abs)
@@ -87,7 +103,7 @@ begin
             abs1(i) <= diff;
           end if;
         end loop;
-        inner1 <= '1' when unsigned(in_x) >= 6 and unsigned(in_y) >= 6 else '0';
+        inner1 <= '1' when unsigned(x0) >= 6 and unsigned(y0) >= 6 else '0';
       end if;
       -- stage 2: arc test and four partial sums
       v2 <= v1;
@@ -111,6 +127,7 @@ begin
         end if;
       end if;
       if rst = '1' then
+        v0 <= '0';
         v1 <= '0';
         v2 <= '0';
         v3 <= '0';

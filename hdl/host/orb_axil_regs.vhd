@@ -8,7 +8,8 @@
 -- registered OR(status AND enable)) and pulses release_valid with release_bank when the CPU
 -- writes BANK_RELEASE. One transaction per channel at a time: AW and W are each held in a
 -- one-entry buffer (awready/wready low while it is full) and may come in any order and with
--- any delay; the write is executed once both are there and no B response is pending; arready is
+-- any delay; the write is decoded once both are there and no B response is pending (or it is taken
+-- at that edge), and executed with its B response one clock later; arready is
 -- low from an AR handshake until its R handshake. A register read answers on R one clock after
 -- the AR handshake. Memory port contract: every 32-bit aligned read at MEM_BASE_c or above
 -- raises mem_rd_en for one clock with mem_rd_addr = address - MEM_BASE_c (a byte offset, bits
@@ -205,6 +206,13 @@ architecture rtl of orb_axil_regs is
   signal written : std_logic_vector(REGS_c'range) := (others => '0');
   signal irq_r   : std_logic := '0';
 
+  -- a decoded write, executed in the next clock
+  signal d_valid  : std_logic := '0';
+  signal d_ok     : std_logic := '0';
+  signal d_hit    : std_logic_vector(REGS_c'range) := (others => '0');
+  signal d_merged : word_t := (others => '0');
+  signal d_bm     : word_t := (others => '0');
+
   -- wired inputs: values of the live (generic or port) ro fields, set pulses of w1c bits
   signal live_in : reg_words_t;
   signal w1c_set : reg_words_t;
@@ -291,13 +299,18 @@ begin
       if bvalid_r = '1' and s_axil_bready = '1' then
         bvalid_r <= '0';
       end if;
-      if aw_full = '1' and w_full = '1' and bvalid_r = '0' then
-        aw_full  <= '0';
-        w_full   <= '0';
-        bvalid_r <= '1';
-        widx     := to_integer(unsigned(aw_addr(LOW_BITS_c - 1 downto 2)));
-        low      := aw_addr(1 downto 0) = "00" and unsigned(aw_addr(ADDR_BITS_g - 1 downto LOW_BITS_c)) = 0;
-        bm       := byte_mask(w_strb);
+      -- A write takes two clocks: decoded (hit, merged value, legality) in the clock after AW and W
+      -- are both there, executed with its B response in the next, so that neither half is a long
+      -- path (docs/synthesis.md, "Timing"). No other write is decoded in between; the next one is
+      -- decoded at the earliest in the clock whose edge takes this one's B response, so writes
+      -- still complete at one per 2 clocks.
+      if aw_full = '1' and w_full = '1' and (bvalid_r = '0' or s_axil_bready = '1') and d_valid = '0' then
+        aw_full <= '0';
+        w_full  <= '0';
+        d_valid <= '1';
+        widx    := to_integer(unsigned(aw_addr(LOW_BITS_c - 1 downto 2)));
+        low     := aw_addr(1 downto 0) = "00" and unsigned(aw_addr(ADDR_BITS_g - 1 downto LOW_BITS_c)) = 0;
+        bm      := byte_mask(w_strb);
         -- decode: an aligned address below MEM_BASE_c naming a writable register; the current
         -- value of a rw register, zero for w1c and wo registers
         ok  := false;
@@ -324,15 +337,23 @@ begin
             ok := false;
           end if;
         end loop;
-        if ok then
+        d_hit    <= hit;
+        d_merged <= merged;
+        d_bm     <= bm;
+        d_ok     <= '1' when ok else '0';
+      end if;
+      if d_valid = '1' then
+        d_valid  <= '0';
+        bvalid_r <= '1';
+        if d_ok = '1' then
           for i in REGS_c'range loop
-            if hit(i) = '1' then
+            if d_hit(i) = '1' then
               if REGS_c(i).acc = access_w1c then
-                clr(i) := merged;
-              elsif REGS_c(i).acc = access_rw or (bm and REGS_c(i).mask) /= ZERO_c then
+                clr(i) := d_merged;
+              elsif REGS_c(i).acc = access_rw or (d_bm and REGS_c(i).mask) /= ZERO_c then
                 -- rw, or wo with a strobed byte holding a defined bit
-                held(i)   <= merged and stored(REGS_c(i));
-                pulses(i) <= merged and REGS_c(i).pulse;
+                held(i)   <= d_merged and stored(REGS_c(i));
+                pulses(i) <= d_merged and REGS_c(i).pulse;
                 if REGS_c(i).acc = access_wo then
                   written(i) <= '1';
                 end if;
@@ -359,6 +380,7 @@ begin
         aw_full  <= '0';
         w_full   <= '0';
         bvalid_r <= '0';
+        d_valid  <= '0';
         for i in REGS_c'range loop
           held(i) <= REGS_c(i).reset and stored(REGS_c(i));
         end loop;

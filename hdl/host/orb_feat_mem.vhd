@@ -15,8 +15,9 @@
 -- frames, in order. One RAM word (320 bits) holds CPU words 0..9 of a slot, written in one clock;
 -- the RAM is a simple dual-port block RAM with a registered read. Reads: mem_rd_en with the byte
 -- address mem_rd_addr ([5:2] word, [clog2(DEPTH_g) + 5:6] slot, [clog2(DEPTH_g) + 6] bank) gives
--- mem_rd_data two clocks later (RAM read register, then the word mux register), held until the
--- next read. The layout and the protocol are in docs/feature-memory.md. rst resets the control
+-- mem_rd_data three clocks later (RAM read register, its output register, then the word mux
+-- register: no logic behind the block RAM's clock-to-output time, docs/synthesis.md "Timing"),
+-- held until the next read. The layout and the protocol are in docs/feature-memory.md. rst resets the control
 -- state (banks free, bank 0 next, counters 0, no read pending); RAM contents and bank headers are
 -- kept.
 
@@ -109,8 +110,10 @@ architecture rtl of orb_feat_mem is
 
   -- read side
   signal q       : std_logic_vector(WORD_BITS_c - 1 downto 0) := (others => '0');
+  signal q2      : std_logic_vector(WORD_BITS_c - 1 downto 0) := (others => '0');
   signal rd_widx : unsigned(3 downto 0) := (others => '0');
-  signal rd_pend : std_logic := '0';
+  signal rd_wsel : unsigned(3 downto 0) := (others => '0');
+  signal rd_pend : std_logic_vector(1 to 2) := (others => '0');
   signal rd_word : std_logic_vector(31 downto 0) := (others => '0');
 
   -- word(dst + bits - 1 downto dst) := data(src + bits - 1 downto src): a stream field into the slot
@@ -276,7 +279,8 @@ begin
     end if;
   end process ctrl;
 
-  -- Read pipeline, second stage: the addressed 32-bit word of the RAM word (words 10..15 are 0).
+  -- Read pipeline, second and third stages: the RAM word registered, then its addressed 32-bit
+  -- word (words 10..15 are 0).
   rd_mux : process (clk) is
     variable k : natural range 0 to 15;
   begin
@@ -284,17 +288,21 @@ begin
       if mem_rd_en = '1' then
         rd_widx <= unsigned(mem_rd_addr(5 downto 2));
       end if;
-      rd_pend <= mem_rd_en;
-      if rd_pend = '1' then
-        k := to_integer(rd_widx);
+      rd_pend <= mem_rd_en & rd_pend(1);
+      if rd_pend(1) = '1' then
+        q2      <= q;
+        rd_wsel <= rd_widx;
+      end if;
+      if rd_pend(2) = '1' then
+        k := to_integer(rd_wsel);
         if k < WORDS_c then
-          rd_word <= q(32 * k + 31 downto 32 * k);
+          rd_word <= q2(32 * k + 31 downto 32 * k);
         else
           rd_word <= (others => '0');
         end if;
       end if;
       if rst = '1' then
-        rd_pend <= '0';
+        rd_pend <= (others => '0');
       end if;
     end if;
   end process rd_mux;

@@ -12,9 +12,11 @@
 -- a marked block as the one-pixel square outline inset s pixels from the block edge, in the
 -- scale's colour; the last pixel of each block clears its bits, so a bank is empty again when a
 -- frame has passed. The banks swap at a video start of frame when a complete feature frame waits
--- (its end-of-frame beat accepted at an earlier clock edge); a feature frame that begins while
--- another waits is discarded whole. Video latency is 2 clocks; back-pressure passes through
--- (s_axis_video_tready = m_axis_video_tready or not m_axis_video_tvalid); s_axis_feat never stalls.
+-- (its end-of-frame beat taken at an earlier clock edge); a feature frame that begins while
+-- another waits is discarded whole. The feature beats are taken 6 clocks after the port (the
+-- block pipeline, FEAT_LAT_c), and these edges are the ones spec 13.3 counts. Video latency is 2
+-- clocks; back-pressure passes through (s_axis_video_tready = m_axis_video_tready or not
+-- m_axis_video_tvalid); s_axis_feat never stalls.
 -- rst resets control state only: the bitmaps are zero at configuration (block RAM default), and
 -- after a reset in mid-stream marks of an interrupted frame can show once.
 
@@ -90,6 +92,11 @@ architecture rtl of orb_overlay is
   constant DEN_LOG_c   : natural   := clog2(STEP_DEN_g);
   constant PROD_BITS_c : positive := COORD_BITS_c + 1 + clog2(NUM_POW_c(SCALES_g - 1) + 1);
 
+  -- clocks from a feature beat at the port to the stage the frame bookkeeping takes it from
+  constant FEAT_LAT_c : positive := 6;
+
+  type scale_arr_t is array (1 to FEAT_LAT_c) of unsigned(FEAT_SCALE_BITS_c - 1 downto 0);
+
   function bit_of (n : natural) return std_logic is
   begin
     if n = 1 then
@@ -115,14 +122,28 @@ architecture rtl of orb_overlay is
   signal sbank    : std_logic := '0';  -- show bank; the fill bank is the other one
   signal sbank_n  : std_logic;         -- show bank after this edge's start of frame
 
-  -- feature side
+  -- feature side: the block pipeline (stages 1 to FEAT_LAT_c), then the frame bookkeeping
   signal waiting  : std_logic := '0';  -- the fill bank holds a complete feature frame
   signal dropping : std_logic := '0';  -- the feature frame in progress is discarded
   signal f_scale  : unsigned(FEAT_SCALE_BITS_c - 1 downto 0);
-  signal f_bx     : unsigned(COORD_BITS_c - 1 downto 0);
-  signal f_by     : unsigned(COORD_BITS_c - 1 downto 0);
-  signal f_inside : std_logic;
-  signal f_addr   : unsigned(ADDR_BITS_c - 1 downto 0);
+  -- per stage: the beat's valid and tlast, its scale (a scale >= SCALES_g marks nothing)
+  signal fp_valid : std_logic_vector(1 to FEAT_LAT_c) := (others => '0');
+  signal fp_last  : std_logic_vector(1 to FEAT_LAT_c) := (others => '0');
+  signal fp_scale : scale_arr_t := (others => (others => '0'));
+  signal fp_ok    : std_logic_vector(1 to FEAT_LAT_c) := (others => '0');
+  -- stage 1: 2x + 1, 2y + 1, NUM^s and DEN^s of the scale
+  signal f1_x,  f1_y : unsigned(COORD_BITS_c downto 0) := (others => '0');
+  signal f1_mul      : unsigned(PROD_BITS_c - COORD_BITS_c - 2 downto 0) := (others => '0');
+  signal f1_sub      : unsigned(PROD_BITS_c - 1 downto 0) := (others => '0');
+  -- stage 2: the products; stage 3: minus DEN^s
+  signal f2_px, f2_py : unsigned(PROD_BITS_c - 1 downto 0) := (others => '0');
+  signal f2_sub       : unsigned(PROD_BITS_c - 1 downto 0) := (others => '0');
+  signal f3_px, f3_py : unsigned(PROD_BITS_c - 1 downto 0) := (others => '0');
+  -- stage 4: the block (saturated); stage 5: inside the grid, row start; stage 6: the address
+  signal f4_bx, f4_by : unsigned(COORD_BITS_c - 1 downto 0) := (others => '0');
+  signal f5_bx        : unsigned(COORD_BITS_c - 1 downto 0) := (others => '0');
+  signal f5_row       : unsigned(ADDR_BITS_c - 1 downto 0) := (others => '0');
+  signal f6_addr      : unsigned(ADDR_BITS_c - 1 downto 0) := (others => '0');
 
   -- bitmap write ports: one feature mark and one clear per clock (never in the same bank)
   signal fw_en    : std_logic := '0';
@@ -240,10 +261,12 @@ begin
 
   -- Block of a feature: ((2x + 1) NUM^s - DEN^s) >> (1 + s log2(DEN) + b), likewise in y (for 2:1
   -- the same as x >> (b - s)). Scales >= SCALES_g are ignored; a block number too large for
-  -- COORD_BITS_c saturates (it is outside the grid either way, never wraps into it).
-  block_of : process (s_axis_feat_tdata, f_scale) is
-    variable fx, fy : unsigned(COORD_BITS_c downto 0);
-    variable px, py : unsigned(PROD_BITS_c - 1 downto 0);
+  -- COORD_BITS_c saturates (it is outside the grid either way, never wraps into it). Six stages,
+  -- none with more than one adder or one multiplication (docs/synthesis.md, "Timing"): the
+  -- operands, the products (DSP48 with input and output registers), minus DEN^s, the shift and
+  -- saturation, the grid test with the row's first address, the address.
+  block_pipe : process (clk) is
+    variable k : natural range 0 to 2 ** FEAT_SCALE_BITS_c - 1;
 
     function to_block (v : unsigned) return unsigned is
     begin
@@ -254,27 +277,62 @@ begin
     end function to_block;
 
   begin
-    fx   := unsigned(s_axis_feat_tdata(FEAT_X_LO_c + COORD_BITS_c - 1 downto FEAT_X_LO_c)) & '1';  -- 2x + 1
-    fy   := unsigned(s_axis_feat_tdata(FEAT_Y_LO_c + COORD_BITS_c - 1 downto FEAT_Y_LO_c)) & '1';
-    f_bx <= (others => '1');
-    f_by <= (others => '1');
-    for k in 0 to SCALES_g - 1 loop
-      if to_integer(f_scale) = k then
-        px   := resize(fx * to_unsigned(NUM_POW_c(k), PROD_BITS_c - COORD_BITS_c - 1), PROD_BITS_c)
-                - 2 ** (k * DEN_LOG_c);
-        py   := resize(fy * to_unsigned(NUM_POW_c(k), PROD_BITS_c - COORD_BITS_c - 1), PROD_BITS_c)
-                - 2 ** (k * DEN_LOG_c);
-        f_bx <= to_block(shift_right(px, 1 + k * DEN_LOG_c + BLOCK_LOG2_g));
-        f_by <= to_block(shift_right(py, 1 + k * DEN_LOG_c + BLOCK_LOG2_g));
+    if rising_edge(clk) then
+      fp_valid <= s_axis_feat_tvalid & fp_valid(1 to FEAT_LAT_c - 1);
+      fp_last  <= s_axis_feat_tlast & fp_last(1 to FEAT_LAT_c - 1);
+      fp_scale <= f_scale & fp_scale(1 to FEAT_LAT_c - 1);
+      if to_integer(f_scale) < SCALES_g then
+        fp_ok <= '1' & fp_ok(1 to FEAT_LAT_c - 1);
+      else
+        fp_ok <= '0' & fp_ok(1 to FEAT_LAT_c - 1);
       end if;
-    end loop;
-  end process block_of;
+      -- stage 1
+      f1_x   <= unsigned(s_axis_feat_tdata(FEAT_X_LO_c + COORD_BITS_c - 1 downto FEAT_X_LO_c)) & '1';
+      f1_y   <= unsigned(s_axis_feat_tdata(FEAT_Y_LO_c + COORD_BITS_c - 1 downto FEAT_Y_LO_c)) & '1';
+      f1_mul <= (others => '0');
+      f1_sub <= (others => '0');
+      for j in 0 to SCALES_g - 1 loop
+        if to_integer(f_scale) = j then
+          f1_mul <= to_unsigned(NUM_POW_c(j), f1_mul'length);
+          f1_sub <= to_unsigned(2 ** (j * DEN_LOG_c), PROD_BITS_c);
+        end if;
+      end loop;
+      -- stage 2
+      f2_px  <= resize(f1_x * f1_mul, PROD_BITS_c);
+      f2_py  <= resize(f1_y * f1_mul, PROD_BITS_c);
+      f2_sub <= f1_sub;
+      -- stage 3
+      f3_px <= f2_px - f2_sub;
+      f3_py <= f2_py - f2_sub;
+      -- stage 4
+      k     := to_integer(fp_scale(3));
+      f4_bx <= (others => '1');
+      f4_by <= (others => '1');
+      for j in 0 to SCALES_g - 1 loop
+        if k = j then
+          f4_bx <= to_block(shift_right(f3_px, 1 + j * DEN_LOG_c + BLOCK_LOG2_g));
+          f4_by <= to_block(shift_right(f3_py, 1 + j * DEN_LOG_c + BLOCK_LOG2_g));
+        end if;
+      end loop;
+      -- stage 5
+      if f4_bx >= BLOCKS_X_c or f4_by >= BLOCKS_Y_c then
+        fp_ok(5) <= '0';
+      else
+        fp_ok(5) <= fp_ok(4);
+      end if;
+      f5_bx  <= f4_bx;
+      f5_row <= resize(resize(f4_by, ADDR_BITS_c) * BLOCKS_X_c, ADDR_BITS_c);
+      -- stage 6
+      f6_addr <= f5_row + resize(f5_bx, ADDR_BITS_c);
+      if rst = '1' then
+        fp_valid <= (others => '0');
+      end if;
+    end if;
+  end process block_pipe;
 
-  f_inside <= '1' when to_integer(f_scale) < SCALES_g and f_bx < BLOCKS_X_c and f_by < BLOCKS_Y_c else
-              '0';
-  f_addr   <= resize(resize(f_by, ADDR_BITS_c) * BLOCKS_X_c, ADDR_BITS_c) + resize(f_bx, ADDR_BITS_c);
-
-  -- Order within one clock edge: the video start of frame (swap) first, then the feature beat.
+  -- The bookkeeping takes the feature stream FEAT_LAT_c clocks after the port (spec 13.3 counts
+  -- the beats there). Order within one clock edge: the video start of frame (swap) first, then
+  -- the feature beat.
   frames : process (clk) is
     variable waiting_v : std_logic;
   begin
@@ -282,8 +340,8 @@ begin
       waiting_v := waiting and not swap;
       waiting   <= waiting_v;
       fw_en     <= '0';
-      if s_axis_feat_tvalid = '1' then
-        if s_axis_feat_tlast = '1' then
+      if fp_valid(FEAT_LAT_c) = '1' then
+        if fp_last(FEAT_LAT_c) = '1' then
           if waiting_v = '0' and dropping = '0' then
             waiting <= '1';
           end if;
@@ -291,11 +349,11 @@ begin
         elsif waiting_v = '1' or dropping = '1' then
           dropping <= '1';
         else
-          fw_en <= f_inside;
+          fw_en <= fp_ok(FEAT_LAT_c);
         end if;
         fw_bank  <= not sbank_n;
-        fw_scale <= f_scale;
-        fw_addr  <= f_addr;
+        fw_scale <= fp_scale(FEAT_LAT_c);
+        fw_addr  <= f6_addr;
       end if;
       if rst = '1' then
         waiting  <= '0';

@@ -172,7 +172,7 @@ begin
       STEP_DEN_g    => STEP_DEN_g,
       SECTORS_g     => SECTORS_g,
       MEM_DEPTH_g   => MEM_DEPTH_g,
-      MEM_LATENCY_g => 2,
+      MEM_LATENCY_g => 3,
       ADDR_BITS_g   => ADDR_BITS_c
     )
     port map (

@@ -79,12 +79,15 @@ sys.path.insert(0, str(ROOT / "sw"))
 from orb_sim.hdl import sources  # noqa: E402  (the one list of hdl files: hdl/manifest.txt)
 from orb_sim.verilog_netlist import VerilogError, ghdl_verilog  # noqa: E402  (GHDL's Verilog, repaired)
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import timing  # noqa: E402  (the worst-paths report of the timing pass's netlist)
+
 OUT = ROOT / "build" / "synth"
 EXPECTED = Path(__file__).resolve().with_name("synth_expected.json")
 
 # Bump when a change to this script changes the figures or the record's meaning: it is part of the
 # cache key, so every cached record is measured again.
-FLOW_VERSION = 3  # 3: orb_sim.verilog_netlist also merges nets GHDL declares twice
+FLOW_VERSION = 4  # 4: the timing pass keeps its netlist (net.json) for the worst-paths report
 
 # The tops the script knows and the generics each gets besides WIDTH_g, HEIGHT_g, SCALES_g
 # (their defaults, given explicitly so that they are in the record and the cache key).
@@ -109,6 +112,9 @@ OTHER_JOBS = (
     ("orb_accel_top", "1920x1080x2"),
     ("orb_accel_zynq", "1920x1080x2"),
 )
+# The pre-route logic-delay goal of a register-to-register path (docs/synthesis.md, "Timing"): at
+# most 3.5 ns leaves about half of the 6.67 ns period of a 150 MHz core clock to routing.
+TIMING_GOAL_NS = 3.5
 # the figures synth_expected.json may give and the check compares
 CHECKED = ("lut", "ff", "bram36", "dsp", "logic_delay_ns")
 # XC7Z020 (Zybo Z7-20) capacity
@@ -149,6 +155,7 @@ synth_xilinx -family xc7 -abc9 -flatten -top {top} -run begin:map_luts
 hierarchy -check
 synth_xilinx -family xc7 -abc9 -flatten -top {top} -run map_luts:
 tee -o sta_stat.txt stat
+write_json -compat-int net.json
 read_verilog -lib -specify -overwrite +/xilinx/cells_sim.v
 tee -o sta.txt sta
 """
@@ -468,6 +475,29 @@ def synth_sta(yosys: str, top: str, cdir: Path, rec: dict[str, Any], timeout: fl
     rec["sta"]["untimed_cell_types"] = sorted(set(re.findall(r"Module '(\w+)' has no timing arcs", log)))
     flat = summarise(parse_stat((cdir / "sta_stat.txt").read_text(), top))
     rec["abc9_flat"] = {k: flat[k] for k in ("lut", "lut_logic", "srl", "lutram", "ff", "ramb36", "ramb18", "dsp")}
+    timing_report(top, cdir, rec)
+
+
+def timing_report(top: str, cdir: Path, rec: dict[str, Any]) -> None:
+    """The worst paths of the timing pass's netlist (scripts/flow/timing.py): timing.json and
+    timing.md in the job's directory, and in the record the ten worst paths (distinct endpoint
+    registers) with their logic depth, the worst per block, and the endpoint bits over the goal."""
+    rep = timing.report(timing.load(cdir / "net.json", top), TIMING_GOAL_NS, 10)
+    (cdir / "timing.json").write_text(json.dumps(rep, indent=1) + "\n")
+    title = f"{rec['top']} {rec['job']}"
+    (cdir / "timing.md").write_text(timing.markdown(rep, title))
+    brief = ("delay_ns", "lut_levels", "carry4", "muxf", "start", "start_type", "endpoint", "block")
+    rec["timing"] = {
+        "goal_ns": TIMING_GOAL_NS,
+        "logic_delay_ns": rep["logic_delay_ns"],
+        "endpoints": rep["endpoints"],
+        "endpoints_over_goal": rep["endpoints_over_limit"],
+        "worst_paths": [{k: p[k] for k in brief} for p in rep["worst_paths"]],
+        "worst_by_block": {b: {k: p[k] for k in brief} for b, p in rep["worst_by_block"].items()},
+        "untimed_cells": rep["untimed_cells"],
+    }
+    if rep["logic_delay_ns"] is not None and abs(rep["logic_delay_ns"] - rec["logic_delay_ns"]) > 0.0015:
+        rec["warnings"].append(f"timing.py's longest path {rep['logic_delay_ns']} ns differs from yosys sta's")
 
 
 def new_record(job: Job, key: str) -> dict[str, Any]:
@@ -747,6 +777,8 @@ def main(argv: list[str] | None = None) -> int:
         if cached is not None:
             cached["job"] = j.name  # records cached before the field existed
         if cached is not None and not need:
+            if "sta" in cached.get("passes", []) and (cdir / "net.json").exists():
+                timing_report(j.top, cdir, cached)  # seconds: the report follows timing.py's changes
             print(f"  {j.name:<28} cached (measured {cached.get('date', '?')}, hdl/ at {cached.get('hdl_revision')})")
             run.publish(cached)
             recs[j] = cached
@@ -791,6 +823,12 @@ def main(argv: list[str] | None = None) -> int:
         figures = f"{fmt(rec['lut'])} LUT, {fmt(rec['ff'])} FF, {fmt(rec['bram36'])} BRAM36, {fmt(rec['dsp'])} DSP"
         if which == "sta":
             figures = f"logic delay {fmt(rec['logic_delay_ns'])} ns"
+            if rec.get("timing"):
+                t = rec["timing"]
+                figures += (
+                    f" ({t['endpoints_over_goal']:,} of {t['endpoints']:,} endpoint bits over the "
+                    f"{t['goal_ns']} ns goal; worst paths: {rel(cdir / 'timing.md')})"
+                )
         status = "FAILED: " + rec["errors"][-1] if rec["errors"] else figures
         print(f"  {j.name:<28} {which:<4} done after {time.monotonic() - t_start:6.0f} s: {status}", flush=True)
 

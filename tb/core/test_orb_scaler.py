@@ -2,7 +2,7 @@
 """orb_scaler against golden_model.scaler.downscale.
 
 Frames of odd and even widths and heights (photographs and random images) are streamed back to
-back with (x, y) and random input gaps. Every 2x2 block must produce exactly one output, one clock
+back with (x, y) and random input gaps. Every 2x2 block must produce exactly one output, two clocks
 after its bottom-right input pixel, tagged with its position in the reduced image and equal to
 downscale(frame); an odd last column or row must produce nothing. The chained runners feed the
 scaler what a first scaler emits (the reduced image at a quarter rate, in bursts on odd lines) and
@@ -19,7 +19,7 @@ from golden_model.scaler import downscale
 from orbtb.runner import run
 from orbtb.unit import SIM_ENV, Stream, env_int, env_str, make_frame, parse_frames, random_gaps, reset, to_int
 
-LATENCY = 1
+LATENCY = 2
 
 
 def chained_gaps(w: int, h: int) -> list[int]:

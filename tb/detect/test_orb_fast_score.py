@@ -4,7 +4,7 @@
 The flat 49 x 8-bit window is driven directly (no window generator), tagged with the position
 (x, y) of its newest (bottom-right) pixel, so the tested centre is (x - 3, y - 3). Expected score:
 fast_score of the image the window was cut from at that centre, and 0 whenever x < 6 or y < 6
-(the border rule). Every output must appear exactly 3 clocks after its input and keep its tag.
+(the border rule). Every output must appear exactly 4 clocks after its input and keep its tag.
 
 Stimulus: windows at every position of photograph crops (border positions carry real corner
 windows, which must still score 0), and synthetic windows: threshold edges (p = c + t is not
@@ -23,7 +23,7 @@ from orbtb import images
 from orbtb.runner import run
 from orbtb.unit import SIM_ENV, Stream, random_gaps, reset, to_int, window_word
 
-LATENCY = 3
+LATENCY = 4
 Item = tuple[int, int, int, int]  # (x, y, threshold, window word)
 
 

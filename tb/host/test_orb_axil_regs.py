@@ -424,7 +424,8 @@ async def w1c_and_irq(dut) -> None:
     assert await b.write(st.offset, 0xFFFFFFFF) == OKAY
     assert await b.read_ok(st) == 0
     # a pulse in the very clock that executes the clearing write wins: without pauses AW and W
-    # hand over at one edge E and the write executes at E + 1, so the pulse is driven right after E
+    # hand over at one edge E, the write is decoded at E + 1 and executes at E + 2, so the pulse is
+    # driven right after E + 1
     b.set_pauses(0.0)
     for bit, sig in ((fd, dut.frame_done_pulse), (er, dut.error_pulse)):
         await pulse(sig)
@@ -436,6 +437,7 @@ async def w1c_and_irq(dut) -> None:
                 if dut.s_axil_awvalid.value == 1 and dut.s_axil_awready.value == 1:
                     assert dut.s_axil_wvalid.value == 1 and dut.s_axil_wready.value == 1
                     break
+            await RisingEdge(dut.clk)
             sig.value = 1
             await RisingEdge(dut.clk)
             sig.value = 0

@@ -3,7 +3,7 @@
 
 A Python reference (`MemModel`) follows the documented protocol one clock at a time: which frame
 goes to which bank, which beats are written where (the memory's whole contents, stale slots
-included), the bank headers, counters, frame_done and the read port (latency 2, read-first).
+included), the bank headers, counters, frame_done and the read port (latency 3, read-first).
 Every clock, every output of the DUT is compared with it (the cocotb tests share one simulation:
 each test starts from the RAM contents and headers the DUT has, read first). On top of that,
 each scenario checks what the CPU sees against expectations taken from the stimulus alone: the
@@ -131,7 +131,7 @@ class MemModel:
     overflow: int = 0
     aborted: int = 0
     hdr: list[list[int]] = field(default_factory=lambda: [[0, 0, 0, 0], [0, 0, 0, 0]])  # count, frame, drop, trunc
-    rd_pipe: deque = field(default_factory=lambda: deque([None]))
+    rd_pipe: deque = field(default_factory=lambda: deque([None, None]))
     rd_data: int = 0
     published: list[Published] = field(default_factory=list)
 
@@ -150,10 +150,11 @@ class MemModel:
         self.in_frame = self.storing = self.abort_f = False
         self.cnt = self.trunc = self.done = self.last_bank = 0
         self.overrun = self.overflow = self.aborted = 0
-        self.rd_pipe = deque([None])
+        self.rd_pipe = deque([None, None])
 
     def step(self, beat: Beat | None, abort: int, release: int | None, rd_addr: int | None) -> None:
-        # read port: RAM read register loaded at this edge (read-first), the word register at the next
+        # read port: RAM read register loaded at this edge (read-first), its output register at the
+        # next, the word register at the one after
         self.rd_pipe.append(None if rd_addr is None else self.word(rd_addr))
         out = self.rd_pipe.popleft()
         if out is not None:
@@ -222,7 +223,7 @@ class MemBench:
         self.edge = 0
         self.read_log: deque[int] = deque()  # addresses issued, data not yet returned
         self.read_data: dict[int, int] = {}  # word address -> data returned (the last read of it)
-        self._pipe: deque[int | None] = deque([None, None])  # reads of the last two clocks
+        self._pipe: deque[int | None] = deque([None, None, None])  # reads of the last three clocks
         self.learning = False
         self.overlap = 0  # clocks with a stream beat and a read at once
         self.span: dict[str, int] = {}  # clocks (of the last `run`) of the first and last beat and read
@@ -307,8 +308,8 @@ class MemBench:
         await RisingEdge(self.dut.clk)
         self.edge += 1
         self.check_outputs()
-        # A read sampled at edge e is in the mem_rd_data register after edge e + 1, i.e. read
-        # right after edge e + 2 (latency 2), which is now for the read of two clocks ago.
+        # A read sampled at edge e is in the mem_rd_data register after edge e + 2, i.e. read
+        # right after edge e + 3 (latency 3), which is now for the read of three clocks ago.
         done = self._pipe.popleft()
         if done is not None:
             self.read_data[done >> WORD_SHIFT << WORD_SHIFT] = int(self.dut.mem_rd_data.value)

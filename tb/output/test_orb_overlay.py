@@ -5,7 +5,8 @@ The cocotb test runs one scenario: RGB video frames through s_axis_video and fea
 s_axis_feat, timed against the video as the scenario says (spread over a video frame, end-of-frame
 beat before, at or one edge before the next start of frame, a frame starting early, ...). A
 monitor records the clock edge of every accepted beat on the three streams. Afterwards the
-accepted starts of frame and feature beats, in edge order, go through the model's
+accepted starts of frame and feature beats, in edge order (a feature beat FEAT_LATENCY edges after
+its acceptance, where the overlay takes it: spec 13.3), go through the model's
 `marker_schedule` (which feature frame each video frame shows); each scenario also states the
 schedule it means to produce, so a test cannot pass by showing nothing. Every output pixel must
 equal `render_marker_overlay(video frame, shown feature frame)` (or the input pixel when none is
@@ -37,7 +38,7 @@ from golden_model.featcodec import decode_stream_features, encode_eof, encode_fe
 from golden_model.features import NO_SECTOR, Features
 from golden_model.featword import EOF_FLAG, FEAT_BITS, FEATURE_BEAT
 from golden_model.images import to_luma
-from golden_model.overlay import marker_bitmap, marker_schedule, render_marker_overlay
+from golden_model.overlay import FEAT_LATENCY, marker_bitmap, marker_schedule, render_marker_overlay
 from orbtb.runner import run
 from orbtb.unit import env_int, env_str, reset
 
@@ -192,7 +193,8 @@ class Bench:
             if sf_valid.value == 1:
                 last = int(sf_last.value)
                 self.feat_words.append(int(sf_data.value) | (last << FEAT_BITS))
-                self.events.append((e, 1, "eof" if last else "feature"))
+                # counted where the overlay takes it, FEAT_LATENCY edges after the port (spec 13.3)
+                self.events.append((e + FEAT_LATENCY, 1, "eof" if last else "feature"))
             if mv_valid.value == 1:
                 beat = (int(mv_data.value), int(mv_user.value), int(mv_last.value))
                 if stalled is not None:
@@ -435,7 +437,8 @@ async def scenario_sequence(b: Bench) -> None:
 
 
 async def scenario_timing(b: Bench) -> None:
-    """End-of-frame beats against starts of frame, clock-exact (spec 13.3)."""
+    """End-of-frame beats against starts of frame, clock-exact (spec 13.3): a feature beat counts
+    FEAT_LATENCY edges after the port, so the beats meant for an edge go that much earlier."""
     frames = [rgb_photo(RGB_PHOTOS[i % len(RGB_PHOTOS)], b.width, b.height) for i in range(7)]
     words = [interleaved_words(photo_features(rgb, b.scales, b.step), b.rng) for rgb in frames]
     span = b.frame_clocks()
@@ -456,22 +459,22 @@ async def scenario_timing(b: Bench) -> None:
     await task
     await b.idle(b.blank)
     await b.feature_beat(eof_word(2), 1)
-    # V3 with F3, then F4's first beat on the edge of V4's start (after the swap: kept).
+    await b.idle(FEAT_LATENCY)
+    # V3 with F3, then F4's first beat counting on the edge of V4's start (after the swap: kept).
     task = cocotb.start_soon(b.features(words[3], span, eof_word(3)))
     await b.video_frame(frames[3])
     await task
     await b.idle(b.blank)
-    b.dut.s_axis_feat_tdata.value = words[4][0]
-    b.dut.s_axis_feat_tvalid.value = 1
     b.feat_busy = True
+    await b.feature_beat(words[4][0])
+    await b.idle(FEAT_LATENCY - 1)
     v4 = cocotb.start_soon(b.video_frame(frames[4]))
-    await RisingEdge(b.dut.clk)
-    b.dut.s_axis_feat_tvalid.value = 0
     await b.features(words[4][1:], span, eof_word(4))
     await v4
     await b.idle(b.blank)
     # F5 begins before V5's start (F4 waiting): discarded whole although most of it comes later.
     await b.feature_beat(words[5][0])
+    await b.idle(FEAT_LATENCY)
     task = cocotb.start_soon(b.features(words[5][1:], span, eof_word(5)))
     await b.video_frame(frames[5])
     await task
