@@ -277,6 +277,15 @@ def block_of(name: str) -> str:
     return name[:cut] if cut > 0 else "(top)"
 
 
+def path_block(p: Path_) -> str:
+    """The block of a path: that of its endpoint register, else of the last net on the path with
+    a name from the design (yosys's own names start with '$'), else '(top)'."""
+    for name in [p.end_reg, *(n for _, n, _ in reversed(p.cells))]:
+        if not name.lstrip("\\").startswith("$") and not name.startswith("<"):
+            return block_of(name.split(" (")[0])
+    return "(top)"
+
+
 def vector_of(name: str) -> str:
     return re.sub(r"\[\d+\]$", "", name)
 
@@ -417,7 +426,7 @@ class Netlist:
         if etype.startswith("FD"):
             reg = self._reg_name(ecell)
         else:
-            reg = f"{end_name} ({etype}.{eport})" if etype != "port" else end_name
+            reg = f"{end_name} ({etype}.{eport})" if etype != "port" else vector_of(end_name)
         return Path_(
             end_name,
             reg,
@@ -454,6 +463,7 @@ def report(nl: Netlist, limit_ns: float, n_paths: int) -> dict[str, Any]:
     worst: list[Path_] = []
     seen_reg: set[str] = set()
     by_block: dict[str, Path_] = {}
+    by_block_seen: set[int] = set()
     over = 0
     for t, b in per_bit:
         if t > limit_ps:
@@ -464,14 +474,17 @@ def report(nl: Netlist, limit_ns: float, n_paths: int) -> dict[str, Any]:
             if p.end_reg not in seen_reg:
                 seen_reg.add(p.end_reg)
                 worst.append(p)
-        blk = block_of(nl._reg_name(nl.ends[b][1]) if nl.ends[b][2].startswith("FD") else nl.name(b))
+        if b in by_block_seen:
+            continue
+        p = p or nl.path(b, arrival, pred)
+        blk = path_block(p)
+        by_block_seen.add(b)
         if blk not in by_block:
-            by_block[blk] = p or nl.path(b, arrival, pred)
-    hist: dict[str, int] = {}
-    for lo in range(0, 10000, 500):
-        n = sum(1 for t, _ in per_bit if lo < t <= lo + 500)
-        if n:
-            hist[f"({lo / 1000:.1f}, {(lo + 500) / 1000:.1f}] ns"] = n
+            by_block[blk] = p
+    hist: dict[str, int] = defaultdict(int)  # endpoint bits per half nanosecond
+    for t, _ in per_bit:
+        lo = min(t // 500, 19) * 500
+        hist[f"[{lo / 1000:.1f}, {(lo + 500) / 1000:.1f}) ns" if lo < 9500 else "[9.5, ...) ns"] += 1
     return {
         "top": nl.top,
         "limit_ns": limit_ns,
@@ -480,7 +493,7 @@ def report(nl: Netlist, limit_ns: float, n_paths: int) -> dict[str, Any]:
         "endpoints_over_limit": over,
         "worst_paths": [p.as_dict() for p in worst],
         "worst_by_block": {k: v.as_dict() for k, v in sorted(by_block.items(), key=lambda kv: -kv[1].arrival_ps)},
-        "histogram": hist,
+        "histogram": dict(sorted(hist.items(), key=lambda kv: float(kv[0][1:].split(",")[0]))),
         "untimed_cells": dict(sorted(nl.untimed.items())),
     }
 
