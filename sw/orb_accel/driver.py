@@ -247,11 +247,28 @@ class OrbAccel:
     def settle(self, timeout_s: float) -> Frame:
         """Let the frame in flight pass after configure(): the accelerator samples threshold and
         mode at a frame's first pixel, so the first frame to finish after a change may have
-        started before it. Acknowledges pending interrupts, then reads and releases the next
-        frame (returned, in the mode of its start); every later frame uses the new values."""
+        started before it. Acknowledges pending interrupts and releases the banks of frames that
+        finished before (discarded), then reads and releases the next frame (returned, in the mode
+        of its start); every later frame uses the new values."""
         old_mode = self._mode_before
+        # A frame that finished before this call is discarded with its interrupt: its bank must be
+        # released too, or the accelerator, whose next frame waits for that bank, stops publishing
+        # (the frames are skipped as overruns) while this waits for an interrupt that never comes.
         self.write(regs.IRQ_STATUS, 0xFFFFFFFF)
-        with self.holding(self.wait_frame(timeout_s)) as bank:
+        ready = regs.STATUS.field("bank_ready").get(self.read(regs.STATUS))
+        for b in range(regs.BANKS):
+            if ready >> b & 1:
+                self.release(b)
+        while True:
+            # a frame that finished between the acknowledgement and its release raised the
+            # interrupt, but its bank is gone: wait on for the next one
+            if not regs.IRQ_STATUS.field("frame_done").get(self.wait_irq(timeout_s)):
+                continue
+            status = self.read(regs.STATUS)
+            bank = regs.STATUS.field("last_bank").get(status)
+            if regs.STATUS.field("bank_ready").get(status) >> bank & 1:
+                break
+        with self.holding(bank) as bank:
             frame = self.read_bank(bank, mode=old_mode)
         self._mode_before = self.mode
         return frame
