@@ -4,8 +4,9 @@
 -- columns given (in_col, one column per valid beat, top pixel in the low byte), as orb_window
 -- slides its window, so only the newest column is weighed each beat (constant shift-add
 -- multiplies, no DSP) and the seven weighted column sums slide in a register row beside the
--- window; then the weighted row of column sums, then the rounding shift: three pipeline stages,
--- latency 3. The newest column is at (in_x, in_y), so the output is the smoothed value of
+-- window; then the weighted row of column sums in two halves (three partial sums, their total:
+-- no stage adds more than five terms, docs/synthesis.md "Timing"), then the rounding shift: four
+-- pipeline stages, latency 4. The newest column is at (in_x, in_y), so the output is the smoothed value of
 -- (in_x - 3, in_y - 3) and carries the input's (x, y) tag; positions whose window wraps around a
 -- line or frame edge (in_x < 6 or in_y < 6) give 0, so a column sum from an earlier line, frame
 -- or reset never reaches an output. The sums are ranged integers (their ranges set the hardware
@@ -39,7 +40,15 @@ architecture rtl of orb_smooth is
 
   type col_sums_t is array (0 to 6) of col_sum_t;
 
+  subtype part_t is integer range 0 to 26 * 64 * 255 + 2048;  -- at most 26 (14 + 12) of the column weights
+
+  type parts_t is array (0 to 2) of part_t;
+
   signal v1, v2, v3 : std_logic := '0';
+  signal vp         : std_logic := '0';
+  signal xp, yp     : std_logic_vector(COORD_BITS_c - 1 downto 0) := (others => '0');
+  signal innerp     : std_logic := '0';
+  signal parts      : parts_t := (others => 0);
   signal x1, y1     : std_logic_vector(COORD_BITS_c - 1 downto 0) := (others => '0');
   signal x2, y2     : std_logic_vector(COORD_BITS_c - 1 downto 0) := (others => '0');
   signal x3, y3     : std_logic_vector(COORD_BITS_c - 1 downto 0) := (others => '0');
@@ -78,17 +87,24 @@ begin
         end loop;
         cols1 <= cols1(1 to 6) & acc;
       end if;
-      -- stage 2: weighted sum of the column sums, plus the rounding constant
-      v2 <= v1;
+      -- stage 2a: the weighted column sums in three parts (columns 0-2, 3-4, 5-6 and the rounding
+      -- constant), each a balanced sum of at most five shifted terms
+      vp <= v1;
       if v1 = '1' then
-        x2     <= x1;
-        y2     <= y1;
-        inner2 <= inner1;
-        acc    := 2048;
-        for c in 0 to 6 loop
-          acc := acc + weigh(c, cols1(c));
-        end loop;
-        total2 <= acc;
+        xp       <= x1;
+        yp       <= y1;
+        innerp   <= inner1;
+        parts(0) <= (weigh(0, cols1(0)) + weigh(1, cols1(1))) + weigh(2, cols1(2));
+        parts(1) <= weigh(3, cols1(3)) + weigh(4, cols1(4));
+        parts(2) <= (weigh(5, cols1(5)) + weigh(6, cols1(6))) + 2048;
+      end if;
+      -- stage 2b: their total
+      v2 <= vp;
+      if vp = '1' then
+        x2     <= xp;
+        y2     <= yp;
+        inner2 <= innerp;
+        total2 <= (parts(0) + parts(1)) + parts(2);
       end if;
       -- stage 3: divide by 4096
       v3 <= v2;
@@ -103,6 +119,7 @@ begin
       end if;
       if rst = '1' then
         v1 <= '0';
+        vp <= '0';
         v2 <= '0';
         v3 <= '0';
       end if;
