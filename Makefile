@@ -29,7 +29,8 @@ help:
 	@echo "make figures make eval, then copy its figures into docs/img (docs/img/README.md)"
 	@echo "make lint    ruff, the import-layer contracts (lint-imports); GHDL synth check and vsg style of hdl/"
 	@echo "make synth   LUT/FF/BRAM/DSP estimate of orb_core 640x480x1 + 1920x1080x2, checked (GHDL + yosys; 4-7 min, cached;"
-	@echo "             CONFIG=1920x1080x2 TOP=orb_accel_top|orb_accel_zynq: also the logic-delay pass + worst paths (STA=0: not)"
+	@echo "             CONFIG=1920x1080x2 TOP=orb_accel_top|orb_accel_zynq: also the logic-delay pass + worst paths (STA=0: not);"
+	@echo "             GENERICS=\"STEP_NUM_g=5 STEP_DEN_g=4 SECTORS_g=64\": more generics of the top)"
 	@echo "make netlist-sim  unit tests on GHDL's synthesised netlists (~15 min; K=entity, QUICK=1; docs/netlist-sim.md)"
 	@echo "make tools   which of ghdl, yosys, python3 are installed, and how to install the rest"
 	@echo "make bitstream  the Zybo Z7-20 design in Vivado (CONFIG=640x480|1280x720|1920x1080, VIVADO_LIBRARY=DIR,"
@@ -109,14 +110,17 @@ lint: $(STAMP)
 
 # Resource estimate (GHDL + yosys, no Vivado; docs/synthesis.md), checked against scripts/flow/synth_expected.json.
 # CONFIG=1920x1080x2 (or a list) runs those configurations, TOP= another top; STA=1 adds the logic-delay pass
-# and its worst-paths report (build/synth/<top>/<config>/timing.md), the default when CONFIG is given (STA=0: not).
+# and its worst-paths report (build/synth/<top>/<config>/timing.md), the default when CONFIG is given (STA=0: not);
+# GENERICS="STEP_NUM_g=5 STEP_DEN_g=4 SECTORS_g=64" sets more generics of the top (the recommended 1080p build).
 # Plain python3 (no `make setup` needed); records are cached under build/synth.
 CONFIG ?=
 TOP ?=
+GENERICS ?=
 STA ?= $(if $(CONFIG),1,)
 synth:
 	@sh scripts/flow/check_tools.sh ghdl yosys python3
 	$(PYTHON) scripts/flow/synth.py --jobs $(JOBS) $(if $(TOP),--top $(TOP)) $(foreach c,$(CONFIG),--config $(c)) \
+		$(foreach g,$(GENERICS),--generic $(g)) \
 		$(if $(filter 1 yes true,$(STA)),--sta)
 
 # The cocotb tests of docs/netlist-sim.md on `ghdl synth --out=vhdl` netlists (~15 min); K=orb_overlay runs one

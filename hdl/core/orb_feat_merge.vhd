@@ -206,6 +206,9 @@ begin
     variable entry  : entry_t;
     variable cnt    : count_t;
     variable room   : boolean;
+    variable push   : boolean;
+    variable lvl_up : cnt_arr_t;
+    variable lvl_dn : cnt_arr_t;
     variable a0, a1 : cnt_arr_t;
     variable mk     : marks_t;
     variable fd     : frame_drops_t;
@@ -214,6 +217,16 @@ begin
     variable drops  : natural range 0 to SCALES_g;
   begin
     if rising_edge(clk) then
+      for k in 0 to SCALES_g - 1 loop
+        lvl_up(k) := 0;
+        lvl_dn(k) := 0;
+        if f_level(k) < FIFO_DEPTH_g then
+          lvl_up(k) := f_level(k) + 1;
+        end if;
+        if f_level(k) > 0 then
+          lvl_dn(k) := f_level(k) - 1;
+        end if;
+      end loop;
       a0 := ahead0;
       a1 := ahead1;
       mk := marks;
@@ -289,19 +302,21 @@ begin
       -- clock) or is lost (counted next clock, for its own frame: the frame after this scale's
       -- waiting frame ends); a frame end records the entries ahead of it.
       for k in 0 to SCALES_g - 1 loop
+        -- the FIFO's new level: one of three values formed beside the arbiter, chosen by its
+        -- decision (no adder behind the round robin: docs/synthesis.md, "Timing")
         room := f_level(k) < FIFO_DEPTH_g or pop_v(k) = '1';
-        cnt  := f_level(k);
-        if pop_v(k) = '1' then
-          cnt := cnt - 1;
+        push := in_valid(k) = '1' and room;
+        if pop_v(k) = '1' and not push then
+          cnt := lvl_dn(k);
+        elsif push and pop_v(k) = '0' then
+          cnt := lvl_up(k);
+        else
+          cnt := f_level(k);
         end if;
         drop_r(k)  <= '0';
         drop_fr(k) <= mk(k);
-        if in_valid(k) = '1' then
-          if room then
-            cnt := cnt + 1;
-          else
-            drop_r(k) <= '1';
-          end if;
+        if in_valid(k) = '1' and not room then
+          drop_r(k) <= '1';
         end if;
         if in_done(k) = '1' then
           if mk(k) = 0 then

@@ -6,8 +6,11 @@
 -- column (D - a) p(i) + a p(i + 1) is formed when input pixel i + 1 arrives, one line of them
 -- waits in a read-first RAM, and the output row that needs input rows j and j + 1 is formed while
 -- row j + 1 streams in. At most one output per input pixel (NUM > DEN). DEN_g must be a power of
--- two, so the division by D*D is a shift. Latency: the output leaves 3 clocks after the input
--- pixel that completes it. For NUM:DEN = 2:1 it is the 2x2 box of orb_scaler, bit for bit;
+-- two, so the division by D*D is a shift. Six pipeline stages, none with more than one
+-- multiplication or one adder of three terms behind a register (docs/synthesis.md, "Timing"):
+-- the taps, the horizontal sum, the line RAM, the RAM's word registered, the vertical products,
+-- their sum and the rounding. Latency: the output leaves 6 clocks after the input pixel that
+-- completes it. For NUM:DEN = 2:1 it is the 2x2 box of orb_scaler, bit for bit;
 -- orb_core uses orb_scaler for 2:1 and this entity for every other step.
 
 library ieee;
@@ -72,15 +75,37 @@ architecture rtl of orb_resampler is
   signal s1_x   : coord_t := (others => '0');
   signal s1_y   : coord_t := (others => '0');                        -- the output row
   signal s1_b   : phase_t := 0;
-  signal s1_h   : unsigned(H_BITS_c - 1 downto 0) := (others => '0');
+  signal s1_p0  : unsigned(PIXEL_BITS_c - 1 downto 0) := (others => '0');  -- the column's taps
+  signal s1_p1  : unsigned(PIXEL_BITS_c - 1 downto 0) := (others => '0');
+  signal s1_a   : phase_t := 0;
+  -- stage 1h: the horizontal sum
+  signal h_v   : std_logic := '0';
+  signal h_out : std_logic := '0';
+  signal h_x   : coord_t := (others => '0');
+  signal h_y   : coord_t := (others => '0');
+  signal h_b   : phase_t := 0;
+  signal s1_h  : unsigned(H_BITS_c - 1 downto 0) := (others => '0');
   -- stage 2 -> 3: with the previous row's sum of the column
-  signal mem     : hline_t;
-  signal s2_v    : std_logic := '0';
-  signal s2_x    : coord_t := (others => '0');
-  signal s2_y    : coord_t := (others => '0');
-  signal s2_b    : phase_t := 0;
-  signal s2_h    : unsigned(H_BITS_c - 1 downto 0) := (others => '0');
-  signal s2_up   : unsigned(H_BITS_c - 1 downto 0) := (others => '0');
+  signal mem   : hline_t;
+  signal s2_v  : std_logic := '0';
+  signal s2_x  : coord_t := (others => '0');
+  signal s2_y  : coord_t := (others => '0');
+  signal s2_b  : phase_t := 0;
+  signal s2_h  : unsigned(H_BITS_c - 1 downto 0) := (others => '0');
+  signal s2_up : unsigned(H_BITS_c - 1 downto 0) := (others => '0');
+  -- stage 2r: the RAM's word registered, the weights; stage 3p: the vertical products
+  signal r_v     : std_logic := '0';
+  signal r_x     : coord_t := (others => '0');
+  signal r_y     : coord_t := (others => '0');
+  signal r_up    : unsigned(H_BITS_c - 1 downto 0) := (others => '0');
+  signal r_h     : unsigned(H_BITS_c - 1 downto 0) := (others => '0');
+  signal r_wu    : unsigned(LOG_D_c downto 0) := (others => '0');
+  signal r_wh    : unsigned(LOG_D_c downto 0) := (others => '0');
+  signal p_v     : std_logic := '0';
+  signal p_x     : coord_t := (others => '0');
+  signal p_y     : coord_t := (others => '0');
+  signal p_up    : unsigned(S_BITS_c - 1 downto 0) := (others => '0');
+  signal p_h     : unsigned(S_BITS_c - 1 downto 0) := (others => '0');
   signal o_valid : std_logic := '0';
   signal o_x     : coord_t := (others => '0');
   signal o_y     : coord_t := (others => '0');
@@ -133,11 +158,12 @@ begin
           last_y <= y;
         elsif x = ci + 1 and xo < OUT_W_c then
           -- column xo completes with (prev, this) as its taps
-          s1_v <= '1';
-          s1_x <= xo;
-          s1_h <= resize(to_unsigned(D_c - ca, LOG_D_c + 1) * prev_px, H_BITS_c)
-                  + resize(to_unsigned(ca, LOG_D_c + 1) * unsigned(in_data), H_BITS_c);
-          xo   <= xo + 1;
+          s1_v  <= '1';
+          s1_x  <= xo;
+          s1_p0 <= prev_px;
+          s1_p1 <= unsigned(in_data);
+          s1_a  <= ca;
+          xo    <= xo + 1;
           na   := ca + STEP_A_c;
           ni   := ci + STEP_I_c;
           if na >= D_c then
@@ -173,6 +199,25 @@ begin
     end if;
   end process horizontal;
 
+  -- Stage 1h: the horizontal sum (D - a) p(i) + a p(i + 1) of the column.
+  hsum : process (clk) is
+  begin
+    if rising_edge(clk) then
+      h_v <= s1_v;
+      if s1_v = '1' then
+        h_out <= s1_out;
+        h_x   <= s1_x;
+        h_y   <= s1_y;
+        h_b   <= s1_b;
+        s1_h  <= resize(to_unsigned(D_c - s1_a, LOG_D_c + 1) * s1_p0, H_BITS_c)
+                 + resize(to_unsigned(s1_a, LOG_D_c + 1) * s1_p1, H_BITS_c);
+      end if;
+      if rst = '1' then
+        h_v <= '0';
+      end if;
+    end if;
+  end process hsum;
+
   -- Stage 2: the column's sum of the previous row (read-first), this row's sum written in its
   -- place. Every row writes, so the line always holds the row above the one streaming.
   line : process (clk) is
@@ -180,14 +225,14 @@ begin
   begin
     if rising_edge(clk) then
       s2_v <= '0';
-      if s1_v = '1' then
-        addr  := to_integer(s1_x);
+      if h_v = '1' then
+        addr  := to_integer(h_x);
         s2_up <= mem(addr);
         mem(addr) <= s1_h;
-        s2_v  <= s1_out;
-        s2_x  <= s1_x;
-        s2_y  <= s1_y;
-        s2_b  <= s1_b;
+        s2_v  <= h_out;
+        s2_x  <= h_x;
+        s2_y  <= h_y;
+        s2_b  <= h_b;
         s2_h  <= s1_h;
       end if;
       if rst = '1' then
@@ -196,22 +241,39 @@ begin
     end if;
   end process line;
 
-  -- Stage 3: the vertical weights and the one rounding (half up), a shift since D is a power of two.
+  -- Stages 2r, 3p and 3: the RAM's word registered with the vertical weights, the two products,
+  -- then their sum and the one rounding (half up), a shift since D is a power of two.
   vertical : process (clk) is
     variable s : unsigned(S_BITS_c - 1 downto 0);
   begin
     if rising_edge(clk) then
-      o_valid <= '0';
+      r_v <= s2_v;
       if s2_v = '1' then
-        s := resize(to_unsigned(D_c - s2_b, LOG_D_c + 1) * s2_up, S_BITS_c)
-             + resize(to_unsigned(s2_b, LOG_D_c + 1) * s2_h, S_BITS_c)
-             + to_unsigned(D_c * D_c / 2, S_BITS_c);
+        r_x  <= s2_x;
+        r_y  <= s2_y;
+        r_up <= s2_up;
+        r_h  <= s2_h;
+        r_wu <= to_unsigned(D_c - s2_b, LOG_D_c + 1);
+        r_wh <= to_unsigned(s2_b, LOG_D_c + 1);
+      end if;
+      p_v <= r_v;
+      if r_v = '1' then
+        p_x  <= r_x;
+        p_y  <= r_y;
+        p_up <= resize(r_wu * r_up, S_BITS_c);
+        p_h  <= resize(r_wh * r_h, S_BITS_c);
+      end if;
+      o_valid <= '0';
+      if p_v = '1' then
+        s := p_up + p_h + to_unsigned(D_c * D_c / 2, S_BITS_c);
         o_valid <= '1';
-        o_x     <= s2_x;
-        o_y     <= s2_y;
+        o_x     <= p_x;
+        o_y     <= p_y;
         o_data  <= resize(shift_right(s, 2 * LOG_D_c), PIXEL_BITS_c);
       end if;
       if rst = '1' then
+        r_v     <= '0';
+        p_v     <= '0';
         o_valid <= '0';
       end if;
     end if;

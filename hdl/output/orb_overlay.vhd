@@ -14,9 +14,10 @@
 -- frame has passed. The banks swap at a video start of frame when a complete feature frame waits
 -- (its end-of-frame beat taken at an earlier clock edge); a feature frame that begins while
 -- another waits is discarded whole. The feature beats are taken 6 clocks after the port (the
--- block pipeline, FEAT_LAT_c), and these edges are the ones spec 13.3 counts. Video latency is 2
--- clocks; back-pressure passes through (s_axis_video_tready = m_axis_video_tready or not
--- m_axis_video_tvalid); s_axis_feat never stalls.
+-- block pipeline, FEAT_LAT_c), and these edges are the ones spec 13.3 counts. Video latency is 3
+-- clocks (the bitmap bits are registered before the colour is chosen); back-pressure passes
+-- through (s_axis_video_tready = m_axis_video_tready or not m_axis_video_tvalid); s_axis_feat
+-- never stalls.
 -- rst resets control state only: the bitmaps are zero at configuration (block RAM default), and
 -- after a reset in mid-stream marks of an interrupted frame can show once.
 
@@ -157,18 +158,26 @@ architecture rtl of orb_overlay is
   -- bit bank * SCALES_g + s: mark of scale s in bank `bank` at the block read last
   signal rd_bits : std_logic_vector(2 * SCALES_g - 1 downto 0);
 
-  -- video pipeline: stage 1 (aligned with rd_bits), then the output register
-  signal d1_valid : std_logic := '0';
-  signal d1_data  : std_logic_vector(23 downto 0) := (others => '0');
-  signal d1_user  : std_logic := '0';
-  signal d1_last  : std_logic := '0';
-  signal d1_draw  : std_logic := '0';
-  signal d1_bank  : std_logic := '0';
-  signal d1_ring  : unsigned(RING_BITS_c - 1 downto 0) := (others => '0');
-  signal m_valid  : std_logic := '0';
-  signal m_data   : std_logic_vector(23 downto 0) := (others => '0');
-  signal m_user   : std_logic := '0';
-  signal m_last   : std_logic := '0';
+  -- video pipeline: stage 1 (aligned with rd_bits), stage 2 (rd_bits registered), then the output
+  -- register
+  signal d1_valid  : std_logic := '0';
+  signal d1_data   : std_logic_vector(23 downto 0) := (others => '0');
+  signal d1_user   : std_logic := '0';
+  signal d1_last   : std_logic := '0';
+  signal d1_draw   : std_logic := '0';
+  signal d1_bank   : std_logic := '0';
+  signal d1_ring   : unsigned(RING_BITS_c - 1 downto 0) := (others => '0');
+  signal d2_valid  : std_logic := '0';
+  signal d2_data   : std_logic_vector(23 downto 0) := (others => '0');
+  signal d2_user   : std_logic := '0';
+  signal d2_last   : std_logic := '0';
+  signal d2_bits   : std_logic_vector(2 * SCALES_g - 1 downto 0) := (others => '0');
+  signal d2_sel    : std_logic_vector(2 * SCALES_g - 1 downto 0) := (others => '0');
+  signal d2_colour : std_logic_vector(23 downto 0) := (others => '0');
+  signal m_valid   : std_logic := '0';
+  signal m_data    : std_logic_vector(23 downto 0) := (others => '0');
+  signal m_user    : std_logic := '0';
+  signal m_last    : std_logic := '0';
 
 begin
 
@@ -426,22 +435,38 @@ begin
         d1_draw  <= in_frame;
         d1_bank  <= sbank_n;
         d1_ring  <= ring;
-        m_valid  <= d1_valid;
-        m_user   <= d1_user;
-        m_last   <= d1_last;
-        m_data   <= d1_data;
+        -- stage 2: the bitmap bits registered, the one to test as a one-hot mask, the colour
+        d2_valid <= d1_valid;
+        d2_data  <= d1_data;
+        d2_user  <= d1_user;
+        d2_last  <= d1_last;
+        d2_bits  <= rd_bits;
+        d2_sel   <= (others => '0');
         r        := to_integer(d1_ring);
-        if d1_draw = '1' and r < SCALES_g then
-          if d1_bank = '1' then
-            r := r + SCALES_g;
-          end if;
-          if rd_bits(r) = '1' then
-            m_data <= COLOURS_c(to_integer(d1_ring));
+        if r < SCALES_g then
+          d2_colour <= COLOURS_c(r);
+          if d1_draw = '1' then
+            if d1_bank = '1' then
+              r := r + SCALES_g;
+            end if;
+            d2_sel(r) <= '1';
           end if;
         end if;
+        -- output register
+        m_valid <= d2_valid;
+        m_user  <= d2_user;
+        m_last  <= d2_last;
+        m_data  <= d2_data;
+        -- (bits never written read 'U' in simulation: only a '1' draws)
+        for i in d2_sel'range loop
+          if d2_bits(i) = '1' and d2_sel(i) = '1' then
+            m_data <= d2_colour;
+          end if;
+        end loop;
       end if;
       if rst = '1' then
         d1_valid <= '0';
+        d2_valid <= '0';
         m_valid  <= '0';
       end if;
     end if;

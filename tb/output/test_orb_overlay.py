@@ -11,7 +11,7 @@ its acceptance, where the overlay takes it: spec 13.3), go through the model's
 schedule it means to produce, so a test cannot pass by showing nothing. Every output pixel must
 equal `render_marker_overlay(video frame, shown feature frame)` (or the input pixel when none is
 shown), with tuser/tlast passed through, the AXI4-Stream output held while stalled, and, without
-back-pressure, the fixed latency of 2 clocks. The RTL's own assertion (a mark and a clear never in
+back-pressure, the fixed latency of 3 clocks. The RTL's own assertion (a mark and a clear never in
 one bank on one clock) is live in every run.
 
 Scenarios: `photos` (features of real photographs at 1 to 8 scales of the 2:1 or a finer pyramid
@@ -42,7 +42,7 @@ from golden_model.overlay import FEAT_LATENCY, marker_bitmap, marker_schedule, r
 from orbtb.runner import run
 from orbtb.unit import env_int, env_str, reset
 
-LATENCY = 2
+LATENCY = 3
 RGB_PHOTOS = ("astronaut", "coffee", "chelsea", "rocket", "camera")
 # feature words carry random bits from above the end-of-frame flag on (sector, reserved bits,
 # descriptor): the overlay reads only x, y and scale
