@@ -95,6 +95,7 @@ architecture rtl of orb_desc_path is
   signal col_valid : std_logic;
   signal col_xs    : std_logic_vector(COORD_BITS_c - 1 downto 0);
   signal col_data  : std_logic_vector(COL_BITS_c - 1 downto 0);
+  signal x_in      : std_logic_vector(COORD_BITS_c - 1 downto 0) := (others => '0');
   signal y_in      : std_logic_vector(COORD_BITS_c - 1 downto 0) := (others => '0');
   signal y_dly     : std_logic_vector(COORD_BITS_c - 1 downto 0) := (others => '0');
   signal col_x     : coord_t;
@@ -108,8 +109,11 @@ architecture rtl of orb_desc_path is
   signal pf_valid   : std_logic := '0';
   signal head       : entry_t := (others => '0');
   signal head_valid : std_logic := '0';
-  signal head_tx    : coord_t;
-  signal head_ty    : coord_t;
+  signal hm_r       : boolean := false;  -- comparisons made a clock ahead (process `ahead`)
+  signal hs_r       : boolean := false;
+  signal pm_r       : boolean := false;
+  signal ps_r       : boolean := false;
+  signal took_r     : boolean := false;  -- the head took pf at the last edge
   signal match      : std_logic;
   signal stale      : std_logic;
   signal count      : unsigned(QBITS_c downto 0) := (others => '0');
@@ -221,6 +225,7 @@ begin
   begin
     if rising_edge(clk) then
       if in_valid = '1' then
+        x_in <= in_x;
         y_in <= in_y;
       end if;
       y_dly <= y_in;
@@ -230,13 +235,38 @@ begin
   col_x <= unsigned(col_xs);
   col_y <= unsigned(y_dly);
 
-  -- Queue entries hold the window tag at which the feature is centred: (x + 18, y + 18).
-  head_tx <= unsigned(head(SCORE_BITS_c + COORD_BITS_c - 1 downto SCORE_BITS_c));
-  head_ty <= unsigned(head(ENTRY_c - 1 downto SCORE_BITS_c + COORD_BITS_c));
-  match   <= col_valid and head_valid when head_tx = col_x and head_ty = col_y else
-             '0';
-  stale   <= col_valid and head_valid when head_ty < col_y or (head_ty = col_y and head_tx < col_x) else
-             '0';
+  -- Queue entries hold the window tag at which the feature is centred: (x + 18, y + 18). The
+  -- comparisons of the head with the window's column are made one clock ahead, for both entries
+  -- that can be the head then (the head itself, or pf if the head takes it in this clock),
+  -- against the column the window has then (x_in, y_in: the line buffer's output register
+  -- follows them by one clock); the clock itself only picks one (no comparator on the path from
+  -- the head to the queue's state: docs/synthesis.md, "Timing").
+  ahead : process (clk) is
+    variable hx : coord_t;
+    variable hy : coord_t;
+    variable px : coord_t;
+    variable py : coord_t;
+    variable cx : coord_t;
+    variable cy : coord_t;
+  begin
+    if rising_edge(clk) then
+      hx    := unsigned(head(SCORE_BITS_c + COORD_BITS_c - 1 downto SCORE_BITS_c));
+      hy    := unsigned(head(ENTRY_c - 1 downto SCORE_BITS_c + COORD_BITS_c));
+      px    := unsigned(pf(SCORE_BITS_c + COORD_BITS_c - 1 downto SCORE_BITS_c));
+      py    := unsigned(pf(ENTRY_c - 1 downto SCORE_BITS_c + COORD_BITS_c));
+      cx    := unsigned(x_in);
+      cy    := unsigned(y_in);
+      hm_r  <= hx = cx and hy = cy;
+      hs_r  <= hy < cy or (hy = cy and hx < cx);
+      pm_r  <= px = cx and py = cy;
+      ps_r  <= py < cy or (py = cy and px < cx);
+    end if;
+  end process ahead;
+
+  match <= col_valid and head_valid when (took_r and pm_r) or (not took_r and hm_r) else
+           '0';
+  stale <= col_valid and head_valid when (took_r and ps_r) or (not took_r and hs_r) else
+           '0';
 
   -- `count` is the number of entries in the RAM; the read register `pf` and the head register
   -- hold one more each. The RAM's output only ever loads the head register, so no logic follows
@@ -278,13 +308,15 @@ begin
         rd_ptr     <= wr_ptr;
         pf_valid   <= '0';
         head_valid <= '0';
+        took_r     <= false;
         if write then
           count <= to_unsigned(1, count'length);
         else
           count <= (others => '0');
         end if;
       else
-        take := head_valid = '0' or pop;
+        take   := head_valid = '0' or pop;
+        took_r <= take;
         if take then
           head       <= pf;
           head_valid <= pf_valid;

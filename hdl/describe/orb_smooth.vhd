@@ -3,10 +3,10 @@
 -- B = (sum k_i k_j P + 2048) >> 12 with k = (5, 8, 12, 14, 12, 8, 5). The window is the last seven
 -- columns given (in_col, one column per valid beat, top pixel in the low byte), as orb_window
 -- slides its window, so only the newest column is weighed each beat (constant shift-add
--- multiplies, no DSP) and the seven weighted column sums slide in a register row beside the
--- window; then the weighted row of column sums in two halves (three partial sums, their total:
--- no stage adds more than five terms, docs/synthesis.md "Timing"), then the rounding shift: four
--- pipeline stages, latency 4. The newest column is at (in_x, in_y), so the output is the smoothed value of
+-- multiplies, no DSP; in two halves, then their sum) and the seven weighted column sums slide in
+-- a register row beside the window; then the weighted row of column sums in two halves (three
+-- partial sums, their total), then the rounding shift: no stage adds more than five terms
+-- (docs/synthesis.md "Timing"), five pipeline stages, latency 5. The newest column is at (in_x, in_y), so the output is the smoothed value of
 -- (in_x - 3, in_y - 3) and carries the input's (x, y) tag; positions whose window wraps around a
 -- line or frame edge (in_x < 6 or in_y < 6) give 0, so a column sum from an earlier line, frame
 -- or reset never reaches an output. The sums are ranged integers (their ranges set the hardware
@@ -44,6 +44,12 @@ architecture rtl of orb_smooth is
 
   type parts_t is array (0 to 2) of part_t;
 
+  type halves_t is array (0 to 1) of col_sum_t;
+
+  signal va         : std_logic := '0';
+  signal xa, ya     : std_logic_vector(COORD_BITS_c - 1 downto 0) := (others => '0');
+  signal innera     : std_logic := '0';
+  signal halfa      : halves_t := (others => 0);
   signal v1, v2, v3 : std_logic := '0';
   signal vp         : std_logic := '0';
   signal xp, yp     : std_logic_vector(COORD_BITS_c - 1 downto 0) := (others => '0');
@@ -75,17 +81,30 @@ begin
     variable acc : total_t;
   begin
     if rising_edge(clk) then
-      -- stage 1: the newest column's weighted sum slides into the row of column sums
-      v1 <= in_valid;
+      -- stage 1a: the newest column weighed in two halves (rows 0-3, rows 4-6)
+      va <= in_valid;
       if in_valid = '1' then
-        x1     <= in_x;
-        y1     <= in_y;
-        inner1 <= '1' when unsigned(in_x) >= 6 and unsigned(in_y) >= 6 else '0';
+        xa     <= in_x;
+        ya     <= in_y;
+        innera <= '1' when unsigned(in_x) >= 6 and unsigned(in_y) >= 6 else '0';
         acc    := 0;
-        for r in 0 to 6 loop
+        for r in 0 to 3 loop
           acc := acc + weigh(r, to_integer(unsigned(in_col((r + 1) * PIXEL_BITS_c - 1 downto r * PIXEL_BITS_c))));
         end loop;
-        cols1 <= cols1(1 to 6) & acc;
+        halfa(0) <= acc;
+        acc      := 0;
+        for r in 4 to 6 loop
+          acc := acc + weigh(r, to_integer(unsigned(in_col((r + 1) * PIXEL_BITS_c - 1 downto r * PIXEL_BITS_c))));
+        end loop;
+        halfa(1) <= acc;
+      end if;
+      -- stage 1b: the column's weighted sum slides into the row of column sums
+      v1 <= va;
+      if va = '1' then
+        x1     <= xa;
+        y1     <= ya;
+        inner1 <= innera;
+        cols1  <= cols1(1 to 6) & (halfa(0) + halfa(1));
       end if;
       -- stage 2a: the weighted column sums in three parts (columns 0-2, 3-4, 5-6 and the rounding
       -- constant), each a balanced sum of at most five shifted terms
@@ -118,6 +137,7 @@ begin
         end if;
       end if;
       if rst = '1' then
+        va <= '0';
         v1 <= '0';
         vp <= '0';
         v2 <= '0';

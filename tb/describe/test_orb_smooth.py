@@ -5,7 +5,7 @@ orb_smooth sees a sliding 7x7 window one column per beat (as orb_window slides i
 drives the newest column (7 x 8 bits, top pixel in the low byte), tagged with the position (x, y)
 of its bottom pixel, and the window is the last seven columns driven. The expected value of a
 beat is the model's smoothing of that window at its centre (x - 3, y - 3), and 0 whenever x < 6 or
-y < 6. Every output must leave exactly 4 clocks after its input and keep its tag. Stimulus: every
+y < 6. Every output must leave exactly 5 clocks after its input and keep its tag. Stimulus: every
 position of photograph crops in raster order (the line starts exercise the border rule with
 columns of the previous line still in the sums), flat windows of every extreme value, single
 impulses at each of the 49 positions (each kernel weight alone, rounding included), rounding ties
@@ -23,7 +23,7 @@ from orbtb import images
 from orbtb.runner import run
 from orbtb.unit import SIM_ENV, Stream, random_gaps, reset, to_int
 
-LATENCY = 4
+LATENCY = 5
 KERNEL = np.outer((5, 8, 12, 14, 12, 8, 5), (5, 8, 12, 14, 12, 8, 5))
 
 
