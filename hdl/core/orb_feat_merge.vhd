@@ -202,19 +202,21 @@ begin
   end process arbiter;
 
   merge : process (clk) is
-    variable p      : natural range 0 to SCALES_g - 1;
-    variable entry  : entry_t;
-    variable cnt    : count_t;
-    variable room   : boolean;
-    variable push   : boolean;
-    variable lvl_up : cnt_arr_t;
-    variable lvl_dn : cnt_arr_t;
-    variable a0, a1 : cnt_arr_t;
-    variable mk     : marks_t;
-    variable fd     : frame_drops_t;
-    variable n      : natural range 0 to SCALES_g;
-    variable src    : natural range 0 to 3;
-    variable drops  : natural range 0 to SCALES_g;
+    variable p       : natural range 0 to SCALES_g - 1;
+    variable entry   : entry_t;
+    variable cnt     : count_t;
+    variable room    : boolean;
+    variable push    : boolean;
+    variable lvl_up  : cnt_arr_t;
+    variable lvl_dn  : cnt_arr_t;
+    variable a0, a1  : cnt_arr_t;
+    variable mk      : marks_t;
+    variable fd      : frame_drops_t;
+    variable n       : natural range 0 to SCALES_g;
+    variable n1      : natural range 0 to SCALES_g;
+    variable fd_stay : frame_drops_t;
+    variable fd_next : frame_drops_t;
+    variable drops   : natural range 0 to SCALES_g;
   begin
     if rising_edge(clk) then
       for k in 0 to SCALES_g - 1 loop
@@ -264,7 +266,6 @@ begin
         o_data(EOF_DROPS_LO_c + EOF_DROPS_BITS_c - 1 downto EOF_DROPS_LO_c) <=
           std_logic_vector(to_unsigned(fd(0), EOF_DROPS_BITS_c));
         frame_no <= frame_no + 1;
-        fd       := (fd(1), fd(2), 0);
         for k in 0 to SCALES_g - 1 loop
           mk(k) := mk(k) - 1;
           a0(k) := a1(k);
@@ -274,21 +275,32 @@ begin
       -- Losses of the previous clock join the count of their frame (drop_fr: the index of that
       -- frame among the waiting ones, one lower if the end-of-frame beat went out just now; it
       -- cannot have been the frame whose beat that is).
+      -- (both outcomes formed from frame_drp itself, the end-of-frame decision only picks one: no
+      -- adder behind the arbiter, docs/synthesis.md "Timing")
       drops := 0;
       for j in 0 to 2 loop
-        n := 0;
+        n  := 0;
+        n1 := 0;
         for k in 0 to SCALES_g - 1 loop
-          if eof_go then
-            src := j + 1;
-          else
-            src := j;
-          end if;
-          if drop_r(k) = '1' and drop_fr(k) = src then
+          if drop_r(k) = '1' and drop_fr(k) = j then
             n := n + 1;
           end if;
+          if drop_r(k) = '1' and drop_fr(k) = j + 1 then
+            n1 := n1 + 1;
+          end if;
         end loop;
-        fd(j) := sat_add(fd(j), n);
+        fd_stay(j) := sat_add(frame_drp(j), n);
+        if j < 2 then
+          fd_next(j) := sat_add(frame_drp(j + 1), n1);
+        else
+          fd_next(j) := n1;  -- the frame after the third waiting one: no losses yet, n1 is 0
+        end if;
       end loop;
+      if eof_go then
+        fd := fd_next;
+      else
+        fd := fd_stay;
+      end if;
       for k in 0 to SCALES_g - 1 loop
         if drop_r(k) = '1' then
           drops := drops + 1;

@@ -6,11 +6,11 @@
 -- column (D - a) p(i) + a p(i + 1) is formed when input pixel i + 1 arrives, one line of them
 -- waits in a read-first RAM, and the output row that needs input rows j and j + 1 is formed while
 -- row j + 1 streams in. At most one output per input pixel (NUM > DEN). DEN_g must be a power of
--- two, so the division by D*D is a shift. Six pipeline stages, none with more than one
--- multiplication or one adder of three terms behind a register (docs/synthesis.md, "Timing"):
--- the taps, the horizontal sum, the line RAM, the RAM's word registered, the vertical products,
--- their sum and the rounding. Latency: the output leaves 6 clocks after the input pixel that
--- completes it. For NUM:DEN = 2:1 it is the 2x2 box of orb_scaler, bit for bit;
+-- two, so the division by D*D is a shift. Seven pipeline stages, none with more than one weighted
+-- tap (a balanced shift-add, no DSP48) or one adder of three terms behind a register
+-- (docs/synthesis.md, "Timing"): the taps, their weights, the horizontal sum, the line RAM, the
+-- RAM's word registered, the vertical products, their sum and the rounding. Latency: the output
+-- leaves 7 clocks after the input pixel that completes it. For NUM:DEN = 2:1 it is the 2x2 box of orb_scaler, bit for bit;
 -- orb_core uses orb_scaler for 2:1 and this entity for every other step.
 
 library ieee;
@@ -64,10 +64,21 @@ architecture rtl of orb_resampler is
   signal ci : coord_t := (others => '0');
   signal ca : phase_t := 0;
   -- row state: the next output row yo, its upper tap j and weight b; the row streaming now
-  signal yo      : coord_t := (others => '0');
-  signal rj      : coord_t := (others => '0');
-  signal rb      : phase_t := 0;
-  signal last_y  : coord_t := (others => '0');
+  signal yo     : coord_t := (others => '0');
+  signal rj     : coord_t := (others => '0');
+  signal rb     : phase_t := 0;
+  signal last_y : coord_t := (others => '0');
+  -- precomputed: rj + 1 and yo < OUT_H_c (updated with rj and yo), ci + 1 (with ci), and the
+  -- row state an output row advances to (nx_*, formed from rj, rb, yo one clock after they
+  -- change; used only at a row's first pixel, at least two clocks after any change)
+  signal rj_p1   : coord_t := to_unsigned(1, COORD_BITS_c);
+  signal cur_lt  : boolean := OUT_H_c > 0;
+  signal ci_p1   : coord_t := to_unsigned(1, COORD_BITS_c);
+  signal nx_j    : coord_t := (others => '0');
+  signal nx_j1   : coord_t := (others => '0');
+  signal nx_b    : phase_t := 0;
+  signal nx_yo   : coord_t := (others => '0');
+  signal nx_lt   : boolean := false;
   signal prev_px : unsigned(PIXEL_BITS_c - 1 downto 0) := (others => '0');
   -- stage 1 -> 2: a horizontal sum for column s1_x of row s1_y
   signal s1_v   : std_logic := '0';
@@ -78,13 +89,20 @@ architecture rtl of orb_resampler is
   signal s1_p0  : unsigned(PIXEL_BITS_c - 1 downto 0) := (others => '0');  -- the column's taps
   signal s1_p1  : unsigned(PIXEL_BITS_c - 1 downto 0) := (others => '0');
   signal s1_a   : phase_t := 0;
-  -- stage 1h: the horizontal sum
-  signal h_v   : std_logic := '0';
-  signal h_out : std_logic := '0';
-  signal h_x   : coord_t := (others => '0');
-  signal h_y   : coord_t := (others => '0');
-  signal h_b   : phase_t := 0;
-  signal s1_h  : unsigned(H_BITS_c - 1 downto 0) := (others => '0');
+  -- stage 1p: the weighted taps; stage 1h: the horizontal sum
+  signal hp_v   : std_logic := '0';
+  signal hp_out : std_logic := '0';
+  signal hp_x   : coord_t := (others => '0');
+  signal hp_y   : coord_t := (others => '0');
+  signal hp_b   : phase_t := 0;
+  signal hp_0   : unsigned(H_BITS_c - 1 downto 0) := (others => '0');
+  signal hp_1   : unsigned(H_BITS_c - 1 downto 0) := (others => '0');
+  signal h_v    : std_logic := '0';
+  signal h_out  : std_logic := '0';
+  signal h_x    : coord_t := (others => '0');
+  signal h_y    : coord_t := (others => '0');
+  signal h_b    : phase_t := 0;
+  signal s1_h   : unsigned(H_BITS_c - 1 downto 0) := (others => '0');
   -- stage 2 -> 3: with the previous row's sum of the column
   signal mem   : hline_t;
   signal s2_v  : std_logic := '0';
@@ -111,6 +129,20 @@ architecture rtl of orb_resampler is
   signal o_y     : coord_t := (others => '0');
   signal o_data  : unsigned(PIXEL_BITS_c - 1 downto 0) := (others => '0');
 
+  -- w * v for a weight of at most LOG_D_c + 1 bits as a balanced sum of shifted copies of v (no
+  -- DSP48: a multiplier's cascade with the next adder was the longest path of the 5:4 pyramid)
+  function weigh (w : unsigned; v : unsigned; width : positive) return unsigned is
+    type     terms_t is array (0 to 7) of unsigned(width - 1 downto 0);
+    variable t : terms_t := (others => (others => '0'));
+  begin
+    for i in 0 to w'length - 1 loop
+      if w(w'low + i) = '1' then
+        t(i) := shift_left(resize(v, width), i);
+      end if;
+    end loop;
+    return ((t(0) + t(1)) + (t(2) + t(3))) + ((t(4) + t(5)) + (t(6) + t(7)));
+  end function weigh;
+
 begin
 
   assert NUM_g > DEN_g
@@ -123,40 +155,54 @@ begin
   -- Stage 1: positions and the horizontal sum. An output column is complete when input pixel
   -- i + 1 of its row arrives (i + 1 <= W - 1 always holds for NUM > DEN).
   horizontal : process (clk) is
-    variable x, y   : coord_t;
-    variable na     : natural range 0 to 2 * D_c;
-    variable ni     : coord_t;
-    variable j, b   : natural;
-    variable row    : coord_t;
-    variable is_out : boolean;
+    variable x, y       : coord_t;
+    variable na         : natural range 0 to 2 * D_c;
+    variable ni         : coord_t;
+    variable b          : natural;
+    variable row        : coord_t;
+    variable first, adv : boolean;
+    variable is_out     : boolean;
   begin
     if rising_edge(clk) then
-      s1_v <= '0';
+      -- the row state an output row advances to
+      na := rb + STEP_A_c;
+      ni := rj + STEP_I_c;
+      if na >= D_c then
+        na := na - D_c;
+        ni := ni + 1;
+      end if;
+      nx_j  <= ni;
+      nx_j1 <= ni + 1;
+      nx_b  <= na;
+      nx_yo <= yo + 1;
+      nx_lt <= yo + 1 < OUT_H_c;
+      s1_v  <= '0';
       if in_valid = '1' then
-        x := unsigned(in_x);
-        y := unsigned(in_y);
+        x     := unsigned(in_x);
+        y     := unsigned(in_y);
+        first := x = 0 and y = 0;
+        adv   := x = 0 and y /= 0 and last_y = rj_p1;
         if x = 0 then
           -- a new row: the column state restarts; the row state advances past an output row
-          xo <= (others => '0');
-          ci <= to_unsigned(START_I_c, COORD_BITS_c);
-          ca <= START_A_c;
-          if y = 0 then
-            yo <= (others => '0');
-            rj <= to_unsigned(START_I_c, COORD_BITS_c);
-            rb <= START_A_c;
-          elsif last_y = rj + 1 then
-            yo <= yo + 1;
-            na := rb + STEP_A_c;
-            ni := rj + STEP_I_c;
-            if na >= D_c then
-              na := na - D_c;
-              ni := ni + 1;
-            end if;
-            rj <= ni;
-            rb <= na;
+          xo    <= (others => '0');
+          ci    <= to_unsigned(START_I_c, COORD_BITS_c);
+          ci_p1 <= to_unsigned(START_I_c + 1, COORD_BITS_c);
+          ca    <= START_A_c;
+          if first then
+            yo     <= (others => '0');
+            rj     <= to_unsigned(START_I_c, COORD_BITS_c);
+            rj_p1  <= to_unsigned(START_I_c + 1, COORD_BITS_c);
+            rb     <= START_A_c;
+            cur_lt <= OUT_H_c > 0;
+          elsif adv then
+            yo     <= nx_yo;
+            rj     <= nx_j;
+            rj_p1  <= nx_j1;
+            rb     <= nx_b;
+            cur_lt <= nx_lt;
           end if;
           last_y <= y;
-        elsif x = ci + 1 and xo < OUT_W_c then
+        elsif x = ci_p1 and xo < OUT_W_c then
           -- column xo completes with (prev, this) as its taps
           s1_v  <= '1';
           s1_x  <= xo;
@@ -164,33 +210,34 @@ begin
           s1_p1 <= unsigned(in_data);
           s1_a  <= ca;
           xo    <= xo + 1;
-          na   := ca + STEP_A_c;
-          ni   := ci + STEP_I_c;
+          na    := ca + STEP_A_c;
+          ni    := ci + STEP_I_c;
           if na >= D_c then
             na := na - D_c;
             ni := ni + 1;
           end if;
-          ci <= ni;
-          ca <= na;
+          ci    <= ni;
+          ci_p1 <= ni + 1;
+          ca    <= na;
         end if;
         -- the row of this pixel: at x = 0 the registers above still hold the previous row's
         -- state, so the same decision is made here from the values the row will have
-        j   := to_integer(rj);
-        b   := rb;
-        row := yo;
-        if x = 0 and y = 0 then
-          j   := START_I_c;
-          b   := START_A_c;
-          row := (others => '0');
-        elsif x = 0 and last_y = rj + 1 then
-          j   := to_integer(ni);
-          b   := na;
-          row := yo + 1;
+        if first then
+          b      := START_A_c;
+          row    := (others => '0');
+          is_out := y = START_I_c + 1 and OUT_H_c > 0;
+        elsif adv then
+          b      := nx_b;
+          row    := nx_yo;
+          is_out := y = nx_j1 and nx_lt;
+        else
+          b      := rb;
+          row    := yo;
+          is_out := y = rj_p1 and cur_lt;
         end if;
-        is_out := to_integer(y) = j + 1 and row < OUT_H_c;
-        s1_out <= '1' when is_out else '0';
-        s1_y   <= row;
-        s1_b   <= b;
+        s1_out  <= '1' when is_out else '0';
+        s1_y    <= row;
+        s1_b    <= b;
         prev_px <= unsigned(in_data);
       end if;
       if rst = '1' then
@@ -199,21 +246,30 @@ begin
     end if;
   end process horizontal;
 
-  -- Stage 1h: the horizontal sum (D - a) p(i) + a p(i + 1) of the column.
+  -- Stages 1p and 1h: the two weighted taps, then the horizontal sum (D - a) p(i) + a p(i + 1).
   hsum : process (clk) is
   begin
     if rising_edge(clk) then
-      h_v <= s1_v;
+      hp_v <= s1_v;
       if s1_v = '1' then
-        h_out <= s1_out;
-        h_x   <= s1_x;
-        h_y   <= s1_y;
-        h_b   <= s1_b;
-        s1_h  <= resize(to_unsigned(D_c - s1_a, LOG_D_c + 1) * s1_p0, H_BITS_c)
-                 + resize(to_unsigned(s1_a, LOG_D_c + 1) * s1_p1, H_BITS_c);
+        hp_out <= s1_out;
+        hp_x   <= s1_x;
+        hp_y   <= s1_y;
+        hp_b   <= s1_b;
+        hp_0   <= weigh(to_unsigned(D_c - s1_a, LOG_D_c + 1), s1_p0, H_BITS_c);
+        hp_1   <= weigh(to_unsigned(s1_a, LOG_D_c + 1), s1_p1, H_BITS_c);
+      end if;
+      h_v <= hp_v;
+      if hp_v = '1' then
+        h_out <= hp_out;
+        h_x   <= hp_x;
+        h_y   <= hp_y;
+        h_b   <= hp_b;
+        s1_h  <= hp_0 + hp_1;
       end if;
       if rst = '1' then
-        h_v <= '0';
+        hp_v <= '0';
+        h_v  <= '0';
       end if;
     end if;
   end process hsum;
@@ -260,8 +316,8 @@ begin
       if r_v = '1' then
         p_x  <= r_x;
         p_y  <= r_y;
-        p_up <= resize(r_wu * r_up, S_BITS_c);
-        p_h  <= resize(r_wh * r_h, S_BITS_c);
+        p_up <= weigh(r_wu, r_up, S_BITS_c);
+        p_h  <= weigh(r_wh, r_h, S_BITS_c);
       end if;
       o_valid <= '0';
       if p_v = '1' then

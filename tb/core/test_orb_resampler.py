@@ -18,7 +18,7 @@ from golden_model.scaler import _taps, resample
 from orbtb.runner import run
 from orbtb.unit import SIM_ENV, Stream, env_int, env_str, make_frame, parse_frames, random_gaps, reset, to_int
 
-LATENCY = 6
+LATENCY = 7
 
 
 @cocotb.test()
