@@ -1,7 +1,9 @@
 -- SPDX-License-Identifier: MIT
 -- orb_line_buffer: keeps the previous LINES_g lines of a pixel stream in one block RAM (an
--- orb_sdp_ram) whose word holds a whole column (LINES_g x DATA_WIDTH_g bits), read one clock
--- before it is rewritten shifted by one line. For every input pixel it outputs, one clock later,
+-- orb_sdp_ram) whose word holds a whole column (LINES_g x DATA_WIDTH_g bits), read two clocks
+-- before it is rewritten shifted by one line (the shifted word is registered first, so no logic
+-- of a RAM cascade sits between the RAM's output and its input: docs/synthesis.md "Timing"; the
+-- next read of that column is a line later, at least LINE_WIDTH_g >= 3 clocks). For every input pixel it outputs, one clock later,
 -- the column of the LINES_g + 1 newest lines at that x: slice 0 is the input pixel, slice k the
 -- pixel k lines above.
 -- The caller supplies the column index, so the buffer needs no counters of its own; input gaps
@@ -20,7 +22,7 @@ use work.orb_util_pkg.all;
 
 entity orb_line_buffer is
   generic (
-    LINE_WIDTH_g : positive range 2 to 4096 := 640;
+    LINE_WIDTH_g : positive range 3 to 4096 := 640;
     LINES_g      : positive range 1 to 32   := 6;
     DATA_WIDTH_g : positive range 1 to 64   := 8;
     LATENCY_g    : positive range 1 to 2    := 1
@@ -48,6 +50,9 @@ architecture rtl of orb_line_buffer is
   signal data_dly : std_logic_vector(DATA_WIDTH_g - 1 downto 0) := (others => '0');
   signal col_dly  : std_logic_vector(COORD_BITS_c - 1 downto 0) := (others => '0');
   signal new_word : std_logic_vector(WORD_BITS_c - 1 downto 0);
+  signal wb_en    : std_logic                                  := '0';
+  signal wb_addr  : unsigned(ADDR_BITS_c - 1 downto 0)         := (others => '0');
+  signal wb_word  : std_logic_vector(WORD_BITS_c - 1 downto 0) := (others => '0');
 
 begin
 
@@ -63,8 +68,8 @@ begin
   end generate gen_shift;
 
   -- Simple dual-port RAM, zero at power-up: registered read at in_col, write of the shifted word
-  -- one clock later. Read and write addresses differ whenever they coincide in time (consecutive
-  -- columns).
+  -- two clocks later. Read and write addresses differ whenever they coincide in time (columns
+  -- two apart).
   ram : entity work.orb_sdp_ram
     generic map (
       DATA_WIDTH_g => WORD_BITS_c,
@@ -74,9 +79,9 @@ begin
     )
     port map (
       clk     => clk,
-      wr_en   => wr_en,
-      wr_addr => std_logic_vector(wr_addr),
-      wr_data => new_word,
+      wr_en   => wb_en,
+      wr_addr => std_logic_vector(wb_addr),
+      wr_data => wb_word,
       rd_en   => in_valid,
       rd_addr => in_col(ADDR_BITS_c - 1 downto 0),
       out_en  => '1',
@@ -86,7 +91,10 @@ begin
   ctrl : process (clk) is
   begin
     if rising_edge(clk) then
-      wr_en <= in_valid;
+      wr_en   <= in_valid;
+      wb_en   <= wr_en;
+      wb_addr <= wr_addr;
+      wb_word <= new_word;
       if in_valid = '1' then
         wr_addr  <= unsigned(in_col(ADDR_BITS_c - 1 downto 0));
         data_dly <= in_data;
@@ -94,6 +102,7 @@ begin
       end if;
       if rst = '1' then
         wr_en <= '0';
+        wb_en <= '0';
       end if;
     end if;
   end process ctrl;

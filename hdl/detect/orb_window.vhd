@@ -15,7 +15,7 @@ use work.orb_util_pkg.all;
 
 entity orb_window is
   generic (
-    LINE_WIDTH_g : positive range 2 to 4096 := 640;
+    LINE_WIDTH_g : positive range 3 to 4096 := 640;
     WIN_g        : positive range 2 to 32   := 7;
     DATA_WIDTH_g : positive range 1 to 64   := 8
   );

@@ -7,7 +7,7 @@ LATENCY_g clocks later (1, or 2 with the output register), its column: slice 0 t
 itself, slice k the pixel k lines above at the same x.
 Inside the current frame that is the frame's own pixel; above the frame's top it is the earlier
 frame's line, which the header documents as staying in the RAM (only never-written RAM is left
-unchecked). The runners cover widths 2, 8, 64, 640 and a 1920-wide strip of a few lines, at
+unchecked). The runners cover widths 3, 8, 64, 640 and a 1920-wide strip of a few lines, at
 both latencies.
 """
 
@@ -84,8 +84,8 @@ def run_line_buffer(width: int, lines: int, bits: int, frames: str, gap_prob: fl
 @pytest.mark.parametrize(
     ("width", "lines", "bits", "frames", "latency"),
     [
-        (2, 1, 8, "random@9,photo:camera@5", 1),  # smallest legal line, single-line buffer
-        (2, 3, 8, "random@9,photo:camera@5", 2),
+        (3, 1, 8, "random@9,photo:camera@5", 1),  # smallest legal line, single-line buffer
+        (3, 3, 8, "random@9,photo:camera@5", 2),
         (8, 6, 8, "photo:coffee@13,random@9,photo:chelsea@3", 1),  # back to back, last frame shorter than the buffer
         (8, 6, 8, "photo:coffee@13,random@9,photo:chelsea@3", 2),
         (64, 6, 8, "photo:astronaut@12,random@10", 1),
