@@ -107,6 +107,8 @@ architecture rtl of orb_desc_path is
   signal rd_ptr     : unsigned(QBITS_c - 1 downto 0) := (others => '0');
   signal pf         : entry_t := (others => '0');  -- the RAM's read register (prefetch)
   signal pf_valid   : std_logic := '0';
+  signal pf2        : entry_t := (others => '0');  -- the entry after the head, in fabric flip-flops
+  signal pf2_valid  : std_logic := '0';
   signal head       : entry_t := (others => '0');
   signal head_valid : std_logic := '0';
   signal hm_r       : boolean := false;  -- comparisons made a clock ahead (process `ahead`)
@@ -237,7 +239,7 @@ begin
 
   -- Queue entries hold the window tag at which the feature is centred: (x + 18, y + 18). The
   -- comparisons of the head with the window's column are made one clock ahead, for both entries
-  -- that can be the head then (the head itself, or pf if the head takes it in this clock),
+  -- that can be the head then (the head itself, or pf2 if the head takes it in this clock),
   -- against the column the window has then (x_in, y_in: the line buffer's output register
   -- follows them by one clock); the clock itself only picks one (no comparator on the path from
   -- the head to the queue's state: docs/synthesis.md, "Timing").
@@ -252,8 +254,8 @@ begin
     if rising_edge(clk) then
       hx    := unsigned(head(SCORE_BITS_c + COORD_BITS_c - 1 downto SCORE_BITS_c));
       hy    := unsigned(head(ENTRY_c - 1 downto SCORE_BITS_c + COORD_BITS_c));
-      px    := unsigned(pf(SCORE_BITS_c + COORD_BITS_c - 1 downto SCORE_BITS_c));
-      py    := unsigned(pf(ENTRY_c - 1 downto SCORE_BITS_c + COORD_BITS_c));
+      px    := unsigned(pf2(SCORE_BITS_c + COORD_BITS_c - 1 downto SCORE_BITS_c));
+      py    := unsigned(pf2(ENTRY_c - 1 downto SCORE_BITS_c + COORD_BITS_c));
       cx    := unsigned(x_in);
       cy    := unsigned(y_in);
       hm_r  <= hx = cx and hy = cy;
@@ -268,17 +270,19 @@ begin
   stale <= col_valid and head_valid when (took_r and ps_r) or (not took_r and hs_r) else
            '0';
 
-  -- `count` is the number of entries in the RAM; the read register `pf` and the head register
-  -- hold one more each. The RAM's output only ever loads the head register, so no logic follows
-  -- the block RAM's clock-to-output time, and pf refills in the clock the head takes it: one pop
-  -- per clock. `count` is a register so that no pointer arithmetic sits on the paths of the full
-  -- and empty decisions; a clock's losses are added to `lost` one clock later.
+  -- `count` is the number of entries in the RAM; the RAM's read register `pf`, the register `pf2`
+  -- and the head register hold three more. The RAM's output only ever loads pf2 (no logic follows
+  -- the block RAM's clock-to-output time), pf2 only the head, and each refills in the clock its
+  -- successor takes it: one pop per clock. `count` is a register so that no pointer arithmetic
+  -- sits on the paths of the full and empty decisions; a clock's losses are added to `lost` one
+  -- clock later.
   queue_ctrl : process (clk) is
     variable push     : boolean;
     variable pop      : boolean;
     variable write    : boolean;
     variable read     : boolean;
     variable take     : boolean;
+    variable take2    : boolean;
     variable lost_inc : unsigned(QBITS_c + 1 downto 0);
     variable dx, dy   : unsigned(COORD_BITS_c - 1 downto 0);
   begin
@@ -288,7 +292,7 @@ begin
       push     := det_valid = '1' and dx >= BORDER_c and dx <= LINE_WIDTH_g - 1 - BORDER_c and
                   dy >= BORDER_c and dy <= FRAME_HEIGHT_g - 1 - BORDER_c;
       pop      := match = '1' or stale = '1';
-      write    := push and count < QDEPTH_c - 1;  -- the RAM holds QDEPTH_c - 1 entries, pf and head two more
+      write    := push and count < QDEPTH_c - 1;  -- the RAM holds QDEPTH_c - 1 entries, pf, pf2, head 3 more
       read     := false;
       lost_inc := (others => '0');
       if stale = '1' then
@@ -304,9 +308,10 @@ begin
       if col_valid = '1' and col_x = 0 and col_y = 0 then
         -- A new frame reaches the window: whatever still waits belongs to a malformed frame (an
         -- entry written in this clock stays: the read pointer takes the write pointer before it).
-        lost_inc   := lost_inc + count + b2n(pf_valid) + b2n(head_valid) - b2n(stale);
+        lost_inc   := lost_inc + count + b2n(pf_valid) + b2n(pf2_valid) + b2n(head_valid) - b2n(stale);
         rd_ptr     <= wr_ptr;
         pf_valid   <= '0';
+        pf2_valid  <= '0';
         head_valid <= '0';
         took_r     <= false;
         if write then
@@ -316,12 +321,17 @@ begin
         end if;
       else
         take   := head_valid = '0' or pop;
+        take2  := pf2_valid = '0' or take;
         took_r <= take;
         if take then
-          head       <= pf;
-          head_valid <= pf_valid;
+          head       <= pf2;
+          head_valid <= pf2_valid;
         end if;
-        if pf_valid = '0' or take then
+        if take2 then
+          pf2       <= pf;
+          pf2_valid <= pf_valid;
+        end if;
+        if pf_valid = '0' or take2 then
           if count /= 0 then
             pf       <= queue(to_integer(rd_ptr));
             rd_ptr   <= wrap_next(rd_ptr);
@@ -344,6 +354,7 @@ begin
         rd_ptr     <= (others => '0');
         count      <= (others => '0');
         pf_valid   <= '0';
+        pf2_valid  <= '0';
         head_valid <= '0';
         lost_q     <= (others => '0');
         lost_cnt   <= (others => '0');
