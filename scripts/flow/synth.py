@@ -110,6 +110,7 @@ OTHER_JOBS = (
     ("orb_core", "1920x1080x4"),
     ("orb_accel_top", "640x480x2"),
     ("orb_accel_top", "1920x1080x2"),
+    ("orb_accel_zynq", "640x480x1"),
     ("orb_accel_zynq", "1920x1080x2"),
 )
 # The pre-route logic-delay goal of a register-to-register path (docs/synthesis.md, "Timing"): at
