@@ -162,15 +162,30 @@ begin
     variable row        : coord_t;
     variable first, adv : boolean;
     variable is_out     : boolean;
+
+    -- the next tap and weight: P grows by 2 NUM, STEP_I_c whole pixels and STEP_A_c units of 1/D
+    procedure advance (
+      i             : coord_t;
+      a             : phase_t;
+      variable ni_o : out coord_t;
+      variable na_o : out natural
+    ) is
+      variable s : natural range 0 to 2 * D_c;
+    begin
+      s := a + STEP_A_c;
+      if s >= D_c then
+        na_o := s - D_c;
+        ni_o := i + STEP_I_c + 1;
+      else
+        na_o := s;
+        ni_o := i + STEP_I_c;
+      end if;
+    end procedure advance;
+
   begin
     if rising_edge(clk) then
       -- the row state an output row advances to
-      na := rb + STEP_A_c;
-      ni := rj + STEP_I_c;
-      if na >= D_c then
-        na := na - D_c;
-        ni := ni + 1;
-      end if;
+      advance(rj, rb, ni, na);
       nx_j  <= ni;
       nx_j1 <= ni + 1;
       nx_b  <= na;
@@ -210,12 +225,7 @@ begin
           s1_p1 <= unsigned(in_data);
           s1_a  <= ca;
           xo    <= xo + 1;
-          na    := ca + STEP_A_c;
-          ni    := ci + STEP_I_c;
-          if na >= D_c then
-            na := na - D_c;
-            ni := ni + 1;
-          end if;
+          advance(ci, ca, ni, na);
           ci    <= ni;
           ci_p1 <= ni + 1;
           ca    <= na;
