@@ -59,7 +59,7 @@ def paths_to(rep: dict[str, Any], endpoint: str) -> list[dict[str, Any]]:
     return [p for p in rep["worst_paths"] if re.search(rf"(^|\$){endpoint}(\[\d+\])?( |$)", p["endpoint"])]
 
 
-def test_endpoints_over_a_limit_are_counted(tiny: tuple[dict[str, Any], int], tmp_path: Path) -> None:
+def test_endpoints_over_a_limit_are_counted(tiny: tuple[dict[str, Any], int]) -> None:
     rep, _ = tiny
     hist = sum(rep["histogram"].values())
     assert hist == rep["endpoints"] > 0
