@@ -11,10 +11,13 @@
 -- for their beat (the output stalled for a whole frame); a third merges into the newest waiting
 -- one. A feature that finds its FIFO full (and no feature leaving it in that clock) is dropped
 -- and counted: in total on `dropped`, and per frame (the frame the feature belongs to) in the
--- end-of-frame beat, saturating at 65535. The counts are added one clock after the loss
--- (pipelined); an end-of-frame beat never misses a loss of its own frame, since a scale whose
--- FIFO is full still holds features of that frame. Latency: a feature sampled at one edge leaves
--- the output register after the second edge after it (FIFO write, FIFO output register, output).
+-- end-of-frame beat, saturating at 65535. The counts are pipelined: a loss is registered, counted
+-- per waiting frame one clock later and added to its frame's count the clock after. An
+-- end-of-frame beat never misses a loss of its own frame: a scale whose FIFO is full still holds
+-- at least FIFO_DEPTH_g >= 2 features of that frame, so the beat goes at the third clock after the
+-- loss at the earliest (docs/synthesis.md, "Timing"). Latency: a feature sampled at one edge
+-- leaves the output register after the second edge after it (FIFO write, FIFO output register,
+-- output).
 -- Per-scale input vectors are flat, scale s in bits (s + 1) * W - 1 downto s * W (W = COORD_BITS_c,
 -- SCORE_BITS_c, FEAT_SECTOR_BITS_c or DESC_BITS_c); in_sector and in_desc are ignored without
 -- DESC_g.
@@ -82,6 +85,7 @@ architecture rtl of orb_feat_merge is
   type cnt_arr_t is array (0 to SCALES_g - 1) of count_t;
   type marks_t is array (0 to SCALES_g - 1) of natural range 0 to 2;
   type frame_drops_t is array (0 to 2) of drops_t;  -- oldest waiting frame first
+  type frame_cnt_t is array (0 to 2) of natural range 0 to SCALES_g;
 
   -- FIFO outputs
   signal f_data  : entry_arr_t;
@@ -94,12 +98,16 @@ architecture rtl of orb_feat_merge is
   signal pop_idx : natural range 0 to SCALES_g - 1;
   signal eof_go  : boolean;                                  -- the end-of-frame beat goes out
 
-  signal marks     : marks_t := (others => 0);     -- frame ends waiting, per scale
-  signal ahead0    : cnt_arr_t := (others => 0);   -- entries of the oldest waiting frame
+  signal marks  : marks_t := (others => 0);     -- frame ends waiting, per scale
+  signal ahead0 : cnt_arr_t := (others => 0);   -- entries of the oldest waiting frame
+  -- ahead0 /= 0, kept beside it from compares of registers only, so that the arbiter has no
+  -- counter compare in front of it (docs/synthesis.md, "Timing")
+  signal a0_nz     : std_logic_vector(SCALES_g - 1 downto 0) := (others => '0');
   signal ahead1    : cnt_arr_t := (others => 0);   -- entries up to the second waiting frame end
   signal frame_drp : frame_drops_t := (others => 0);
   signal drop_r    : std_logic_vector(SCALES_g - 1 downto 0) := (others => '0');  -- lost last clock
   signal drop_fr   : marks_t := (others => 0);     -- ... in that waiting frame (index of frame_drp)
+  signal drop_n    : frame_cnt_t := (others => 0);  -- losses counted per waiting frame, not yet added
   signal rr        : natural range 0 to SCALES_g - 1 := 0;
   signal o_valid   : std_logic := '0';
   signal o_last    : std_logic := '0';
@@ -170,35 +178,44 @@ begin
   end generate fifos;
 
   -- Output side. A scale is eligible when its FIFO shows a feature of the oldest waiting frame;
-  -- the end-of-frame beat goes when every scale has delivered that frame and no feature goes.
+  -- the end-of-frame beat goes when every scale has delivered that frame (none is eligible then).
   arbiter : process (all) is
-    variable s      : natural range 0 to SCALES_g - 1;
-    variable found  : boolean;
-    variable all_at : boolean;
+    variable req     : std_logic_vector(SCALES_g - 1 downto 0);
+    variable blocked : boolean;
+    variable all_at  : boolean;
+    variable go      : boolean;
   begin
-    pop_v   <= (others => '0');
-    pop_idx <= 0;
-    found   := false;
-    all_at  := true;
+    -- requests, and per scale the requests of the scales before it in the round-robin order that
+    -- starts at rr: each grant is a function of the requests and rr alone, no chain through the
+    -- scales (docs/synthesis.md, "Timing")
+    all_at := true;
     for k in 0 to SCALES_g - 1 loop
-      if marks(k) = 0 or ahead0(k) /= 0 then
+      req(k) := '0';
+      if marks(k) = 0 or a0_nz(k) = '1' then
         all_at := false;
+        req(k) := f_valid(k);
       end if;
     end loop;
-    if o_valid = '0' or m_axis_feat_tready = '1' then
-      for k in 0 to SCALES_g - 1 loop
-        s := wrap(rr + k);
-        if not found and f_valid(s) = '1' and (marks(s) = 0 or ahead0(s) /= 0) then
-          found    := true;
-          pop_v(s) <= '1';
-          pop_idx  <= s;
-        end if;
+    go      := o_valid = '0' or m_axis_feat_tready = '1';
+    pop_v   <= (others => '0');
+    pop_idx <= 0;
+    for k in 0 to SCALES_g - 1 loop
+      blocked := false;
+      for r in 0 to SCALES_g - 1 loop
+        for t in 0 to SCALES_g - 1 loop
+          -- t comes before k when the order starts at r
+          if rr = r and wrap(t + SCALES_g - r) < wrap(k + SCALES_g - r) and req(t) = '1' then
+            blocked := true;
+          end if;
+        end loop;
       end loop;
-      eof_go <= all_at and not found;
-    else
-      eof_go <= false;
-    end if;
-    pop_any <= found;
+      if go and req(k) = '1' and not blocked then
+        pop_v(k) <= '1';
+        pop_idx  <= k;
+      end if;
+    end loop;
+    pop_any <= go and req /= (req'range => '0');
+    eof_go  <= go and all_at;
   end process arbiter;
 
   merge : process (clk) is
@@ -207,13 +224,15 @@ begin
     variable cnt     : count_t;
     variable room    : boolean;
     variable push    : boolean;
+    variable cnt_nz  : boolean;
     variable lvl_up  : cnt_arr_t;
     variable lvl_dn  : cnt_arr_t;
     variable a0, a1  : cnt_arr_t;
+    variable nz      : std_logic_vector(SCALES_g - 1 downto 0);
     variable mk      : marks_t;
     variable fd      : frame_drops_t;
     variable n       : natural range 0 to SCALES_g;
-    variable n1      : natural range 0 to SCALES_g;
+    variable cnt_j   : frame_cnt_t;
     variable fd_stay : frame_drops_t;
     variable fd_next : frame_drops_t;
     variable drops   : natural range 0 to SCALES_g;
@@ -230,6 +249,7 @@ begin
         end if;
       end loop;
       a0 := ahead0;
+      nz := a0_nz;
       a1 := ahead1;
       mk := marks;
       fd := frame_drp;
@@ -252,6 +272,7 @@ begin
           std_logic_vector(to_unsigned(p, FEAT_SCALE_BITS_c));
         if mk(p) >= 1 then
           a0(p) := a0(p) - 1;
+          nz(p) := '1' when ahead0(p) /= 1 else '0';
         end if;
         if mk(p) = 2 then
           a1(p) := a1(p) - 1;
@@ -269,38 +290,41 @@ begin
         for k in 0 to SCALES_g - 1 loop
           mk(k) := mk(k) - 1;
           a0(k) := a1(k);
+          nz(k) := '1' when ahead1(k) /= 0 else '0';
         end loop;
       end if;
 
-      -- Losses of the previous clock join the count of their frame (drop_fr: the index of that
-      -- frame among the waiting ones, one lower if the end-of-frame beat went out just now; it
-      -- cannot have been the frame whose beat that is).
-      -- (both outcomes formed from frame_drp itself, the end-of-frame decision only picks one: no
-      -- adder behind the arbiter, docs/synthesis.md "Timing")
-      drops := 0;
+      -- Losses, in three clocks so that neither the count nor the saturating add is a long path
+      -- (docs/synthesis.md, "Timing"): registered in drop_r/drop_fr (drop_fr: the index of their
+      -- frame among the waiting ones), counted per index into drop_n, added to frame_drp. Both
+      -- steps shift the index down by one when the end-of-frame beat goes out in their clock
+      -- (both outcomes formed beside the arbiter, which only picks one); that beat is never the
+      -- one of a frame with a loss still in the pipeline, since such a frame's beat goes out at
+      -- the third clock after the loss at the earliest (a full FIFO holds at least 2 of its
+      -- features, and the frame end counts them, one leaves per clock).
       for j in 0 to 2 loop
-        n  := 0;
-        n1 := 0;
+        n := 0;
         for k in 0 to SCALES_g - 1 loop
           if drop_r(k) = '1' and drop_fr(k) = j then
             n := n + 1;
           end if;
-          if drop_r(k) = '1' and drop_fr(k) = j + 1 then
-            n1 := n1 + 1;
-          end if;
         end loop;
-        fd_stay(j) := sat_add(frame_drp(j), n);
+        cnt_j(j) := n;
+        fd_stay(j) := sat_add(frame_drp(j), drop_n(j));
         if j < 2 then
-          fd_next(j) := sat_add(frame_drp(j + 1), n1);
+          fd_next(j) := sat_add(frame_drp(j + 1), drop_n(j + 1));
         else
-          fd_next(j) := n1;  -- the frame after the third waiting one: no losses yet, n1 is 0
+          fd_next(j) := 0;  -- the frame after the third waiting one: no losses yet
         end if;
       end loop;
       if eof_go then
-        fd := fd_next;
+        fd     := fd_next;
+        drop_n <= (cnt_j(1), cnt_j(2), 0);
       else
-        fd := fd_stay;
+        fd     := fd_stay;
+        drop_n <= cnt_j;
       end if;
+      drops := 0;
       for k in 0 to SCALES_g - 1 loop
         if drop_r(k) = '1' then
           drops := drops + 1;
@@ -319,11 +343,14 @@ begin
         room := f_level(k) < FIFO_DEPTH_g or pop_v(k) = '1';
         push := in_valid(k) = '1' and room;
         if pop_v(k) = '1' and not push then
-          cnt := lvl_dn(k);
+          cnt    := lvl_dn(k);
+          cnt_nz := f_level(k) /= 1;
         elsif push and pop_v(k) = '0' then
-          cnt := lvl_up(k);
+          cnt    := lvl_up(k);
+          cnt_nz := true;
         else
-          cnt := f_level(k);
+          cnt    := f_level(k);
+          cnt_nz := f_level(k) /= 0;
         end if;
         drop_r(k)  <= '0';
         drop_fr(k) <= mk(k);
@@ -333,6 +360,7 @@ begin
         if in_done(k) = '1' then
           if mk(k) = 0 then
             a0(k) := cnt;
+            nz(k) := '1' when cnt_nz else '0';
             mk(k) := 1;
           else
             a1(k) := cnt;
@@ -342,16 +370,19 @@ begin
       end loop;
 
       ahead0    <= a0;
+      a0_nz     <= nz;
       ahead1    <= a1;
       marks     <= mk;
       frame_drp <= fd;
 
       if rst = '1' then
         ahead0    <= (others => 0);
+        a0_nz     <= (others => '0');
         ahead1    <= (others => 0);
         marks     <= (others => 0);
         frame_drp <= (others => 0);
         drop_r    <= (others => '0');
+        drop_n    <= (others => 0);
         rr        <= 0;
         o_valid   <= '0';
         o_last    <= '0';

@@ -405,6 +405,40 @@ async def drops_counted_in_their_frame(dut) -> None:
 
 
 @cocotb.test()
+async def losses_around_eof(dut) -> None:
+    """Losses of the next frame in the clocks just before and in the clock of the previous frame's
+    end-of-frame beat: the loss counts are pipelined over three clocks, and a beat going out in
+    between must move them to the next frame's count, not lose them or give them to its own."""
+    b = MergeBench(dut)
+    await b.start()
+    d = b.depth
+    s = b.scales - 1  # the scale whose FIFO overflows
+    b.expect_frame(1)
+    await b.plug_output()
+    await b.cycle(done=tuple(range(b.scales)), ready=0)  # frame 0 ends: only the plug, stalled
+    lost = 0
+    for c in range(d + 2):  # frame 1 on one scale: its FIFO fills, then two are lost, output stalled
+        feat = b.feature(s, 1)
+        if c < d:
+            b.expect(s, feat, 1)
+        else:
+            lost += 1
+        await b.cycle({s: feat}, ready=0)
+    # tready rises: the plug leaves and frame 0's end-of-frame beat goes out in this clock, while
+    # the FIFO, holding only frame 1, is still full: this feature is lost too
+    await b.cycle({s: b.feature(s, 1)}, ready=1)
+    lost += 1
+    for _ in range(3):  # from now on a feature leaves every clock: these are kept
+        feat = b.feature(s, 1)
+        b.expect(s, feat, 1)
+        await b.cycle({s: feat})
+    b.expect_drops(1, lost)
+    await b.cycle(done=tuple(range(b.scales)))
+    await b.drain(2)
+    b.check()
+
+
+@cocotb.test()
 async def drop_count_saturates(dut) -> None:
     """More than 2^16 drops in one frame: the per-frame count saturates at 65535, the 32-bit
     total counts them all. Every scale overflows in every clock."""
@@ -479,3 +513,9 @@ def test_merge_marker_not_bypassed(desc: bool) -> None:
 @DESC
 def test_merge_drops_counted_in_their_frame(desc: bool) -> None:
     run_merge(3, 4, desc, "drops_counted_in_their_frame")
+
+
+@DESC
+@pytest.mark.parametrize(("scales", "depth"), [(2, 4), (1, 2)])
+def test_merge_losses_around_eof(scales: int, depth: int, desc: bool) -> None:
+    run_merge(scales, depth, desc, "losses_around_eof")
