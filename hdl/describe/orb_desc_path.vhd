@@ -77,10 +77,10 @@ architecture rtl of orb_desc_path is
   constant QDEPTH_c : positive := ((8 * ROW_FEATS_c + 40 + 511) / 512) * 512;
   constant QBITS_c  : positive := clog2(QDEPTH_c);
   constant ENTRY_c  : positive := 2 * COORD_BITS_c + SCORE_BITS_c;
-  -- clocks from the column stage to the sector: orb_orient_moments (9) + orb_orient_sector (4);
-  -- the tests are registered 2 clocks after the column stage, so they wait 11 clocks
+  -- clocks from the column stage to the sector: orb_orient_moments (9) + orb_orient_sector (5);
+  -- the tests are registered 2 clocks after the column stage, so they wait 12 clocks
   constant MOMENTS_LAT_c : positive := 9;
-  constant ORIENT_LAT_c  : positive := MOMENTS_LAT_c + 4;
+  constant ORIENT_LAT_c  : positive := MOMENTS_LAT_c + 5;
   constant WAIT_c        : positive := ORIENT_LAT_c - 2;
 
   subtype coord_t is unsigned(COORD_BITS_c - 1 downto 0);

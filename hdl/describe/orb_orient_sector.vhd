@@ -8,8 +8,10 @@
 -- multiplication per boundary (a DSP48 or LUT adders). The 16-bit constants are computed at
 -- elaboration with ieee.math_real, rounded half up like the model. sector = (q * N_c + j) mod
 -- SECTORS_g, and 0 when m10 = m01 = 0.
--- Four pipeline stages (signs and magnitudes, products, comparisons, count): fixed latency
--- LATENCY_c = 4 clocks, input gaps allowed; (x, y) tags pass through unchanged.
+-- Five pipeline stages (signs and magnitudes, products, products again, comparisons, count): the
+-- product is registered twice so that it can use both the DSP48's M and P registers and the
+-- comparison starts from a short clock-to-output (docs/synthesis.md, "Timing"). Fixed latency
+-- LATENCY_c = 5 clocks, input gaps allowed; (x, y) tags pass through unchanged.
 
 library ieee;
 use ieee.std_logic_1164.all;
@@ -43,7 +45,7 @@ architecture rtl of orb_orient_sector is
   -- The sectors per quadrant (the thesis's N).
   constant N_c : positive := SECTORS_g / 4;
   -- Latency in clocks from in_valid to out_valid (documentation; the stages below define it).
-  constant LATENCY_c  : positive := 4;
+  constant LATENCY_c  : positive := 5;
   constant TAN_BITS_c : positive := 16;
   constant MAG_BITS_c : positive := 24;                        -- |m| of any 24-bit input
   constant K_BITS_c   : positive := TAN_BITS_c + 1;             -- constants < 2^16, signed
@@ -125,12 +127,18 @@ architecture rtl of orb_orient_sector is
   signal b2    : unsigned(MAG_BITS_c - 1 downto 0) := (others => '0');
   signal zero2 : std_logic                         := '0';
   signal prod2 : prod_array_t                      := (others => (others => '0'));
-  -- stage 3: boundaries reached
-  signal quad3    : unsigned(1 downto 0)                := (others => '0');
-  signal zero3    : std_logic                           := '0';
-  signal reached3 : std_logic_vector(1 to N_c)          := (others => '0');
-  -- stage 4: sector
-  signal sector4 : unsigned(5 downto 0)                := (others => '0');
+  -- stage 3: the products again (the DSP48's P register) and their other sides
+  signal quad3 : unsigned(1 downto 0)              := (others => '0');
+  signal a3    : unsigned(MAG_BITS_c - 1 downto 0) := (others => '0');
+  signal b3    : unsigned(MAG_BITS_c - 1 downto 0) := (others => '0');
+  signal zero3 : std_logic                         := '0';
+  signal prod3 : prod_array_t                      := (others => (others => '0'));
+  -- stage 4: boundaries reached
+  signal quad4    : unsigned(1 downto 0)                := (others => '0');
+  signal zero4    : std_logic                           := '0';
+  signal reached4 : std_logic_vector(1 to N_c)          := (others => '0');
+  -- stage 5: sector
+  signal sector5 : unsigned(5 downto 0)                := (others => '0');
 
 begin
 
@@ -197,30 +205,38 @@ begin
           end if;
         end loop;
       end if;
-      -- stage 3: b * 2^16 >= a * TAN_k, or b * COT_k >= a * 2^16. As the 2^16 side has 16 zero
-      -- low bits, only the product's high part P_h = P / 2^16 is compared at full width:
-      -- b * 2^16 >= P <=> b > P_h or (b = P_h and P mod 2^16 = 0); P >= a * 2^16 <=> P_h >= a.
+      -- stage 3: the products pass the DSP48's output register
       if valid(2) = '1' then
         quad3 <= quad2;
         zero3 <= zero2;
+        a3    <= a2;
+        b3    <= b2;
+        prod3 <= prod2;
+      end if;
+      -- stage 4: b * 2^16 >= a * TAN_k, or b * COT_k >= a * 2^16. As the 2^16 side has 16 zero
+      -- low bits, only the product's high part P_h = P / 2^16 is compared at full width:
+      -- b * 2^16 >= P <=> b > P_h or (b = P_h and P mod 2^16 = 0); P >= a * 2^16 <=> P_h >= a.
+      if valid(3) = '1' then
+        quad4 <= quad3;
+        zero4 <= zero3;
         for k in 1 to N_c loop
-          prod_hi := prod2(k)(P_BITS_c - 1 downto TAN_BITS_c);
+          prod_hi := prod3(k)(P_BITS_c - 1 downto TAN_BITS_c);
           if uses_cot(k) then
-            reached3(k) <= '1' when prod_hi >= a2 else '0';
-          elsif b2 > prod_hi or (b2 = prod_hi and prod2(k)(TAN_BITS_c - 1 downto 0) = 0) then
-            reached3(k) <= '1';
+            reached4(k) <= '1' when prod_hi >= a3 else '0';
+          elsif b3 > prod_hi or (b3 = prod_hi and prod3(k)(TAN_BITS_c - 1 downto 0) = 0) then
+            reached4(k) <= '1';
           else
-            reached3(k) <= '0';
+            reached4(k) <= '0';
           end if;
         end loop;
       end if;
-      -- stage 4: j = boundaries reached; sector = (q * N + j) mod 4N
-      if valid(3) = '1' then
-        j := popcount(reached3) + resize(quad3 * to_unsigned(N_c, 5), 6);
-        if zero3 = '1' then
-          sector4 <= (others => '0');
+      -- stage 5: j = boundaries reached; sector = (q * N + j) mod 4N
+      if valid(4) = '1' then
+        j := popcount(reached4) + resize(quad4 * to_unsigned(N_c, 5), 6);
+        if zero4 = '1' then
+          sector5 <= (others => '0');
         else
-          sector4 <= j and to_unsigned(SECTORS_g - 1, 6);
+          sector5 <= j and to_unsigned(SECTORS_g - 1, 6);
         end if;
       end if;
     end if;
@@ -229,6 +245,6 @@ begin
   out_valid  <= valid(LATENCY_c);
   out_x      <= tags(LATENCY_c)(2 * COORD_BITS_c - 1 downto COORD_BITS_c);
   out_y      <= tags(LATENCY_c)(COORD_BITS_c - 1 downto 0);
-  out_sector <= std_logic_vector(sector4);
+  out_sector <= std_logic_vector(sector5);
 
 end architecture rtl;

@@ -23,7 +23,7 @@ from orbtb import images
 from orbtb.runner import run
 from orbtb.unit import SIM_ENV, Stream, env_int, random_gaps, reset, to_int
 
-LATENCY = 4
+LATENCY = 5
 BITS = 24
 MAX = (1 << 21) - 1
 ONE = 1 << TAN_BITS
