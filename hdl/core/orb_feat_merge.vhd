@@ -392,6 +392,22 @@ begin
     end if;
   end process merge;
 
+  -- pragma translate_off
+  -- a0_nz is derived state: every assignment of ahead0 has its own for a0_nz; this checks that
+  -- they never part in simulation.
+  flag_check : process (clk) is
+  begin
+    if rising_edge(clk) then
+      for k in 0 to SCALES_g - 1 loop
+        assert (a0_nz(k) = '1') = (ahead0(k) /= 0)
+          report "orb_feat_merge: a0_nz(" & integer'image(k) & ") disagrees with ahead0 = " &
+                 integer'image(ahead0(k))
+          severity failure;
+      end loop;
+    end if;
+  end process flag_check;
+  -- pragma translate_on
+
   -- Sector and descriptor of the output word: loaded with a feature, cleared by an end-of-frame
   -- beat (written as a clear over a load, which maps on the flip-flops' reset and enable pins).
   out_desc : if DESC_g generate

@@ -60,8 +60,10 @@ class MergeBench:
         self.edge = 0
         self.frames: list[FrameOut] = []
         self.current = FrameOut()
-        self.done_edges: list[list[int]] = []  # per frame marker: edge at which each scale's done was sampled
-        self._pending_done: list[int] = []
+        # per end-of-frame beat: the edge at which each scale's oldest frame_done not yet matched
+        # with a beat was sampled (a scale's frame ends are matched with beats in order)
+        self.done_edges: list[list[int]] = []
+        self._pending_done: list[list[int]] = [[] for _ in range(self.scales)]
         self.seq = [0] * self.scales
         # expectation, filled by the scenarios
         self.expected: list[dict[int, list[Feat]]] = [{s: [] for s in range(self.scales)}]
@@ -116,7 +118,8 @@ class MergeBench:
         await RisingEdge(dut.clk)
         self.edge += 1
         if done:
-            self._pending_done += [self.edge] * len(done)
+            for s in done:
+                self._pending_done[s].append(self.edge)
         self._sample(ready)
 
     def _sample(self, ready: int) -> None:
@@ -142,8 +145,7 @@ class MergeBench:
             self.current.drops = e.drops
             self.current.eof_edge = self.edge
             self.frames.append(self.current)
-            self.done_edges.append(self._pending_done)
-            self._pending_done = []
+            self.done_edges.append([q.pop(0) for q in self._pending_done if q])
             self.current = FrameOut()
         else:
             assert feature_error(data) is None, f"edge {self.edge}: {feature_error(data)}"
@@ -211,7 +213,7 @@ class MergeBench:
                 f"frame {f}: {out.drops} drops reported, expected {self.expected_drops[f]}"
             )
             dones = self.done_edges[f]
-            assert len(dones) >= self.scales and out.eof_edge > max(dones), (
+            assert len(dones) == self.scales and out.eof_edge > max(dones), (
                 f"frame {f}: end-of-frame beat at edge {out.eof_edge} before every scale's frame_done ({dones})"
             )
         total = int(self.dut.dropped.value)
@@ -405,6 +407,39 @@ async def drops_counted_in_their_frame(dut) -> None:
 
 
 @cocotb.test()
+async def frames_waiting(dut) -> None:
+    """The output stalls for more than a whole frame: two frame ends per scale wait for their
+    beats with features of both frames in the FIFOs (the second frame's entries counted apart), and
+    a third frame end merges into the newest waiting one, so its features and the newest frame's
+    share one end-of-frame beat. Nothing is lost (at most FIFO_DEPTH features per scale)."""
+    b = MergeBench(dut)
+    await b.start()
+    d = b.depth
+    sizes = [1, 1, d - 2]  # features per scale of input frames 0, 1, 2 while the output is stalled
+    b.expect_frame(1)
+    await b.plug_output()
+    for f, n in enumerate(sizes):
+        for _ in range(n):
+            feats = {s: b.feature(s, f) for s in range(b.scales)}
+            for s, feat in feats.items():
+                b.expect(s, feat, min(f, 1))  # input frame 2 merges into output frame 1
+            await b.cycle(feats, ready=0)
+        await b.cycle(done=tuple(range(b.scales)), ready=0)
+    await b.cycle(ready=0)
+    await b.drain(2, ready_prob=0.5)
+    # the next input frame is output frame 2, and the merge counts from there as before
+    b.expect_frame(2)
+    for _ in range(2):
+        feats = {s: b.feature(s, 3) for s in range(b.scales)}
+        for s, feat in feats.items():
+            b.expect(s, feat, 2)
+        await b.cycle(feats)
+    await b.cycle(done=tuple(range(b.scales)))
+    await b.drain(3)
+    b.check()
+
+
+@cocotb.test()
 async def losses_around_eof(dut) -> None:
     """Losses of the next frame in the clocks just before and in the clock of the previous frame's
     end-of-frame beat: the loss counts are pipelined over three clocks, and a beat going out in
@@ -428,6 +463,7 @@ async def losses_around_eof(dut) -> None:
     # the FIFO, holding only frame 1, is still full: this feature is lost too
     await b.cycle({s: b.feature(s, 1)}, ready=1)
     lost += 1
+    beat_edge = b.edge + 1  # the beat entered the output register at this edge, taken at the next
     for _ in range(3):  # from now on a feature leaves every clock: these are kept
         feat = b.feature(s, 1)
         b.expect(s, feat, 1)
@@ -435,6 +471,11 @@ async def losses_around_eof(dut) -> None:
     b.expect_drops(1, lost)
     await b.cycle(done=tuple(range(b.scales)))
     await b.drain(2)
+    # the premise: the losses above fell in the two clocks before the beat and in its clock
+    assert b.frames[0].eof_edge == beat_edge, (
+        f"frame 0's end-of-frame beat taken at edge {b.frames[0].eof_edge}, expected {beat_edge}: "
+        "the scenario no longer puts losses around it"
+    )
     b.check()
 
 
@@ -519,3 +560,9 @@ def test_merge_drops_counted_in_their_frame(desc: bool) -> None:
 @pytest.mark.parametrize(("scales", "depth"), [(2, 4), (1, 2)])
 def test_merge_losses_around_eof(scales: int, depth: int, desc: bool) -> None:
     run_merge(scales, depth, desc, "losses_around_eof")
+
+
+@DESC
+@pytest.mark.parametrize(("scales", "depth"), [(3, 4), (1, 2)])
+def test_merge_frames_waiting(scales: int, depth: int, desc: bool) -> None:
+    run_merge(scales, depth, desc, "frames_waiting")
