@@ -13,6 +13,7 @@ from dataclasses import dataclass
 from . import limits
 
 MODES = ("orb", "fast")
+SELECTIONS = ("all", "grid")
 
 # The recommended configuration for 640x480 on the XC7Z020 (docs/pyramid.md: the best measured on
 # the scale benchmark within 80% of the device's LUTs and block RAM): what `make sim` and
@@ -22,6 +23,8 @@ RECOMMENDED_SCALES = 5
 RECOMMENDED_STEP = (5, 4)
 RECOMMENDED_SECTORS = 64
 RECOMMENDED_BUDGET = 1000
+RECOMMENDED_THRESHOLD_LO = 7
+RECOMMENDED_CELL = 80
 
 
 def recommended_budget(width: int, height: int) -> int:
@@ -49,6 +52,12 @@ class Config:
     smaller than the one before; 2:1 is the thesis's 2x2 box, any other step the fixed-phase
     bilinear resampler (docs/spec.md section 3). The step needs step_den < step_num <= 2 step_den,
     and the smallest level at least scale_width x scale_height pixels.
+
+    ``selection`` is ``all`` (every feature at the threshold, the feature memory stores them in
+    arrival order) or ``grid`` (each level's share of ``budget`` features: every cell of ``cell`` x
+    ``cell`` level pixels keeps its best corner, a corner at ``threshold_lo`` when it has none at
+    ``threshold``, then the strongest of the rest; docs/spec.md section 14). ``threshold_lo``
+    defaults to ``threshold`` (no low corners); a value above it acts as equal to it.
     """
 
     width: int
@@ -59,8 +68,14 @@ class Config:
     mode: str = "orb"
     step_num: int = 2
     step_den: int = 1
+    threshold_lo: int | None = None
+    selection: str = "all"
+    budget: int = 0
+    cell: int = RECOMMENDED_CELL
 
     def __post_init__(self) -> None:
+        if self.threshold_lo is None:
+            object.__setattr__(self, "threshold_lo", self.threshold)
         for lim in _LIMITED:
             value = getattr(self, lim.name)
             if isinstance(value, bool) or not isinstance(value, numbers.Integral):
@@ -72,6 +87,8 @@ class Config:
                 raise ConfigError(f"{lim.name} must be {lim.text}, got {value}")
         if self.mode not in MODES:
             raise ConfigError(f"mode {self.mode!r} not one of {MODES}")
+        if self.selection not in SELECTIONS:
+            raise ConfigError(f"selection {self.selection!r} not one of {SELECTIONS}")
         check_step(self.step_num, self.step_den)
         w, h = self.scale_size(self.scales - 1)
         if not (limits.SCALE_WIDTH.legal(w) and limits.SCALE_HEIGHT.legal(h)):
@@ -79,6 +96,11 @@ class Config:
                 f"{self.scales} levels of {self.step_num}:{self.step_den} leave a {w}x{h} smallest level; it must "
                 f"be at least {limits.SCALE_WIDTH.min}x{limits.SCALE_HEIGHT.min} (fewer scales or a larger frame)"
             )
+
+    @property
+    def low_threshold(self) -> int:
+        """The low threshold in effect: threshold_lo, or the threshold when threshold_lo is above it."""
+        return min(int(self.threshold_lo or 0), self.threshold)
 
     @property
     def sectors_per_quadrant(self) -> int:

@@ -23,7 +23,8 @@ class Features:
 
     ``sectors_total`` (4N of the configuration, in either mode) converts sectors to angles;
     ``step`` (the pyramid step num, den of the configuration) converts level coordinates to
-    full-resolution ones.
+    full-resolution ones. ``response`` is the corner response code (docs/spec.md section 15) and
+    ``low`` marks a corner at the low threshold only (section 14); both default to 0 / False.
     """
 
     scale: np.ndarray = field(default_factory=_empty_int)
@@ -34,6 +35,15 @@ class Features:
     descriptor: np.ndarray = field(default_factory=lambda: np.zeros((0, 0), dtype=np.uint8))
     sectors_total: int = 0
     step: tuple[int, int] = (2, 1)
+    response: np.ndarray | None = None
+    low: np.ndarray | None = None
+
+    def __post_init__(self) -> None:
+        n = int(self.x.shape[0])
+        if self.response is None:
+            self.response = np.zeros(n, dtype=np.int64)
+        if self.low is None:
+            self.low = np.zeros(n, dtype=bool)
 
     def __len__(self) -> int:
         return int(self.x.shape[0])
@@ -50,7 +60,7 @@ class Features:
     def take(self, index: np.ndarray) -> Features:
         return Features(
             self.scale[index], self.x[index], self.y[index], self.score[index], self.sector[index],
-            self.descriptor[index], self.sectors_total, self.step,
+            self.descriptor[index], self.sectors_total, self.step, self.response[index], self.low[index],
         )  # fmt: skip
 
     def level_factor(self) -> np.ndarray:
@@ -89,6 +99,8 @@ class Features:
             np.concatenate([p.descriptor for p in parts]),
             sectors_total,
             step,
+            np.concatenate([p.response for p in parts]),
+            np.concatenate([p.low for p in parts]),
         )
 
 

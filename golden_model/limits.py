@@ -129,6 +129,42 @@ STEP_DEN = Limit(
     config=True,
 )
 
+THRESHOLD_LO_MIN = 0
+THRESHOLD_LO_MAX = 255
+THRESHOLD_LO = Limit(
+    name="threshold_lo",
+    min=THRESHOLD_LO_MIN,
+    max=THRESHOLD_LO_MAX,
+    text="0..255",
+    description="low FAST threshold of the grid selection (at or above the threshold: no low corners)",
+    register="THRESHOLD.low",
+    config=True,
+)
+
+BUDGET_MIN = 0
+BUDGET_MAX = 4095
+BUDGET = Limit(
+    name="budget",
+    min=BUDGET_MIN,
+    max=BUDGET_MAX,
+    text="0..4095",
+    description="grid selection: at most this many features per frame (at most MEM_DEPTH_g - 1)",
+    register="SELECT.budget",
+    config=True,
+)
+
+CELL_MIN = 16
+CELL_MAX = 255
+CELL = Limit(
+    name="cell",
+    min=CELL_MIN,
+    max=CELL_MAX,
+    text="16..255",
+    description="grid selection: cell size in each level's pixels",
+    register="SELECT.cell",
+    config=True,
+)
+
 MEM_DEPTH_MIN = 16
 MEM_DEPTH_MAX = 4096
 MEM_DEPTH = Limit(
@@ -181,6 +217,9 @@ LIMITS: tuple[Limit, ...] = (
     THRESHOLD,
     STEP_NUM,
     STEP_DEN,
+    THRESHOLD_LO,
+    BUDGET,
+    CELL,
     MEM_DEPTH,
     BLOCK_LOG2,
     SCALE_WIDTH,

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 ORB_ID = 0x4F524231  # magic identification word, ASCII "ORB1"
 VERSION_MAJOR = 2  # register map major version (incompatible changes)
-VERSION_MINOR = 1  # register map minor version (compatible additions)
+VERSION_MINOR = 2  # register map minor version (compatible additions)
 MEM_BASE = 0x10000  # byte address of the feature-memory window; register offsets lie below it
 BANKS = 2  # feature-memory banks (double buffering)
 
@@ -19,8 +19,9 @@ BANKS = 2  # feature-memory banks (double buffering)
 @dataclass(frozen=True)
 class Field:
     """Bits lsb .. lsb + width - 1 of a register. reset is None when the value is a generic of
-    orb_axil_regs (generic names it); port names the input a ro field shows; max is the largest
-    legal written value (a larger one answers SLVERR); pulse fields read 0."""
+    orb_axil_regs (generic names it); port names the input a ro field shows; min and max are the
+    smallest and largest legal written values (others answer SLVERR), max_generic a generic of
+    orb_axil_regs whose value minus 1 is the largest; pulse fields read 0."""
 
     name: str
     lsb: int
@@ -31,10 +32,20 @@ class Field:
     port: str | None = None
     max: int | None = None
     pulse: bool = False
+    min: int | None = None
+    max_generic: str | None = None
 
     @property
     def mask(self) -> int:
         return ((1 << self.width) - 1) << self.lsb
+
+    def legal_value(self, value: int, generics: Mapping[str, int] | None = None) -> bool:
+        """Whether value may be written to this field (generics: NAME_g values for max_generic; a
+        missing one leaves only the field's width as the maximum)."""
+        top = (1 << self.width) - 1 if self.max is None else self.max
+        if self.max_generic is not None and generics is not None and self.max_generic in generics:
+            top = min(top, generics[self.max_generic] - 1)
+        return (self.min or 0) <= value <= top
 
     def get(self, word: int) -> int:
         """This field's value in a register word."""
@@ -85,11 +96,12 @@ class Register:
             word |= (value << f.lsb) & f.mask
         return word
 
-    def legal(self, word: int) -> bool:
-        """Whether a rw or wo write of word is accepted (no reserved bit set, no field above its max)."""
+    def legal(self, word: int, generics: Mapping[str, int] | None = None) -> bool:
+        """Whether a rw or wo write of word is accepted (no reserved bit set, every field within its
+        minimum and maximum; generics: NAME_g values for the max_generic fields)."""
         if word & ~self.mask & 0xFFFFFFFF:
             return False
-        return all(f.max is None or f.get(word) <= f.max for f in self.fields)
+        return all(f.legal_value(f.get(word), generics) for f in self.fields)
 
 
 ID = Register(
@@ -273,8 +285,15 @@ THRESHOLD = Register(
             reset=20,
             description="FAST threshold t, 0 to 255 (output threshold)",
         ),
+        Field(
+            name="low",
+            lsb=8,
+            width=8,
+            reset=7,
+            description="low FAST threshold t_lo of the grid selection (output threshold_lo); t_lo >= t: none",
+        ),
     ),
-    description="FAST threshold; the accelerator applies a new value from the next frame on",
+    description="FAST thresholds; the accelerator applies new values from the next frame on",
 )
 
 STATUS = Register(
@@ -359,6 +378,39 @@ PROTO_ERRORS = Register(
         ),
     ),
     description="input protocol errors (malformed video)",
+)
+
+SELECT = Register(
+    name="SELECT",
+    offset=0x02C,
+    access="rw",
+    fields=(
+        Field(
+            name="mode",
+            lsb=0,
+            width=2,
+            reset=1,
+            max=1,
+            description="selection (output select_grid = 1 for grid); 2 and 3 are reserved",
+        ),
+        Field(
+            name="cell",
+            lsb=8,
+            width=8,
+            reset=80,
+            min=16,
+            description="grid cell size in each level's pixels (output cell_size)",
+        ),
+        Field(
+            name="budget",
+            lsb=16,
+            width=12,
+            reset=1023,
+            max_generic="MEM_DEPTH_g",
+            description="grid mode: at most this many features per frame (output budget)",
+        ),
+    ),
+    description="feature selection (docs/selection.md); the accelerator applies new values from the next frame on",
 )
 
 IRQ_ENABLE = Register(
@@ -554,6 +606,7 @@ REGISTERS: tuple[Register, ...] = (
     FRAME_COUNT,
     DROPPED,
     PROTO_ERRORS,
+    SELECT,
     IRQ_ENABLE,
     IRQ_STATUS,
     BANK_RELEASE,

@@ -1,21 +1,35 @@
 # SPDX-License-Identifier: MIT
-"""Per-level feature budgets: keep each pyramid level's strongest features (docs/spec.md section 14).
+"""Feature budgets and the selection the accelerator makes per pyramid level (docs/spec.md section 14).
 
-The accelerator reports every feature it finds; a host that wants a fixed number per frame, as
-OpenCV's ORB gives one, keeps the best of each level with this rule (the driver's `Frame.best`, the
-ROS node's `~budget`, `orb-accel extract --budget`). It costs no hardware: the score is in every
-feature word. On the scale benchmark it is worth 6 points (docs/evaluation.md): a flat threshold
-keeps too many weak corners at the fine levels.
+Budgets: a total N is split over L levels as OpenCV's ORB splits `nfeatures`, geometrically with the
+ratio q = den / num per level, in integers (the hardware computes the same at each frame start):
 
-Budgets: a total N split over L levels as OpenCV's ORB splits `nfeatures`, geometrically with the
-ratio q = den / num per level:
+    F_k = round(2^16 (num - den) den^k num^(L-1-k) / (num^L - den^L))     (round half up, k < L - 1)
+    n_k = min((N F_k + 2^15) >> 16, N - (n_0 + ... + n_{k-1}))             (k < L - 1)
+    n_{L-1} = N - (n_0 + ... + n_{L-2})
 
-    n_k = round(N (1 - q) / (1 - q^L) q^k)   for k < L - 1   (round half to even, Python's round)
-    n_{L-1} = max(N - sum of the others, 0)
+so the budgets never sum to more than N.
 
-Selection: within level k the n_k features of highest score; equal scores are taken in raster
-order (smaller y first, then smaller x). A level with fewer features keeps all of them; its unused
-budget is not passed on. The result is in canonical order (scale, y, x).
+Selection (`grid` mode), per level with budget n, over the level's candidates in arrival (raster)
+order: every NMS survivor the level reports, each with its response code and a flag `low` (a corner
+at the low threshold only). Cells are C x C squares of the level's pixels, cell (x // C, y // C).
+
+- A candidate is a *record* when its rank (main before low, then the response code) is strictly
+  above that of every earlier candidate of its cell. A cell's *floor* is its last record: its best
+  candidate, a low one only when the cell has no main corner.
+- If the level's cells with candidates number more than n, the floors of the first n of them (in
+  the order of their first candidates) are the selection.
+- Otherwise every cell keeps its floor, and the rest R, the main candidates that are not floors,
+  fill the remaining n - (number of floors) places best first: response code descending, then by
+  the time each joined R (a candidate that was never a record: its own arrival; a record that a
+  later record of its cell displaced: that record's arrival), earlier first.
+
+This is exactly what the fabric's streaming selection keeps (docs/selection.md): floors held per
+cell, the rest in a store that evicts its lowest code, latest first. `all` mode keeps every main
+candidate (nothing is selected; the feature memory stores them in arrival order).
+
+Host budget (`Frame.best`, `orb-accel extract --budget` on every feature): level k keeps its n_k
+features of highest SAD score, equal scores in raster order.
 """
 
 from __future__ import annotations
@@ -24,27 +38,37 @@ import numpy as np
 
 from .features import Features
 
+FIXED_BITS = 16
+
+
+def split_fractions(step: tuple[int, int], levels: int) -> list[int]:
+    """F_0 .. F_{L-2} of the module docstring (fixed point, 16 fraction bits)."""
+    num, den = step
+    if not (levels >= 1 and num > den >= 1):
+        raise ValueError(f"need levels >= 1 and a step num > den >= 1, got {levels} levels of {num}:{den}")
+    d = num**levels - den**levels
+    out = []
+    for k in range(levels - 1):
+        a = (num - den) * den**k * num ** (levels - 1 - k)
+        out.append(((a << (FIXED_BITS + 1)) + d) // (2 * d))
+    return out
+
 
 def level_budgets(total: int, step: tuple[int, int], levels: int) -> list[int]:
     """The budgets n_0 .. n_{levels-1} of a total (module docstring)."""
     if isinstance(total, bool) or not isinstance(total, (int, np.integer)) or total < 0:
         raise ValueError(f"a feature budget must be a non-negative integer, got {total!r}")
-    num, den = step
-    if not (levels >= 1 and num > den >= 1):
-        raise ValueError(f"need levels >= 1 and a step num > den >= 1, got {levels} levels of {num}:{den}")
-    q = den / num
-    per = total * (1 - q) / (1 - q**levels)
+    total = int(total)
     out: list[int] = []
-    for _ in range(levels - 1):
-        out.append(round(per))
-        per *= q
-    out.append(max(int(total) - sum(out), 0))
+    for f in split_fractions(step, levels):
+        out.append(min((total * f + (1 << (FIXED_BITS - 1))) >> FIXED_BITS, total - sum(out)))
+    out.append(total - sum(out))
     return out
 
 
 def best_per_level(features: Features, total: int, levels: int) -> Features:
-    """The features the budget keeps (module docstring), in canonical order; `levels` is the
-    configuration's number of scales (features.step gives the step)."""
+    """The host budget (module docstring), in canonical order; `levels` is the configuration's
+    number of scales (features.step gives the step)."""
     budgets = level_budgets(total, features.step, levels)
     if len(features) and int(features.scale.max()) >= levels:
         raise ValueError(f"a feature of scale {int(features.scale.max())} in a {levels}-level configuration")
@@ -54,3 +78,164 @@ def best_per_level(features: Features, total: int, levels: int) -> Features:
         order = np.lexsort((features.x[idx], features.y[idx], -features.score[idx]))
         keep.append(idx[order[:n]])
     return features.take(np.concatenate(keep)).sorted()
+
+
+def select_level(x: np.ndarray, y: np.ndarray, low: np.ndarray, response: np.ndarray, n: int,
+                 cell: int) -> np.ndarray:  # fmt: skip
+    """Indices of the candidates the `grid` selection keeps of one level (module docstring); the
+    arrays hold the level's candidates in arrival (raster) order."""
+    count = len(x)
+    if n <= 0 or count == 0:
+        return np.zeros(0, dtype=np.int64)
+    x, y = np.asarray(x, np.int64), np.asarray(y, np.int64)
+    resp = np.asarray(response, np.int64)
+    main = ~np.asarray(low, bool)
+    rank = (main.astype(np.int64) << 16) | resp
+    cid = (y // cell) * (int(x.max()) // cell + 1) + x // cell
+    # group by cell, arrival order inside a group (the arrays are in arrival order: a stable sort)
+    order = np.argsort(cid, kind="stable")
+    c_o, r_o = cid[order], rank[order]
+    start = np.r_[True, c_o[1:] != c_o[:-1]]
+    grp = np.cumsum(start) - 1
+    first = np.flatnonzero(start)
+    # the best rank of the earlier candidates of the same cell (-1 for a cell's first): a running
+    # maximum over the groups, each lifted above every earlier group so that the maximum restarts
+    lift = grp << 20
+    run = np.maximum.accumulate(r_o + lift) - lift
+    prev = np.r_[-1, run[:-1]]
+    prev[first] = -1
+    record_o = r_o > prev
+    # a record's successor: the next record of its cell (-1: none, it is the floor)
+    pos_o = np.arange(count)
+    rec_pos = np.where(record_o, pos_o, count)
+    nxt = np.minimum.accumulate(rec_pos[::-1])[::-1]  # first record at or after each position
+    succ_pos = np.r_[nxt[1:], count]
+    last_of_grp = np.r_[first[1:], count] - 1
+    succ_pos = np.where(succ_pos > last_of_grp[grp], count, succ_pos)
+    floor_o = record_o & (succ_pos == count)
+    cells = len(first)
+    if cells > n:
+        # the first n cells by the arrival of their first candidate keep their floors
+        first_arrival = order[first]
+        chosen = np.argsort(first_arrival, kind="stable")[:n]
+        keep_grp = np.zeros(cells, dtype=bool)
+        keep_grp[chosen] = True
+        return np.sort(order[floor_o & keep_grp[grp]])
+    floors = order[floor_o]
+    rest_o = main[order] & ~floor_o
+    join = np.where(record_o, order[np.minimum(succ_pos, count - 1)], order)  # arrival of the displacing record
+    cand = order[rest_o]
+    key_join = join[rest_o]
+    room = n - len(floors)
+    best = np.lexsort((key_join, -resp[cand]))[:room]
+    return np.sort(np.concatenate([floors, cand[best]]))
+
+
+def select_grid(features: Features, total: int, levels: int, cell: int) -> Features:
+    """The `grid` selection of a frame's candidates (all levels, any order), in canonical order."""
+    budgets = level_budgets(total, features.step, levels)
+    f = features.sorted()
+    keep: list[np.ndarray] = []
+    for k, n in enumerate(budgets):
+        idx = np.flatnonzero(f.scale == k)
+        keep.append(idx[select_level(f.x[idx], f.y[idx], f.low[idx], f.response[idx], n, cell)])
+    return f.take(np.concatenate(keep)).sorted()
+
+
+class LevelSelector:
+    """The streaming form of `select_level`, one candidate at a time, as the fabric does it: a
+    cell's floor is held in place, the rest in a store of buckets (one per response code) that
+    evicts the most recently added candidate of its lowest code. Each candidate gives an operation:
+    None (dropped), or (slot, new) -- the candidate is stored in the level's slot `slot` (0 .. n-1),
+    a slot never used before in this frame when `new`, else one whose occupant it replaces. The
+    kept set after the last candidate equals `select_level`'s (a test checks it)."""
+
+    def __init__(self, n: int, cell: int) -> None:
+        self.n = n
+        self.cell = cell
+        self.used = 0
+        self.floors: dict[tuple[int, int], tuple[int, int]] = {}  # cell -> (rank, slot)
+        self.buckets: dict[int, list[int]] = {}  # response code -> slots, most recent last
+        self.occupant: dict[int, int] = {}  # slot -> the candidate index stored there
+        self.count = 0  # candidates seen
+
+    def _pop_min(self) -> int | None:
+        if not self.buckets:
+            return None
+        low = min(self.buckets)
+        slot = self.buckets[low].pop()
+        if not self.buckets[low]:
+            del self.buckets[low]
+        return slot
+
+    def _min_code(self) -> int | None:
+        return min(self.buckets) if self.buckets else None
+
+    def _push(self, code: int, slot: int) -> None:
+        self.buckets.setdefault(code, []).append(slot)
+
+    def _store(self, index: int, slot: int, new: bool) -> tuple[int, bool]:
+        self.occupant[slot] = index
+        return slot, new
+
+    def offer(self, x: int, y: int, low: bool, response: int) -> tuple[int, bool] | None:
+        index = self.count
+        self.count += 1
+        if self.n <= 0:
+            return None
+        main = not low
+        rank = (int(main) << 16) | int(response)
+        c = (x // self.cell, y // self.cell)
+        floor = self.floors.get(c)
+        full = self.used >= self.n
+        if floor is None:  # (a) a cell's first candidate: its floor
+            if not full:
+                slot, self.used = self.used, self.used + 1
+                self.floors[c] = (rank, slot)
+                return self._store(index, slot, True)
+            slot = self._pop_min()
+            if slot is None:  # the level holds nothing but floors: no place for this cell
+                self.floors[c] = (-1, -1)
+                return None
+            self.floors[c] = (rank, slot)
+            return self._store(index, slot, False)
+        f_rank, f_slot = floor
+        if f_slot < 0:  # a cell that found no place stays without one
+            return None
+        if rank > f_rank:  # a record: it becomes the floor
+            f_main, f_code = f_rank >> 16, f_rank & 0xFFFF
+            if not f_main:  # (d) a low floor is dropped, the new floor takes its slot
+                self.floors[c] = (rank, f_slot)
+                return self._store(index, f_slot, False)
+            # (b) the displaced floor joins the rest, now
+            if not full:
+                slot, self.used = self.used, self.used + 1
+                self._push(f_code, f_slot)
+                self.floors[c] = (rank, slot)
+                return self._store(index, slot, True)
+            m = self._min_code()
+            if m is not None and f_code > m:  # the rest's lowest goes, the old floor stays
+                slot = self._pop_min()
+                assert slot is not None
+                self._push(f_code, f_slot)
+                self.floors[c] = (rank, slot)
+                return self._store(index, slot, False)
+            self.floors[c] = (rank, f_slot)  # the old floor is the lowest: it goes
+            return self._store(index, f_slot, False)
+        if low:  # (c) a low candidate that is not its cell's best: dropped
+            return None
+        if not full:  # (c) a main candidate for the rest
+            slot, self.used = self.used, self.used + 1
+            self._push(int(response), slot)
+            return self._store(index, slot, True)
+        m = self._min_code()
+        if m is not None and int(response) > m:
+            slot = self._pop_min()
+            assert slot is not None
+            self._push(int(response), slot)
+            return self._store(index, slot, False)
+        return None
+
+    def kept(self) -> list[int]:
+        """The candidate indices held now (the selection, once the level's last candidate is in)."""
+        return sorted(self.occupant.values())

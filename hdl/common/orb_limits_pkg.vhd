@@ -54,6 +54,26 @@ package orb_limits_pkg is
   constant STEP_DEN_TEXT_c : string := "a power of two in 1..8";
   function step_den_legal (value : integer) return boolean;
 
+  -- threshold_lo: low FAST threshold of the grid selection (at or above the threshold: no low
+  -- corners); legal: 0..255
+  constant THRESHOLD_LO_MIN_c  : integer := 0;
+  constant THRESHOLD_LO_MAX_c  : integer := 255;
+  constant THRESHOLD_LO_TEXT_c : string := "0..255";
+  function threshold_lo_legal (value : integer) return boolean;
+
+  -- budget: grid selection: at most this many features per frame (at most MEM_DEPTH_g - 1); legal:
+  -- 0..4095
+  constant BUDGET_MIN_c  : integer := 0;
+  constant BUDGET_MAX_c  : integer := 4095;
+  constant BUDGET_TEXT_c : string := "0..4095";
+  function budget_legal (value : integer) return boolean;
+
+  -- cell: grid selection: cell size in each level's pixels; legal: 16..255
+  constant CELL_MIN_c  : integer := 16;
+  constant CELL_MAX_c  : integer := 255;
+  constant CELL_TEXT_c : string := "16..255";
+  function cell_legal (value : integer) return boolean;
+
   -- mem_depth: feature slots per feature-memory bank; legal: a power of two in 16..4096
   constant MEM_DEPTH_MIN_c  : integer := 16;
   constant MEM_DEPTH_MAX_c  : integer := 4096;
@@ -87,6 +107,9 @@ package orb_limits_pkg is
   subtype threshold_t is integer range THRESHOLD_MIN_c to THRESHOLD_MAX_c;
   subtype step_num_t is integer range STEP_NUM_MIN_c to STEP_NUM_MAX_c;
   subtype step_den_t is integer range STEP_DEN_MIN_c to STEP_DEN_MAX_c;
+  subtype threshold_lo_t is integer range THRESHOLD_LO_MIN_c to THRESHOLD_LO_MAX_c;
+  subtype budget_t is integer range BUDGET_MIN_c to BUDGET_MAX_c;
+  subtype cell_t is integer range CELL_MIN_c to CELL_MAX_c;
   subtype mem_depth_t is integer range MEM_DEPTH_MIN_c to MEM_DEPTH_MAX_c;
   subtype block_log2_t is integer range BLOCK_LOG2_MIN_c to BLOCK_LOG2_MAX_c;
   subtype scale_width_t is integer range SCALE_WIDTH_MIN_c to SCALE_WIDTH_MAX_c;
@@ -142,6 +165,21 @@ package body orb_limits_pkg is
     end loop;
     return p = value;
   end function step_den_legal;
+
+  function threshold_lo_legal (value : integer) return boolean is
+  begin
+    return value >= THRESHOLD_LO_MIN_c and value <= THRESHOLD_LO_MAX_c;
+  end function threshold_lo_legal;
+
+  function budget_legal (value : integer) return boolean is
+  begin
+    return value >= BUDGET_MIN_c and value <= BUDGET_MAX_c;
+  end function budget_legal;
+
+  function cell_legal (value : integer) return boolean is
+  begin
+    return value >= CELL_MIN_c and value <= CELL_MAX_c;
+  end function cell_legal;
 
   function mem_depth_legal (value : integer) return boolean is
     variable p : integer := 1;

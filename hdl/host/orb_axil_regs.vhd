@@ -2,8 +2,8 @@
 -- orb_axil_regs: the accelerator's AXI4-Lite register bank (map in orb_regs_pkg, generated from
 -- golden_model/data/regmap.json; table and bus rules in docs/registers.md, design in
 -- docs/axil-regs.md). It reads back the configuration generics, drives the control outputs
--- (enable, a one-clock soft_reset pulse, mode_orb, the FAST threshold, which the detector
--- applies from the next frame on), shows the status inputs of the other blocks, keeps the
+-- (enable, a one-clock soft_reset pulse, mode_orb, the FAST thresholds and the selection
+-- (select_grid, cell_size, budget), which the core applies from the next frame on), shows the status inputs of the other blocks, keeps the
 -- interrupt enable and W1C status bits (set by frame_done_pulse and error_pulse; irq is the
 -- registered OR(status AND enable)) and pulses release_valid with release_bank when the CPU
 -- writes BANK_RELEASE. One transaction per channel at a time: AW and W are each held in a
@@ -17,12 +17,14 @@
 -- MEM_LATENCY_g-th rising edge after the edge that sampled mem_rd_en = '1' (1: block RAM
 -- output, 2: block RAM with output register), where it is taken and returned with OKAY.
 -- SLVERR (no state change) answers misaligned or unknown addresses, writes to ro registers and to
--- the memory window, reads of the wo BANK_RELEASE, and rw/wo writes that set a reserved bit or a
--- field above its maximum (CTRL.mode 2 or 3, BANK_RELEASE.bank >= BANKS_c); byte strobes are
+-- the memory window, reads of the wo BANK_RELEASE, and rw/wo writes that set a reserved bit or
+-- give a field a value outside its minimum and maximum (CTRL.mode 2 or 3, BANK_RELEASE.bank >=
+-- BANKS_c, SELECT.cell below 16, SELECT.budget above MEM_DEPTH_g - 1); byte strobes are
 -- honoured (merged into the current value before that check). rst resets the control state and
 -- every register to its documented reset value.
 -- The decode is data: a register file driven by orb_regs_pkg's tables REGS_c (offset, access,
--- defined bits, reset value, live and pulse bits per register) and REG_LIMITS_c (field maxima),
+-- defined bits, reset value, live and pulse bits per register) and REG_LIMITS_c (field minima and
+-- maxima; a maximum marked `depth` is MEM_DEPTH_g - 1),
 -- generated from the map. Per-register code is only wiring: the `wiring` process (ro fields that
 -- follow a generic or an input port, w1c set inputs) and the output assignments at the end.
 
@@ -73,6 +75,11 @@ entity orb_axil_regs is
     soft_reset : out   std_logic;
     mode_orb   : out   std_logic;
     threshold  : out   std_logic_vector(7 downto 0);
+    -- low threshold and selection (docs/selection.md); budget is at most MEM_DEPTH_g - 1
+    threshold_lo : out   std_logic_vector(7 downto 0);
+    select_grid  : out   std_logic;
+    cell_size    : out   std_logic_vector(7 downto 0);
+    budget       : out   std_logic_vector(SELECT_BUDGET_MSB_c - SELECT_BUDGET_LSB_c downto 0);
     -- status from the other blocks
     frame_count    : in    std_logic_vector(31 downto 0);
     dropped        : in    std_logic_vector(31 downto 0);
@@ -112,6 +119,20 @@ architecture rtl of orb_axil_regs is
   constant OKAY_c   : std_logic_vector(1 downto 0) := "00";
   constant SLVERR_c : std_logic_vector(1 downto 0) := "10";
   constant ZERO_c   : word_t := (others => '0');
+
+  -- the largest legal value of a limited field, in place: its max, or MEM_DEPTH_g - 1 (at most the
+  -- field's all-ones value) for a `depth` limit
+  function limit_max (lim : reg_limit_t) return unsigned is
+    variable top : unsigned(55 downto 0);
+  begin
+    if lim.depth then
+      top := shift_left(resize(to_unsigned(MEM_DEPTH_g - 1, 24), 56), lim.lsb);
+      if top < resize(unsigned(lim.max), 56) then
+        return top(31 downto 0);
+      end if;
+    end if;
+    return unsigned(lim.max);
+  end function limit_max;
 
   -- word with bits msb .. lsb set to value
   function put (word : word_t; value : natural; msb, lsb : natural) return word_t is
@@ -204,6 +225,7 @@ architecture rtl of orb_axil_regs is
   signal held    : reg_words_t := (others => ZERO_c);
   signal pulses  : reg_words_t := (others => ZERO_c);
   signal written : std_logic_vector(REGS_c'range) := (others => '0');
+  signal budget_r : std_logic_vector(SELECT_BUDGET_MSB_c - SELECT_BUDGET_LSB_c downto 0) := (others => '0');
   signal irq_r   : std_logic := '0';
 
   -- a decoded write, executed in the next clock
@@ -331,7 +353,8 @@ begin
           mi  := (cur and not bm) or (w_data and bm);
           leg := REGS_c(i).acc = access_w1c or (mi and not REGS_c(i).mask) = ZERO_c;
           for k in REG_LIMITS_c'range loop
-            if REG_LIMITS_c(k).reg = i and unsigned(mi and REG_LIMITS_c(k).mask) > unsigned(REG_LIMITS_c(k).max) then
+            if REG_LIMITS_c(k).reg = i and (unsigned(mi and REG_LIMITS_c(k).mask) > limit_max(REG_LIMITS_c(k)) or
+                                            unsigned(mi and REG_LIMITS_c(k).mask) < unsigned(REG_LIMITS_c(k).min)) then
               leg := false;
             end if;
           end loop;
@@ -460,12 +483,32 @@ begin
   s_axil_rresp   <= rresp_r;
   s_axil_rvalid  <= rvalid_r;
 
+  -- The budget's reset value (SELECT_BUDGET_RESET_c) can exceed a small bank's capacity, which a
+  -- write cannot: the output is held at MEM_DEPTH_g - 1 at most.
+  budget_clamp : process (clk) is
+    constant CAP_c : natural := MEM_DEPTH_g - 1;
+    variable b     : unsigned(budget_r'range);
+  begin
+    if rising_edge(clk) then
+      b := unsigned(held(REG_SELECT_IDX_c)(SELECT_BUDGET_MSB_c downto SELECT_BUDGET_LSB_c));
+      if CAP_c < 2 ** budget_r'length and b > CAP_c then
+        b := to_unsigned(CAP_c, budget_r'length);
+      end if;
+      budget_r <= std_logic_vector(b);
+    end if;
+  end process budget_clamp;
+
   -- outputs (wiring)
   enable        <= held(REG_CTRL_IDX_c)(CTRL_ENABLE_LSB_c);
   soft_reset    <= pulses(REG_CTRL_IDX_c)(CTRL_SOFT_RESET_LSB_c);
   mode_orb      <= '1' when unsigned(held(REG_CTRL_IDX_c)(CTRL_MODE_MSB_c downto CTRL_MODE_LSB_c)) = 0 else
                    '0';
   threshold     <= held(REG_THRESHOLD_IDX_c)(THRESHOLD_THRESHOLD_MSB_c downto THRESHOLD_THRESHOLD_LSB_c);
+  threshold_lo  <= held(REG_THRESHOLD_IDX_c)(THRESHOLD_LOW_MSB_c downto THRESHOLD_LOW_LSB_c);
+  select_grid   <= '1' when unsigned(held(REG_SELECT_IDX_c)(SELECT_MODE_MSB_c downto SELECT_MODE_LSB_c)) = 1 else
+                   '0';
+  cell_size     <= held(REG_SELECT_IDX_c)(SELECT_CELL_MSB_c downto SELECT_CELL_LSB_c);
+  budget        <= budget_r;
   irq           <= irq_r;
   release_valid <= written(REG_BANK_RELEASE_IDX_c);
   release_bank  <= held(REG_BANK_RELEASE_IDX_c)(BANK_RELEASE_BANK_MSB_c downto BANK_RELEASE_BANK_LSB_c);

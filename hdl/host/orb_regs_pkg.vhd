@@ -18,7 +18,7 @@ package orb_regs_pkg is
   -- register map major version (incompatible changes)
   constant VERSION_MAJOR_c : natural := 2;
   -- register map minor version (compatible additions)
-  constant VERSION_MINOR_c : natural := 1;
+  constant VERSION_MINOR_c : natural := 2;
   -- byte address of the feature-memory window; register offsets lie below it
   constant MEM_BASE_c : natural := 16#10000#;
   -- feature-memory banks (double buffering)
@@ -36,7 +36,7 @@ package orb_regs_pkg is
   constant REG_VERSION_c         : natural := 16#004#;
   constant REG_VERSION_IDX_c     : natural := 1;
   constant REG_VERSION_MASK_c    : std_logic_vector(31 downto 0) := x"FFFFFFFF";
-  constant REG_VERSION_RESET_c   : std_logic_vector(31 downto 0) := x"00020001";
+  constant REG_VERSION_RESET_c   : std_logic_vector(31 downto 0) := x"00020002";
   constant VERSION_MINOR_LSB_c   : natural := 0;
   constant VERSION_MINOR_MSB_c   : natural := 15;
   constant VERSION_MINOR_RESET_c : natural := VERSION_MINOR_c;
@@ -94,14 +94,17 @@ package orb_regs_pkg is
   constant CTRL_MODE_RESET_c       : natural := 0;
   constant CTRL_MODE_MAX_c         : natural := 1;
 
-  -- THRESHOLD (rw): FAST threshold; the accelerator applies a new value from the next frame on
+  -- THRESHOLD (rw): FAST thresholds; the accelerator applies new values from the next frame on
   constant REG_THRESHOLD_c             : natural := 16#018#;
   constant REG_THRESHOLD_IDX_c         : natural := 6;
-  constant REG_THRESHOLD_MASK_c        : std_logic_vector(31 downto 0) := x"000000FF";
-  constant REG_THRESHOLD_RESET_c       : std_logic_vector(31 downto 0) := x"00000014";
+  constant REG_THRESHOLD_MASK_c        : std_logic_vector(31 downto 0) := x"0000FFFF";
+  constant REG_THRESHOLD_RESET_c       : std_logic_vector(31 downto 0) := x"00000714";
   constant THRESHOLD_THRESHOLD_LSB_c   : natural := 0;
   constant THRESHOLD_THRESHOLD_MSB_c   : natural := 7;
   constant THRESHOLD_THRESHOLD_RESET_c : natural := 20;
+  constant THRESHOLD_LOW_LSB_c         : natural := 8;
+  constant THRESHOLD_LOW_MSB_c         : natural := 15;
+  constant THRESHOLD_LOW_RESET_c       : natural := 7;
 
   -- STATUS (ro): status flags of the other blocks
   constant REG_STATUS_c              : natural := 16#01C#;
@@ -141,9 +144,26 @@ package orb_regs_pkg is
   constant PROTO_ERRORS_COUNT_MSB_c   : natural := 31;
   constant PROTO_ERRORS_COUNT_RESET_c : natural := 0;
 
+  -- SELECT (rw): feature selection (docs/selection.md); the accelerator applies new values from the next frame on
+  constant REG_SELECT_c          : natural := 16#02C#;
+  constant REG_SELECT_IDX_c      : natural := 11;
+  constant REG_SELECT_MASK_c     : std_logic_vector(31 downto 0) := x"0FFFFF03";
+  constant REG_SELECT_RESET_c    : std_logic_vector(31 downto 0) := x"03FF5001";
+  constant SELECT_MODE_LSB_c     : natural := 0;
+  constant SELECT_MODE_MSB_c     : natural := 1;
+  constant SELECT_MODE_RESET_c   : natural := 1;
+  constant SELECT_MODE_MAX_c     : natural := 1;
+  constant SELECT_CELL_LSB_c     : natural := 8;
+  constant SELECT_CELL_MSB_c     : natural := 15;
+  constant SELECT_CELL_RESET_c   : natural := 80;
+  constant SELECT_CELL_MIN_c     : natural := 16;
+  constant SELECT_BUDGET_LSB_c   : natural := 16;
+  constant SELECT_BUDGET_MSB_c   : natural := 27;
+  constant SELECT_BUDGET_RESET_c : natural := 1023;
+
   -- IRQ_ENABLE (rw): interrupt enable: irq = OR(IRQ_STATUS AND IRQ_ENABLE)
   constant REG_IRQ_ENABLE_c              : natural := 16#030#;
-  constant REG_IRQ_ENABLE_IDX_c          : natural := 11;
+  constant REG_IRQ_ENABLE_IDX_c          : natural := 12;
   constant REG_IRQ_ENABLE_MASK_c         : std_logic_vector(31 downto 0) := x"00000003";
   constant REG_IRQ_ENABLE_RESET_c        : std_logic_vector(31 downto 0) := x"00000000";
   constant IRQ_ENABLE_FRAME_DONE_LSB_c   : natural := 0;
@@ -155,7 +175,7 @@ package orb_regs_pkg is
 
   -- IRQ_STATUS (w1c): interrupt status: set by input pulses, cleared by writing 1 (a pulse in the clearing clock wins)
   constant REG_IRQ_STATUS_c              : natural := 16#034#;
-  constant REG_IRQ_STATUS_IDX_c          : natural := 12;
+  constant REG_IRQ_STATUS_IDX_c          : natural := 13;
   constant REG_IRQ_STATUS_MASK_c         : std_logic_vector(31 downto 0) := x"00000003";
   constant REG_IRQ_STATUS_RESET_c        : std_logic_vector(31 downto 0) := x"00000000";
   constant IRQ_STATUS_FRAME_DONE_LSB_c   : natural := 0;
@@ -167,7 +187,7 @@ package orb_regs_pkg is
 
   -- BANK_RELEASE (wo): feature-memory handshake: the CPU hands a read bank back
   constant REG_BANK_RELEASE_c        : natural := 16#038#;
-  constant REG_BANK_RELEASE_IDX_c    : natural := 13;
+  constant REG_BANK_RELEASE_IDX_c    : natural := 14;
   constant REG_BANK_RELEASE_MASK_c   : std_logic_vector(31 downto 0) := x"0000000F";
   constant REG_BANK_RELEASE_RESET_c  : std_logic_vector(31 downto 0) := x"00000000";
   constant BANK_RELEASE_BANK_LSB_c   : natural := 0;
@@ -177,7 +197,7 @@ package orb_regs_pkg is
 
   -- BANK0_INFO (ro): header of feature-memory bank 0, valid while STATUS.bank_ready bit 0 is set
   constant REG_BANK0_INFO_c         : natural := 16#040#;
-  constant REG_BANK0_INFO_IDX_c     : natural := 14;
+  constant REG_BANK0_INFO_IDX_c     : natural := 15;
   constant REG_BANK0_INFO_MASK_c    : std_logic_vector(31 downto 0) := x"FFFFFFFF";
   constant BANK0_INFO_COUNT_LSB_c   : natural := 0;
   constant BANK0_INFO_COUNT_MSB_c   : natural := 15;
@@ -188,7 +208,7 @@ package orb_regs_pkg is
 
   -- BANK1_INFO (ro): header of feature-memory bank 1, valid while STATUS.bank_ready bit 1 is set
   constant REG_BANK1_INFO_c         : natural := 16#044#;
-  constant REG_BANK1_INFO_IDX_c     : natural := 15;
+  constant REG_BANK1_INFO_IDX_c     : natural := 16;
   constant REG_BANK1_INFO_MASK_c    : std_logic_vector(31 downto 0) := x"FFFFFFFF";
   constant BANK1_INFO_COUNT_LSB_c   : natural := 0;
   constant BANK1_INFO_COUNT_MSB_c   : natural := 15;
@@ -199,7 +219,7 @@ package orb_regs_pkg is
 
   -- OVERRUN (ro): frames not stored because the CPU still held the bank they needed
   constant REG_OVERRUN_c         : natural := 16#048#;
-  constant REG_OVERRUN_IDX_c     : natural := 16;
+  constant REG_OVERRUN_IDX_c     : natural := 17;
   constant REG_OVERRUN_MASK_c    : std_logic_vector(31 downto 0) := x"FFFFFFFF";
   constant OVERRUN_COUNT_LSB_c   : natural := 0;
   constant OVERRUN_COUNT_MSB_c   : natural := 31;
@@ -207,7 +227,7 @@ package orb_regs_pkg is
 
   -- OVERFLOW_COUNT (ro): features not stored because their frame filled its bank (truncated frames)
   constant REG_OVERFLOW_COUNT_c         : natural := 16#04C#;
-  constant REG_OVERFLOW_COUNT_IDX_c     : natural := 17;
+  constant REG_OVERFLOW_COUNT_IDX_c     : natural := 18;
   constant REG_OVERFLOW_COUNT_MASK_c    : std_logic_vector(31 downto 0) := x"FFFFFFFF";
   constant OVERFLOW_COUNT_COUNT_LSB_c   : natural := 0;
   constant OVERFLOW_COUNT_COUNT_MSB_c   : natural := 31;
@@ -215,7 +235,7 @@ package orb_regs_pkg is
 
   -- DESC_LOST (ro): features whose descriptor window never came (malformed frames only)
   constant REG_DESC_LOST_c         : natural := 16#050#;
-  constant REG_DESC_LOST_IDX_c     : natural := 18;
+  constant REG_DESC_LOST_IDX_c     : natural := 19;
   constant REG_DESC_LOST_MASK_c    : std_logic_vector(31 downto 0) := x"FFFFFFFF";
   constant DESC_LOST_COUNT_LSB_c   : natural := 0;
   constant DESC_LOST_COUNT_MSB_c   : natural := 31;
@@ -223,7 +243,7 @@ package orb_regs_pkg is
 
   -- DISCARDED (ro): input pixels outside any open frame (no start of frame, extra lines)
   constant REG_DISCARDED_c         : natural := 16#054#;
-  constant REG_DISCARDED_IDX_c     : natural := 19;
+  constant REG_DISCARDED_IDX_c     : natural := 20;
   constant REG_DISCARDED_MASK_c    : std_logic_vector(31 downto 0) := x"FFFFFFFF";
   constant DISCARDED_COUNT_LSB_c   : natural := 0;
   constant DISCARDED_COUNT_MSB_c   : natural := 31;
@@ -233,9 +253,11 @@ package orb_regs_pkg is
   -- offset, access, defined bits (mask), reset value of its stored bits or, for a ro register, the
   -- constant value of its fields (reset; 0 in live fields), the bits that follow a generic or an
   -- input port, wired by hand in orb_axil_regs (live), and the pulse fields, which read 0 (pulse).
-  -- REG_LIMITS_c lists the fields with a maximum: a write of a larger value answers SLVERR (mask:
-  -- the field's bits; max: the largest legal value in place; a map without such fields gets one
-  -- entry with mask 0, which never refuses).
+  -- REG_LIMITS_c lists the fields with a minimum or a maximum: a write of a value outside them
+  -- answers SLVERR (mask: the field's bits; min, max: the smallest and largest legal values in
+  -- place; depth: the largest legal value is MEM_DEPTH_g - 1 instead of max, which orb_axil_regs
+  -- puts in place with lsb; a map without such fields gets one entry with mask 0, which never
+  -- refuses).
   type reg_access_t is (access_ro, access_rw, access_w1c, access_wo);
 
   type reg_desc_t is record
@@ -250,29 +272,33 @@ package orb_regs_pkg is
   type reg_desc_array_t is array (natural range <>) of reg_desc_t;
 
   type reg_limit_t is record
-    reg  : natural;
-    mask : std_logic_vector(31 downto 0);
-    max  : std_logic_vector(31 downto 0);
+    reg   : natural;
+    mask  : std_logic_vector(31 downto 0);
+    min   : std_logic_vector(31 downto 0);
+    max   : std_logic_vector(31 downto 0);
+    depth : boolean;
+    lsb   : natural;
   end record reg_limit_t;
 
   type reg_limit_array_t is array (natural range <>) of reg_limit_t;
 
-  constant REG_COUNT_c : positive := 20;
+  constant REG_COUNT_c : positive := 21;
 
   constant REGS_c : reg_desc_array_t(0 to REG_COUNT_c - 1) :=
   (
     -- register              => (offset, access, mask, reset, live, pulse)
     REG_ID_IDX_c             => (REG_ID_c, access_ro, x"FFFFFFFF", x"4F524231", x"00000000", x"00000000"),
-    REG_VERSION_IDX_c        => (REG_VERSION_c, access_ro, x"FFFFFFFF", x"00020001", x"00000000", x"00000000"),
+    REG_VERSION_IDX_c        => (REG_VERSION_c, access_ro, x"FFFFFFFF", x"00020002", x"00000000", x"00000000"),
     REG_CFG_SIZE_IDX_c       => (REG_CFG_SIZE_c, access_ro, x"FFFFFFFF", x"00000000", x"FFFFFFFF", x"00000000"),
     REG_CFG_ORB_IDX_c        => (REG_CFG_ORB_c, access_ro, x"1FFFFF0F", x"00020000", x"1FF0FF0F", x"00000000"),
     REG_CFG_MEM_IDX_c        => (REG_CFG_MEM_c, access_ro, x"0FFFFFFF", x"00000000", x"0FFFFFFF", x"00000000"),
     REG_CTRL_IDX_c           => (REG_CTRL_c, access_rw, x"00000033", x"00000000", x"00000000", x"00000002"),
-    REG_THRESHOLD_IDX_c      => (REG_THRESHOLD_c, access_rw, x"000000FF", x"00000014", x"00000000", x"00000000"),
+    REG_THRESHOLD_IDX_c      => (REG_THRESHOLD_c, access_rw, x"0000FFFF", x"00000714", x"00000000", x"00000000"),
     REG_STATUS_IDX_c         => (REG_STATUS_c, access_ro, x"00000113", x"00000000", x"00000113", x"00000000"),
     REG_FRAME_COUNT_IDX_c    => (REG_FRAME_COUNT_c, access_ro, x"FFFFFFFF", x"00000000", x"FFFFFFFF", x"00000000"),
     REG_DROPPED_IDX_c        => (REG_DROPPED_c, access_ro, x"FFFFFFFF", x"00000000", x"FFFFFFFF", x"00000000"),
     REG_PROTO_ERRORS_IDX_c   => (REG_PROTO_ERRORS_c, access_ro, x"FFFFFFFF", x"00000000", x"FFFFFFFF", x"00000000"),
+    REG_SELECT_IDX_c         => (REG_SELECT_c, access_rw, x"0FFFFF03", x"03FF5001", x"00000000", x"00000000"),
     REG_IRQ_ENABLE_IDX_c     => (REG_IRQ_ENABLE_c, access_rw, x"00000003", x"00000000", x"00000000", x"00000000"),
     REG_IRQ_STATUS_IDX_c     => (REG_IRQ_STATUS_c, access_w1c, x"00000003", x"00000000", x"00000000", x"00000000"),
     REG_BANK_RELEASE_IDX_c   => (REG_BANK_RELEASE_c, access_wo, x"0000000F", x"00000000", x"00000000", x"00000000"),
@@ -284,11 +310,14 @@ package orb_regs_pkg is
     REG_DISCARDED_IDX_c      => (REG_DISCARDED_c, access_ro, x"FFFFFFFF", x"00000000", x"FFFFFFFF", x"00000000")
   );
 
-  constant REG_LIMITS_c : reg_limit_array_t(0 to 1) :=
+  constant REG_LIMITS_c : reg_limit_array_t(0 to 4) :=
   (
-    -- field => (register, mask, max)
-    0 => (REG_CTRL_IDX_c, x"00000030", x"00000010"),        -- CTRL.mode
-    1 => (REG_BANK_RELEASE_IDX_c, x"0000000F", x"00000001") -- BANK_RELEASE.bank
+    -- field => (register, mask, min, max, depth, lsb)
+    0 => (REG_CTRL_IDX_c, x"00000030", x"00000000", x"00000010", false, 4),        -- CTRL.mode
+    1 => (REG_SELECT_IDX_c, x"00000003", x"00000000", x"00000001", false, 0),      -- SELECT.mode
+    2 => (REG_SELECT_IDX_c, x"0000FF00", x"00001000", x"0000FF00", false, 8),      -- SELECT.cell
+    3 => (REG_SELECT_IDX_c, x"0FFF0000", x"00000000", x"0FFF0000", true, 16),      -- SELECT.budget
+    4 => (REG_BANK_RELEASE_IDX_c, x"0000000F", x"00000000", x"00000001", false, 0) -- BANK_RELEASE.bank
   );
 
 end package orb_regs_pkg;

@@ -47,6 +47,52 @@ def one_image(args):
     warped = [(hm, sb.warp(img, hm)) for hm, _ in warped]
     res = {}
     cvcache = {}
+    for vn, v in variants.items():
+        if v["policy"] != "model":
+            continue
+        import golden_model.response as gr
+        from dataclasses import replace as dreplace
+
+        from golden_model.config import Config
+        from golden_model.pipeline import DESC_BORDER, candidates
+        from golden_model.scaler import pyramid as pyr
+        from golden_model.select import select_grid
+
+        gr.MANTISSA_BITS = v["kw"].get("mbits", 1)
+        gr.GRAD_SHIFT = v["kw"].get("gshift", 2)
+        gr.SUM_SHIFT = v["kw"].get("sshift", 5)
+
+        def run_model(im, v=v):
+            h, w = im.shape
+            nlev = v.get("levels", 5)
+            while nlev > 1:
+                lw, lh = pyr(im, nlev, (5, 4))[-1].shape[::-1]
+                if lw >= 2 * DESC_BORDER + 1 and lh >= 2 * DESC_BORDER + 1:
+                    break
+                nlev -= 1
+            cfg = Config(w, h, scales=nlev, step_num=5, step_den=4, sectors=64, threshold=20,
+                         threshold_lo=v["t_lo"], selection="grid", budget=v["budget"], cell=v["kw"].get("cell", 80))
+            f = select_grid(candidates(im, cfg), cfg.budget, cfg.scales, cfg.cell)
+            x0, y0 = f.full_res()
+            return lib.Pts(x0, y0, f.descriptor, f.scale)
+
+        ref = run_model(img)
+        n = len(ref)
+        tot = np.zeros((len(sb.SCALE_CHANGES), 5), np.int64)
+        ctot = np.zeros((len(sb.SCALE_CHANGES), 5), np.int64)
+        if n not in cvcache:
+            cvcache[n] = (cv_default(img, n), [cv_default(w, n) for _, w in warped])
+        cref, cw = cvcache[n]
+        for (hm, w), h, c2 in zip(warped, hs, cw):
+            si = sb.SCALE_CHANGES.index(h[1])
+            tot[si] += sb.pair_counts(to_points(ref), to_points(run_model(w)), hm, img.shape)
+            ctot[si] += sb.pair_counts(cref, c2, hm, img.shape)
+        res[vn] = {"ours": tot.tolist(), "cv": ctot.tolist(), "n": n, "cov": lib.coverage(ref, img.shape[1], img.shape[0])}
+    variants = {k: v for k, v in variants.items() if v["policy"] != "model"}
+    groups = {}
+    for vn, v in variants.items():
+        groups.setdefault((v["t_lo"], v.get("step", (5, 4)), v.get("levels", 5), v.get("sectors", 64)), []).append(vn)
+    measures = tuple(sorted({v["kw"].get("measure", "sad") for v in variants.values()}))
     for (t_lo, step, nlev, sectors), names in groups.items():
         ref_c = lib.candidates(img, step, nlev, 20, t_lo, sectors, measures)
         war_c = [lib.candidates(w, step, nlev, 20, t_lo, sectors, measures) for _, w in warped]

@@ -61,3 +61,14 @@ for m in ("harris:5:sm:2:q3", "harris:5:raw:2:q3", "harris:5:sm:2:q2", "harris:5
     tag = m.replace("harris:", "h").replace(":", "")
     add(f"topn-{tag}", "topn", measure=m)
     add(f"fl-c80-nr-{tag}-lo7", "floor", t_lo=7, measure=m, cell=80, two_thr=True, reserve=False)
+
+# the golden model's own grid selection (exact streaming semantics), response code with B mantissa bits
+for b in (1, 2, 3):
+    for c in (48, 64, 80, 96, 128):
+        for lo in (7, 10, 20):
+            add(f"model-b{b}-c{c}-lo{lo}", "model", t_lo=lo, mbits=b, cell=c)
+            add(f"model-b{b}-c{c}-lo{lo}-n1500", "model", budget=1500, t_lo=lo, mbits=b, cell=c)
+
+# gradient precision: >> 3 (8-bit gradients, two products per DSP48) with sums >> 3
+add("model-b1-c80-lo7-g3", "model", t_lo=7, mbits=1, cell=80, gshift=3, sshift=3)
+add("model-b1-c80-lo7-g3s4", "model", t_lo=7, mbits=1, cell=80, gshift=3, sshift=4)

@@ -54,6 +54,13 @@ class Fld:
     max: int | None = None
     pulse: bool = False
     values: dict[int, str] = field(default_factory=dict)
+    min: int | None = None
+    max_generic: str | None = None  # the largest legal written value is this generic of orb_axil_regs minus 1
+
+    @property
+    def limited(self) -> bool:
+        """Whether a written value of this field is checked against a minimum or a maximum."""
+        return self.max is not None or self.min is not None or self.max_generic is not None
 
     @property
     def width(self) -> int:
@@ -119,6 +126,8 @@ def load(path: Path = DATA) -> RegMap:
                     f.get("max"),
                     bool(f.get("pulse", False)),
                     values,
+                    f.get("min"),
+                    f.get("max_generic"),
                 )
             )
         regs.append(Reg(r["name"], int(r["offset"]), r["access"], str(r["description"]), tuple(fields)))
@@ -178,8 +187,12 @@ def check(rm: RegMap) -> None:
                 raise RegMapError(f"{fw}: reset {value} does not fit {f.width} bits")
             if f.max is not None and not (0 <= f.max < (1 << f.width) - 1 and value <= f.max):
                 raise RegMapError(f"{fw}: max {f.max} must be below the field's all-ones value and >= reset")
-            if (f.max is not None or f.pulse) and r.access not in ("rw", "wo"):
-                raise RegMapError(f"{fw}: max and pulse need a rw or wo register")
+            if f.min is not None and not (0 < f.min <= value and (f.max is None or f.min <= f.max)):
+                raise RegMapError(f"{fw}: min {f.min} must be above 0 and <= reset and max")
+            if f.max_generic is not None and (f.max is not None or not GENERIC_RE.match(f.max_generic)):
+                raise RegMapError(f"{fw}: max_generic names a generic (NAME_g) and excludes max")
+            if (f.limited or f.pulse) and r.access not in ("rw", "wo"):
+                raise RegMapError(f"{fw}: min, max and pulse need a rw or wo register")
             if f.port is not None and r.access != "ro":
                 raise RegMapError(f"{fw}: a field following an input port must be ro")
 
@@ -238,9 +251,11 @@ VHDL_TYPES = """\
   -- offset, access, defined bits (mask), reset value of its stored bits or, for a ro register, the
   -- constant value of its fields (reset; 0 in live fields), the bits that follow a generic or an
   -- input port, wired by hand in orb_axil_regs (live), and the pulse fields, which read 0 (pulse).
-  -- REG_LIMITS_c lists the fields with a maximum: a write of a larger value answers SLVERR (mask:
-  -- the field's bits; max: the largest legal value in place; a map without such fields gets one
-  -- entry with mask 0, which never refuses).
+  -- REG_LIMITS_c lists the fields with a minimum or a maximum: a write of a value outside them
+  -- answers SLVERR (mask: the field's bits; min, max: the smallest and largest legal values in
+  -- place; depth: the largest legal value is MEM_DEPTH_g - 1 instead of max, which orb_axil_regs
+  -- puts in place with lsb; a map without such fields gets one entry with mask 0, which never
+  -- refuses).
   type reg_access_t is (access_ro, access_rw, access_w1c, access_wo);
 
   type reg_desc_t is record
@@ -255,9 +270,12 @@ VHDL_TYPES = """\
   type reg_desc_array_t is array (natural range <>) of reg_desc_t;
 
   type reg_limit_t is record
-    reg  : natural;
-    mask : std_logic_vector(31 downto 0);
-    max  : std_logic_vector(31 downto 0);
+    reg   : natural;
+    mask  : std_logic_vector(31 downto 0);
+    min   : std_logic_vector(31 downto 0);
+    max   : std_logic_vector(31 downto 0);
+    depth : boolean;
+    lsb   : natural;
   end record reg_limit_t;
 
   type reg_limit_array_t is array (natural range <>) of reg_limit_t;
@@ -277,18 +295,20 @@ def render_vhdl_tables(rm: RegMap) -> list[str]:
         sep = "," if i < len(rm.registers) - 1 else ""
         out.append(f"    {f'REG_{r.name}_IDX_c'.ljust(width)} => (REG_{r.name}_c, {acc}, {words}){sep}")
     out.append("  );")
-    limits = [(r, f) for r in rm.registers for f in r.fields if f.max is not None]
+    limits = [(r, f) for r in rm.registers for f in r.fields if f.limited]
     out.append("")
     out.append(f"  constant REG_LIMITS_c : reg_limit_array_t(0 to {max(len(limits), 1) - 1}) :=")
     out.append("  (")
-    out.append("    -- field => (register, mask, max)")
+    out.append("    -- field => (register, mask, min, max, depth, lsb)")
     if not limits:
-        out.append(f"    0 => (0, {vhex(0)}, {vhex(0)})")
-    rows = [
-        f"    {k} => (REG_{r.name}_IDX_c, {vhex(f.mask)}, {vhex(f.max << f.lsb)})"
-        + ("," if k < len(limits) - 1 else "")
-        for k, (r, f) in enumerate(limits)
-    ]
+        out.append(f"    0 => (0, {vhex(0)}, {vhex(0)}, {vhex(0)}, false, 0)")
+
+    def limit_row(r: Reg, f: Fld) -> str:
+        top = f.mask if f.max is None else f.max << f.lsb
+        depth = "true" if f.max_generic is not None else "false"
+        return f"(REG_{r.name}_IDX_c, {vhex(f.mask)}, {vhex((f.min or 0) << f.lsb)}, {vhex(top)}, {depth}, {f.lsb})"
+
+    rows = [f"    {k} => {limit_row(r, f)}" + ("," if k < len(limits) - 1 else "") for k, (r, f) in enumerate(limits)]
     width = max((len(row) for row in rows), default=0)
     out += [f"{row.ljust(width)} -- {r.name}.{f.name}" for row, (r, f) in zip(rows, limits, strict=True)]
     out.append("  );")
@@ -341,6 +361,8 @@ def render_vhdl(rm: RegMap) -> str:
                 out.append(f"  constant {p}_RESET_c : natural := {f.reset}_c;")
             if f.max is not None:
                 out.append(f"  constant {p}_MAX_c : natural := {f.max};")
+            if f.min is not None:
+                out.append(f"  constant {p}_MIN_c : natural := {f.min};")
         out.append("")
     out += render_vhdl_tables(rm)
     out.append("end package orb_regs_pkg;")
@@ -364,6 +386,10 @@ def pyfield(rm: RegMap, f: Fld) -> list[str]:
         args.append(f"port={pystr(f.port)}")
     if f.max is not None:
         args.append(f"max={f.max}")
+    if f.min is not None:
+        args.append(f"min={f.min}")
+    if f.max_generic is not None:
+        args.append(f"max_generic={pystr(f.max_generic)}")
     if f.pulse:
         args.append("pulse=True")
     lines = ["        Field("]
@@ -392,8 +418,9 @@ PY_CLASSES = '''
 @dataclass(frozen=True)
 class Field:
     """Bits lsb .. lsb + width - 1 of a register. reset is None when the value is a generic of
-    orb_axil_regs (generic names it); port names the input a ro field shows; max is the largest
-    legal written value (a larger one answers SLVERR); pulse fields read 0."""
+    orb_axil_regs (generic names it); port names the input a ro field shows; min and max are the
+    smallest and largest legal written values (others answer SLVERR), max_generic a generic of
+    orb_axil_regs whose value minus 1 is the largest; pulse fields read 0."""
 
     name: str
     lsb: int
@@ -404,10 +431,20 @@ class Field:
     port: str | None = None
     max: int | None = None
     pulse: bool = False
+    min: int | None = None
+    max_generic: str | None = None
 
     @property
     def mask(self) -> int:
         return ((1 << self.width) - 1) << self.lsb
+
+    def legal_value(self, value: int, generics: Mapping[str, int] | None = None) -> bool:
+        """Whether value may be written to this field (generics: NAME_g values for max_generic; a
+        missing one leaves only the field's width as the maximum)."""
+        top = (1 << self.width) - 1 if self.max is None else self.max
+        if self.max_generic is not None and generics is not None and self.max_generic in generics:
+            top = min(top, generics[self.max_generic] - 1)
+        return (self.min or 0) <= value <= top
 
     def get(self, word: int) -> int:
         """This field's value in a register word."""
@@ -458,11 +495,12 @@ class Register:
             word |= (value << f.lsb) & f.mask
         return word
 
-    def legal(self, word: int) -> bool:
-        """Whether a rw or wo write of word is accepted (no reserved bit set, no field above its max)."""
+    def legal(self, word: int, generics: Mapping[str, int] | None = None) -> bool:
+        """Whether a rw or wo write of word is accepted (no reserved bit set, every field within its
+        minimum and maximum; generics: NAME_g values for the max_generic fields)."""
         if word & ~self.mask & 0xFFFFFFFF:
             return False
-        return all(f.max is None or f.get(word) <= f.max for f in self.fields)
+        return all(f.legal_value(f.get(word), generics) for f in self.fields)
 
 '''
 
@@ -554,10 +592,11 @@ def render_markdown(rm: RegMap) -> str:
                 legal = "-"
             elif f.pulse:
                 legal = "1 pulses, 0 does nothing"
-            elif f.max is not None:
-                legal = f"0 .. {f.max}"
             else:
-                legal = f"0 .. {(1 << f.width) - 1}"
+                top = str(f.max) if f.max is not None else str((1 << f.width) - 1)
+                if f.max_generic is not None:
+                    top = f"`{f.max_generic}` - 1"
+                legal = f"{f.min or 0} .. {top}"
             desc = f.description
             if f.values:
                 desc += "; " + ", ".join(f"{k} = {v}" for k, v in sorted(f.values.items()))

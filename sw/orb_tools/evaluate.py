@@ -68,7 +68,7 @@ def compare_fast_one(name: str, img: np.ndarray, threshold: int) -> dict:
     """One row of :func:`compare_fast`."""
     raw_ours = fast_score(img, threshold) > 0
     raw_cv = raw_corner_map_opencv(img, threshold)
-    xo, yo, _ = detect(img, threshold)
+    xo, yo, *_ = detect(img, threshold)
     xc, yc = fast_keypoints(img, threshold, nonmax=True)
     w = img.shape[1]
     coincident = len(np.intersect1d(yo * w + xo, yc * w + xc))

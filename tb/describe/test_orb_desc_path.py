@@ -133,7 +133,7 @@ def check(got: list[Feature], exp: list[Feature], what: str) -> None:
 
 def photo_case(name: str, w: int, h: int, threshold: int, n: int):
     img = images.photo(name, w, h)
-    xs, ys, score = detect(img, threshold)
+    xs, ys, score, _ = detect(img, threshold)
     sm = smooth(img)
     feats = {(int(x), int(y)): int(s) for x, y, s in zip(xs, ys, score, strict=True)}
     return tagged(sm), feats, expected(sm, xs, ys, score, n)

@@ -77,7 +77,7 @@ async def detect_frames(dut) -> None:
         )
         lo = dones[f - 1] if f else -1
         got = sorted((xyz for e, xyz in feats if lo < e <= dones[f]), key=lambda v: (v[1], v[0]))
-        xs, ys, score = detect(img, t)
+        xs, ys, score, _ = detect(img, t)
         exp = [(int(x), int(y), int(s)) for x, y, s in zip(xs, ys, score, strict=True)]
         diff = first_difference(got, exp)
         assert diff is None, f"{where}: {diff}"

@@ -125,7 +125,7 @@ def test_errors(server: SimServer) -> None:
         accel = OrbAccel(bus)
         reads = bus.reads
         with pytest.raises(BusError, match="SLVERR"):
-            bus.read32(0x2C)  # an offset below MEM_BASE that names no register
+            bus.read32(0x3C)  # an offset below MEM_BASE that names no register
         with pytest.raises(BusError, match="SLVERR"):
             bus.write32(regs.ID.offset, 1)
         for bad, text in ((256, "0..255"), (-1, "0..255"), (True, "0..255")):

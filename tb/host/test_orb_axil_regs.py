@@ -130,7 +130,7 @@ class Model:
         if r.access == "w1c":
             self.values[r.name] &= ~(merged & r.mask)
             return OKAY
-        if not r.legal(merged):
+        if not r.legal(merged, self.generics):
             return SLVERR
         if r.access == "wo":  # BANK_RELEASE
             if strb & 1:
@@ -238,6 +238,11 @@ async def reset_values(dut) -> None:
     b = Bench(dut)
     await b.start(pause_prob=0.3, seed=2)
     assert int(dut.threshold.value) == regs.THRESHOLD.field("threshold").reset
+    assert int(dut.threshold_lo.value) == regs.THRESHOLD.field("low").reset
+    assert int(dut.select_grid.value) == regs.SELECT.field("mode").reset
+    assert int(dut.cell_size.value) == regs.SELECT.field("cell").reset
+    # the budget's reset value, at most the bank's capacity
+    assert int(dut.budget.value) == min(regs.SELECT.field("budget").reset, b.g["MEM_DEPTH_g"] - 1)
     assert int(dut.mode_orb.value) == (regs.CTRL.field("mode").reset == 0)
     assert int(dut.enable.value) == regs.CTRL.field("enable").reset
     for name in ("irq", "soft_reset", "release_valid", "mem_rd_en"):
@@ -284,7 +289,7 @@ async def rw_round_trip(dut) -> None:
     # reserved bits do not count; strobed reserved bits do
     assert await b.write(thr.offset, 0x0000_77A5, strb=0x1) == OKAY
     assert await b.read_ok(thr) == 0xA5
-    assert await b.write(thr.offset, 0x0000_7733, strb=0x3) == SLVERR
+    assert await b.raw_write(thr.offset, 0x0077_0033, 0x5) == SLVERR  # byte 2 is reserved
     assert await b.read_ok(thr) == 0xA5
     word = ctrl.field("mode").put(1, ctrl.field("enable").put(1))
     assert await b.write(ctrl.offset, word) == OKAY
@@ -323,7 +328,7 @@ async def illegal_values(dut) -> None:
         word = ctrl.field("mode").put(mode, ctrl.field("soft_reset").put(1))
         assert await b.write(ctrl.offset, word) == SLVERR, f"CTRL.mode = {mode} accepted"
     assert await b.write(ctrl.offset, good | 1 << 8) == SLVERR, "CTRL reserved bit 8 accepted"
-    assert await b.write(thr.offset, 0x100) == SLVERR, "THRESHOLD 0x100 accepted"
+    assert await b.write(thr.offset, 0x10000) == SLVERR, "THRESHOLD 0x10000 accepted"
     assert await b.write(thr.offset, 0xFFFFFFFF) == SLVERR
     assert await b.write(ien.offset, 0x4) == SLVERR
     for bank in (regs.BANKS, 7, 15):
@@ -339,6 +344,42 @@ async def illegal_values(dut) -> None:
 
 
 @cocotb.test()
+async def select_limits(dut) -> None:
+    """SELECT: the cell's minimum and the budget's maximum (the bank's capacity, MEM_DEPTH_g - 1) answer
+    SLVERR just outside and OKAY just inside; outputs follow; byte strobes merge before the check."""
+    b = Bench(dut)
+    await b.start(pause_prob=0.3, seed=13)
+    sel = regs.SELECT
+    cap = min(b.g["MEM_DEPTH_g"] - 1, (1 << sel.field("budget").width) - 1)
+
+    def word(mode: int, cell: int, budget: int) -> int:
+        return sel.field("mode").put(mode, sel.field("cell").put(cell, sel.field("budget").put(budget)))
+
+    good = word(1, 16, cap)
+    assert await b.write(sel.offset, good) == OKAY
+    assert await b.read_ok(sel) == good
+    assert int(dut.cell_size.value) == 16 and int(dut.budget.value) == cap and int(dut.select_grid.value) == 1
+    assert await b.write(sel.offset, word(1, 15, cap)) == SLVERR, "cell 15 accepted"
+    assert await b.write(sel.offset, word(1, 0, 0)) == SLVERR, "cell 0 accepted"
+    if cap < (1 << sel.field("budget").width) - 1:
+        assert await b.write(sel.offset, word(1, 80, cap + 1)) == SLVERR, f"budget {cap + 1} accepted"
+    assert await b.write(sel.offset, word(2, 80, 0)) == SLVERR, "mode 2 accepted"
+    assert await b.write(sel.offset, good | 1 << 30) == SLVERR, "reserved bit 30 accepted"
+    assert await b.read_ok(sel) == good, "a refused write changed SELECT"
+    # byte lane 1 alone: the cell, checked after the merge
+    assert await b.raw_write(sel.offset, 0x0000_0F00, 0x2) == SLVERR
+    assert await b.raw_write(sel.offset, 0x0000_FF00, 0x2) == OKAY
+    assert await b.read_ok(sel) == word(1, 255, cap) and int(dut.cell_size.value) == 255
+    assert await b.write(sel.offset, word(0, 200, 0)) == OKAY
+    await ClockCycles(dut.clk, 1)  # the budget output is registered (held at the capacity)
+    assert int(dut.select_grid.value) == 0 and int(dut.budget.value) == 0 and int(dut.cell_size.value) == 200
+    thr = regs.THRESHOLD
+    t = thr.field("threshold").put(40, thr.field("low").put(9))
+    assert await b.write(thr.offset, t) == OKAY
+    assert int(dut.threshold.value) == 40 and int(dut.threshold_lo.value) == 9
+
+
+@cocotb.test()
 async def slverr_addresses(dut) -> None:
     """Unknown and misaligned addresses, ro writes, memory-window writes: SLVERR, nothing changes."""
     b = Bench(dut)
@@ -346,7 +387,7 @@ async def slverr_addresses(dut) -> None:
     known = {r.offset for r in regs.REGISTERS}
     rng = np.random.default_rng(5)
     unknown = sorted(
-        {0x2C, 0x3C, 0x40, regs.MEM_BASE - 4} | {int(a) * 4 for a in rng.integers(0, regs.MEM_BASE // 4, 8)}
+        {0x3C, 0x40, 0x58, regs.MEM_BASE - 4} | {int(a) * 4 for a in rng.integers(0, regs.MEM_BASE // 4, 8)}
     )
     unknown = [a for a in unknown if a not in known]
     for a in unknown:
@@ -564,7 +605,7 @@ async def back_to_back(dut) -> None:
     b.set_pauses(0.5, seed=12)
     rng = np.random.default_rng(12)
     legal = rng.random(40) < 0.6
-    vals = [int(v) if ok else 0x100 | int(v) for v, ok in zip(rng.integers(0, 256, 40), legal, strict=True)]
+    vals = [int(v) if ok else 0x10000 | int(v) for v, ok in zip(rng.integers(0, 256, 40), legal, strict=True)]
     addrs = [int(rng.choice([regs.ID.offset, regs.BANK_RELEASE.offset, 0x3C, regs.MEM_BASE + 8])) for _ in range(40)]
     writes = [cocotb.start_soon(b.write(regs.THRESHOLD.offset, v)) for v in vals]
     reads = [cocotb.start_soon(b.read(a)) for a in addrs]
@@ -623,7 +664,12 @@ async def random_mix(dut) -> None:
     ctrl = model.values["CTRL"]
     assert int(dut.enable.value) == regs.CTRL.field("enable").get(ctrl)
     assert int(dut.mode_orb.value) == (regs.CTRL.field("mode").get(ctrl) == 0)
-    assert int(dut.threshold.value) == model.values["THRESHOLD"]
+    thr, sel = model.values["THRESHOLD"], model.values["SELECT"]
+    assert int(dut.threshold.value) == regs.THRESHOLD.field("threshold").get(thr)
+    assert int(dut.threshold_lo.value) == regs.THRESHOLD.field("low").get(thr)
+    assert int(dut.select_grid.value) == regs.SELECT.field("mode").get(sel)
+    assert int(dut.cell_size.value) == regs.SELECT.field("cell").get(sel)
+    assert int(dut.budget.value) == min(regs.SELECT.field("budget").get(sel), b.g["MEM_DEPTH_g"] - 1)
     irq = bool(model.values["IRQ_STATUS"] & model.values["IRQ_ENABLE"])
     assert int(dut.irq.value) == irq
     dut._log.info(

@@ -139,16 +139,19 @@ def test_vhdl_constants_equal_the_python_view() -> None:
 
 def parse_vhdl_tables(text: str) -> tuple[list[tuple], list[tuple[str, int, int]]]:
     """REGS_c's rows (index name, offset name, access, mask, reset, live, pulse) and REG_LIMITS_c's
-    rows (register index name, mask, max), parsed from the package text."""
+    rows (register index name, mask, min, max, depth flag, lsb), parsed from the package text."""
     regs_rows = re.findall(
         r"(REG_\w+_IDX)_c\s*=>\s*\((REG_\w+)_c, access_(\w+), "
         r'x"([0-9A-F]{8})", x"([0-9A-F]{8})", x"([0-9A-F]{8})", x"([0-9A-F]{8})"\)',
         text,
     )
-    limit_rows = re.findall(r'\d+\s*=>\s*\((REG_\w+_IDX)_c, x"([0-9A-F]{8})", x"([0-9A-F]{8})"\)', text)
+    limit_rows = re.findall(
+        r'\d+\s*=>\s*\((REG_\w+_IDX)_c, x"([0-9A-F]{8})", x"([0-9A-F]{8})", x"([0-9A-F]{8})", (true|false), (\d+)\)',
+        text,
+    )
     return (
         [(i, o, a, *(int(w, 16) for w in ws)) for i, o, a, *ws in regs_rows],
-        [(r, int(m, 16), int(x, 16)) for r, m, x in limit_rows],
+        [(r, int(m, 16), int(lo, 16), int(x, 16), d == "true", int(lsb)) for r, m, lo, x, d, lsb in limit_rows],
     )
 
 
@@ -166,7 +169,17 @@ def test_vhdl_register_file_tables_equal_the_python_view() -> None:
         assert row == (f"REG_{r.name}_IDX", f"REG_{r.name}", r.access, r.mask, fixed, live, pulse), r.name
     # (a map without maxima gets one entry `0 => (0, ...)` with mask 0, which the pattern skips)
     expected = [
-        (f"REG_{r.name}_IDX", f.mask, f.max << f.lsb) for r in regs.REGISTERS for f in r.fields if f.max is not None
+        (
+            f"REG_{r.name}_IDX",
+            f.mask,
+            (f.min or 0) << f.lsb,
+            f.mask if f.max is None else f.max << f.lsb,
+            f.max_generic is not None,
+            f.lsb,
+        )
+        for r in regs.REGISTERS
+        for f in r.fields
+        if f.max is not None or f.min is not None or f.max_generic is not None
     ]
     assert limits == expected
 
@@ -268,7 +281,12 @@ begin
     wr(REG_SCRATCH_c, x"00010000", "10");
     wr(REG_MAGIC2_c, x"00000000", "10");
     rd(REG_SCRATCH_c, x"0000053C", "00");
-    rd(REG_THRESHOLD_c, x"00000014", "00");
+    rd(REG_THRESHOLD_c, x"00000714", "00");
+    rd(REG_LEAST_c, x"00000014", "00");
+    wr(REG_LEAST_c, x"0000000F", "10");
+    wr(REG_LEAST_c, x"00000010", "00");
+    rd(REG_LEAST_c, x"00000010", "00");
+    wr(REG_LEAST_c, x"000000FF", "00");
     report "added registers: passed";
     done <= '1';
     wait;
@@ -291,6 +309,13 @@ def test_a_register_added_to_the_map_needs_no_decode_code(tmp_path: Path) -> Non
                 {"name": "sel", "bits": [10, 8], "reset": 2, "max": 5, "description": "limited"},
                 {"name": "go", "bits": [12, 12], "reset": 0, "pulse": True, "description": "pulse"},
             ],
+        },
+        {
+            "name": "LEAST",
+            "offset": top + 12,
+            "access": "rw",
+            "description": "test",
+            "fields": [{"name": "value", "bits": [7, 0], "reset": 20, "min": 16, "description": "at least 16"}],
         },
         {
             "name": "MAGIC2",

@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: MIT
-"""golden_model.select: per-level budgets (spec section 14), hand values and the rules on photographs."""
+"""golden_model.select: per-level budgets and the grid selection (spec section 14), hand values, the
+streaming form against the declarative rule, and the rules on photographs."""
 
 from __future__ import annotations
 
@@ -8,19 +9,24 @@ import pytest
 
 from golden_model import Config, extract
 from golden_model.features import NO_SECTOR, Features
-from golden_model.select import best_per_level, level_budgets
+from golden_model.pipeline import candidates
+from golden_model.select import LevelSelector, best_per_level, level_budgets, select_grid, select_level
 
 
 @pytest.mark.parametrize(
     ("total", "step", "levels", "budgets"),
     [
-        # q = 0.8: 1000 * 0.2 / (1 - 0.8^4) = 338.75 -> 339, 271.00 -> 271, 216.80 -> 217, rest 173
+        # F_k = round(2^16 * 125/369, 100/369, 80/369) = 22200, 17760, 14208:
+        # (1000 F_k + 2^15) >> 16 = 339, 271, 217, rest 173
         (1000, (5, 4), 4, [339, 271, 217, 173]),
-        # q = 0.5: 100 * 0.5 / (1 - 0.5^2) = 66.67 -> 67, rest 33
+        # F_0 = round(2^16 * 2/3) = 43691: 67, rest 33
         (100, (2, 1), 2, [67, 33]),
         (7, (5, 4), 1, [7]),
         (0, (5, 4), 3, [0, 0, 0]),
-        (3, (2, 1), 4, [2, 1, 0, 0]),  # 1.6 -> 2, 0.8 -> 1, 0.4 -> 0, rest max(3 - 3, 0)
+        # F = 34953, 17476, 8738: 2, 1, 0 (0.9 rounds down), then min(., 3 - 3) = 0, rest 0
+        (3, (2, 1), 4, [2, 1, 0, 0]),
+        # 1000 in 5 levels of 5:4 (docs/spec.md section 14's example)
+        (1000, (5, 4), 5, [297, 238, 190, 152, 123]),
     ],
 )
 def test_budgets_hand_values(total: int, step: tuple[int, int], levels: int, budgets: list[int]) -> None:
@@ -69,3 +75,118 @@ def test_selection_on_a_photograph(photographs) -> None:
     assert best_per_level(feats, 10**6, cfg.scales) == feats  # a budget above the count keeps all
     with pytest.raises(ValueError, match="scale 3"):
         best_per_level(feats, 600, 3)
+
+
+@pytest.mark.parametrize("step", [(2, 1), (5, 4), (3, 2), (9, 8), (15, 8), (16, 8)])
+def test_budgets_sum_to_the_total_and_follow_the_geometric_split(step: tuple[int, int]) -> None:
+    num, den = step
+    for levels in range(1, 9):
+        for total in [*list(range(0, 40)), 999, 1000, 2047, 4095]:
+            got = level_budgets(total, step, levels)
+            assert sum(got) == total and min(got) >= 0, (total, step, levels, got)
+            q = den / num
+            exact = [total * (1 - q) / (1 - q**levels) * q**k for k in range(levels)]
+            # every level but the last within one of its exact share, unless the total ran out
+            # (the min of the rule); the last takes the rest
+            for k in range(levels - 1):
+                assert got[k] <= exact[k] + 1.0, (total, step, levels, got)
+                assert got[k] >= exact[k] - 1.0 or sum(got[: k + 1]) == total, (total, step, levels, got)
+
+
+def _random_level(rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, int, int]:
+    """Candidates of a level in raster order (never two at one pixel), with low flags and codes."""
+    w, h = int(rng.integers(20, 200)), int(rng.integers(20, 200))
+    count = int(rng.integers(0, 150))
+    pos = np.sort(rng.choice(w * h, size=min(count, w * h), replace=False))
+    low = rng.random(len(pos)) < rng.random()
+    codes = rng.integers(0, int(rng.integers(1, 64)), len(pos))  # few codes: many ties
+    return pos % w, pos // w, low, codes, int(rng.integers(0, 40)), int(rng.integers(16, 90))
+
+
+def test_streaming_selector_keeps_exactly_the_declarative_selection() -> None:
+    """LevelSelector (what the fabric does, one candidate at a time) and select_level (spec 14) agree
+    on 3000 random levels: ties, low corners, more cells than places, budget 0."""
+    rng = np.random.default_rng(24)
+    for trial in range(3000):
+        x, y, low, codes, n, cell = _random_level(rng)
+        sel = LevelSelector(n, cell)
+        ops = [sel.offer(int(x[i]), int(y[i]), bool(low[i]), int(codes[i])) for i in range(len(x))]
+        want = select_level(x, y, low, codes, n, cell).tolist()
+        assert sel.kept() == want, f"trial {trial}: n={n} cell={cell}: streaming {sel.kept()} != {want}"
+        # slots: new ones in order 0, 1, ..., never more than n, and a replaced slot was in use
+        new = [op[0] for op in ops if op is not None and op[1]]
+        assert new == list(range(len(new))) and len(new) <= max(n, 0), f"trial {trial}"
+        for k, op in enumerate(ops):
+            if op is not None and not op[1]:
+                assert op[0] in new[: sum(1 for o in ops[:k] if o is not None and o[1])], f"trial {trial}"
+
+
+def test_selection_hand_case() -> None:
+    """Cells of 10 pixels, budget 3: floors first, then the rest by code, ties by joining time."""
+    #           cell (0,0) main 5, (0,0) main 9 (record: displaces 5), (1,0) low 8, (1,0) main 2,
+    #           (2,0) low 1, (0,1) main 9 (not a record of a new cell: first of cell (0,1))
+    x = np.array([1, 3, 12, 15, 25, 4])
+    y = np.array([0, 0, 0, 0, 0, 12])
+    low = np.array([False, False, True, False, True, False])
+    code = np.array([5, 9, 8, 2, 1, 9])
+    # 4 cells hold candidates > budget 3: the floors of the first 3 cells (by first candidate):
+    # (0,0) -> index 1, (1,0) -> index 3 (main beats low), (2,0) -> index 4
+    assert select_level(x, y, low, code, 3, 10).tolist() == [1, 3, 4]
+    # budget 5: all 4 floors (1, 3, 4, 5), one place for the rest R = {0 (displaced at 1)}
+    assert select_level(x, y, low, code, 5, 10).tolist() == [0, 1, 3, 4, 5]
+    # equal codes in R: the one that joined first stays
+    x2, y2 = np.array([1, 2, 3, 4]), np.zeros(4, dtype=np.int64)
+    low2, code2 = np.zeros(4, dtype=bool), np.array([7, 3, 3, 3])
+    assert select_level(x2, y2, low2, code2, 2, 16).tolist() == [0, 1]  # floor 0, then 1 of {1, 2, 3}
+
+
+def test_grid_selection_on_photographs(photographs) -> None:
+    """Per level at most its budget; every cell with a candidate keeps its best one; the rest are
+    main corners whose codes are at least those of every main candidate left out."""
+    for name in ("astronaut", "coffee"):
+        img = photographs[name][:240, :320]
+        cfg = Config(320, 240, scales=4, step_num=5, step_den=4, threshold=20, threshold_lo=7, selection="grid",
+                     budget=300, cell=40)  # fmt: skip
+        cand = candidates(img, cfg)
+        got = extract(img, cfg)
+        assert got == select_grid(cand, 300, 4, 40) and got == got.sorted()
+        assert cand.low.any() and not Config(320, 240, scales=4, step_num=5, step_den=4).selection == "grid"
+        for k, n in enumerate(level_budgets(300, cfg.step, cfg.scales)):
+            lv, kept = cand.take(np.flatnonzero(cand.scale == k)), got.take(np.flatnonzero(got.scale == k))
+            assert len(kept) <= n, f"{name} level {k}"
+            cells = {(int(a) // 40, int(b) // 40) for a, b in zip(lv.x, lv.y, strict=True)}
+            if len(cells) > n:
+                continue
+            keys = set(zip(kept.x.tolist(), kept.y.tolist(), strict=True))
+            for c in cells:
+                m = (lv.x // 40 == c[0]) & (lv.y // 40 == c[1])
+                rank = (~lv.low[m]).astype(np.int64) * 64 + lv.response[m]
+                best = np.flatnonzero(m)[np.flatnonzero(rank == rank.max())[0]]
+                assert (int(lv.x[best]), int(lv.y[best])) in keys, f"{name} level {k} cell {c}"
+            # the rest: main non-floor candidates; none left out has a higher code than the lowest kept
+            floor_keys = set()
+            for c in cells:
+                m = (lv.x // 40 == c[0]) & (lv.y // 40 == c[1])
+                rank = (~lv.low[m]).astype(np.int64) * 64 + lv.response[m]
+                best = np.flatnonzero(m)[np.flatnonzero(rank == rank.max())[0]]
+                floor_keys.add((int(lv.x[best]), int(lv.y[best])))
+            rest = [
+                int(r)
+                for a, b, r in zip(kept.x, kept.y, kept.response, strict=True)
+                if (int(a), int(b)) not in floor_keys
+            ]
+            left = [int(r) for a, b, r, lo in zip(lv.x, lv.y, lv.response, lv.low, strict=True)
+                    if not lo and (int(a), int(b)) not in keys]  # fmt: skip
+            assert len(kept) == min(n, len(cells) + len(rest) + len(left)), f"{name} level {k}"
+            if rest and left:
+                assert max(left) <= min(rest), f"{name} level {k}: a code above the rest was left out"
+
+
+def test_all_selection_reports_the_main_corners_only(photographs) -> None:
+    img = photographs["camera"][:200, :260]
+    a = extract(img, Config(260, 200, scales=2, threshold=25))
+    b = extract(img, Config(260, 200, scales=2, threshold=25, threshold_lo=5))  # ignored in `all`
+    assert a == b and not a.low.any()
+    g = candidates(img, Config(260, 200, scales=2, threshold=25, threshold_lo=5, selection="grid", budget=100))
+    main = g.take(np.flatnonzero(~g.low))
+    assert main == a, "the main candidates of the combined NMS are exactly the `all` features"
