@@ -4,12 +4,12 @@ features (docs/spec.md section 15).
 
 On a level's own pixels P (not smoothed), for 3 <= x <= W-4, 3 <= y <= H-4 (FAST's interior):
 
-    Ix(u, v) = (2 (P(u+1, v) - P(u-1, v)) + P(u+1, v-1) - P(u-1, v-1) + P(u+1, v+1) - P(u-1, v+1)) >> 2
-    Iy(u, v) = (2 (P(u, v+1) - P(u, v-1)) + P(u-1, v+1) - P(u-1, v-1) + P(u+1, v+1) - P(u+1, v-1)) >> 2
-    a = (sum Ix^2) >> 5,  b = (sum Iy^2) >> 5,  c = (sum Ix Iy) >> 5     over the 5x5 block around (x, y)
+    Ix(u, v) = (2 (P(u+1, v) - P(u-1, v)) + P(u+1, v-1) - P(u-1, v-1) + P(u+1, v+1) - P(u-1, v+1)) >> 3
+    Iy(u, v) = (2 (P(u, v+1) - P(u, v-1)) + P(u-1, v+1) - P(u-1, v-1) + P(u+1, v+1) - P(u+1, v-1)) >> 3
+    a = (sum Ix^2) >> 3,  b = (sum Iy^2) >> 3,  c = (sum Ix Iy) >> 3     over the 5x5 block around (x, y)
     R = a b - c^2 - ((a + b)^2 >> 5)
 
-(`>>` is the arithmetic shift, a floor; Ix, Iy lie in -255..255, a and b in 0..50800, so a b < 2^32.)
+(`>>` is the arithmetic shift, a floor; Ix, Iy lie in -128..127, a and b in 0..51200, so a b < 2^32.)
 The response code of R is 0 when R < 2^B; otherwise, with e = floor(log2 R) (B <= e <= 31) and m the
 B bits that follow R's leading one, it is 2^B (e - B + 1) + m: a floating-point number with
 MANTISSA_BITS = B mantissa bits, monotone in R, RESPONSE_BITS bits wide. Elsewhere the code is 0.
@@ -19,9 +19,9 @@ from __future__ import annotations
 
 import numpy as np
 
-GRAD_SHIFT = 2  # gradients >> 2: -255..255
+GRAD_SHIFT = 3  # gradients >> 3: -128..127 (8 bits: two products in one DSP48)
 BLOCK = 5  # the box of the sums
-SUM_SHIFT = 5  # a, b, c >> 5: a, b <= 50800, so a b < 2^32
+SUM_SHIFT = 3  # a, b, c >> 3: a, b <= 51200, so a b < 2^32
 K_SHIFT = 5  # k = 1 / 32
 MANTISSA_BITS = 1
 RESPONSE_BITS = 6  # codes 0 .. 2^B (32 - B) + 2^B - 1 = 63 for B = 1
