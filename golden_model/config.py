@@ -17,19 +17,33 @@ SELECTIONS = ("all", "grid")
 
 # The recommended configuration for 640x480 on the XC7Z020 (docs/pyramid.md: the best measured on
 # the scale benchmark within 80% of the device's LUTs and block RAM): what `make sim` and
-# `orb-accel extract` use unless told. The budget (host side, golden_model.select) is per 640x480
-# frame; recommended_budget scales it with the frame's area.
+# `orb-accel extract` use unless told. The selection (docs/selection.md): the grid mode with a
+# budget of RECOMMENDED_BUDGET features per 640x480 frame (recommended_budget for other sizes),
+# cells of an eighth of the frame's width (recommended_cell) and the low threshold 7 (ORB-SLAM's
+# minThFAST), chosen by measurement (docs/evaluation.md).
 RECOMMENDED_SCALES = 5
 RECOMMENDED_STEP = (5, 4)
 RECOMMENDED_SECTORS = 64
 RECOMMENDED_BUDGET = 1000
 RECOMMENDED_THRESHOLD_LO = 7
 RECOMMENDED_CELL = 80
+# the budgets of the board's resolutions (docs/board-configs.md): each fits its bank
+RECOMMENDED_BUDGETS = {(640, 480): 1000, (1280, 720): 1500, (1920, 1080): 2000}
 
 
 def recommended_budget(width: int, height: int) -> int:
-    """RECOMMENDED_BUDGET features per 640x480 frame, in proportion to the frame's area."""
-    return max(1, round(RECOMMENDED_BUDGET * width * height / (640 * 480)))
+    """The grid selection's budget for a frame: RECOMMENDED_BUDGETS for the board's resolutions,
+    otherwise RECOMMENDED_BUDGET per 640x480 scaled by the square root of the area (features of a
+    SLAM front end grow slower than the pixel count), at least 1 and at most 2000."""
+    if (width, height) in RECOMMENDED_BUDGETS:
+        return RECOMMENDED_BUDGETS[(width, height)]
+    return max(1, min(2000, round(RECOMMENDED_BUDGET * (width * height / (640 * 480)) ** 0.5)))
+
+
+def recommended_cell(width: int) -> int:
+    """The grid selection's cell size for a frame width: an eighth of it (80 pixels at 640), within
+    the legal 16..255 (golden_model.limits.CELL)."""
+    return max(limits.CELL.min, min(limits.CELL.max, round(width / 8)))
 
 
 # The Config fields checked against golden_model.limits, in the order they are checked.
