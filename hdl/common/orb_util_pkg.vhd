@@ -1,6 +1,6 @@
 -- SPDX-License-Identifier: MIT
 -- orb_util_pkg: shared constants and helpers of the ORB accelerator (coordinate width, log2,
--- pyramid level sizes).
+-- pyramid level sizes, the selection's slot and reciprocal widths).
 
 library ieee;
 use ieee.std_logic_1164.all;
@@ -13,6 +13,13 @@ package orb_util_pkg is
   -- FAST SAD score: 16 differences of at most 255.
   constant SCORE_BITS_c : positive := 12;
   constant PIXEL_BITS_c : positive := 8;
+  -- A level's selection slot: 0 .. 4094 (a budget is at most 4095; slot 4095 means none).
+  constant SLOT_BITS_c : positive := 12;
+  -- The cell size's reciprocal ceil(2^24 / cell): at most 2^20 for cells of 16 pixels or more.
+  constant RECIP_BITS_c : positive := 21;
+
+  -- '1' for true
+  function bool2sl (b : boolean) return std_logic;
 
   function clog2 (n : positive) return natural;
 
@@ -28,6 +35,14 @@ package orb_util_pkg is
 end package orb_util_pkg;
 
 package body orb_util_pkg is
+
+  function bool2sl (b : boolean) return std_logic is
+  begin
+    if b then
+      return '1';
+    end if;
+    return '0';
+  end function bool2sl;
 
   function clog2 (n : positive) return natural is
     variable bits : natural := 0;

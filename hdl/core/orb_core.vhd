@@ -213,22 +213,24 @@ begin
         ROTATE_g       => false
       )
       port map (
-        clk         => clk,
-        rst         => rst,
-        threshold   => thr_frm,
-        mode_orb    => mode_frm,
-        in_valid    => px_valid(s),
-        in_x        => px_x(s),
-        in_y        => px_y(s),
-        in_data     => px_data(s),
-        feat_valid  => f_valid(s),
-        feat_x      => f_x((s + 1) * COORD_BITS_c - 1 downto s * COORD_BITS_c),
-        feat_y      => f_y((s + 1) * COORD_BITS_c - 1 downto s * COORD_BITS_c),
-        feat_score  => f_score((s + 1) * SCORE_BITS_c - 1 downto s * SCORE_BITS_c),
-        feat_sector => f_sect((s + 1) * FEAT_SECTOR_BITS_c - 1 downto s * FEAT_SECTOR_BITS_c),
-        feat_desc   => f_desc((s + 1) * DESC_BITS_c - 1 downto s * DESC_BITS_c),
-        frame_done  => f_done(s),
-        lost        => lost(s)
+        clk       => clk,
+        rst       => rst,
+        threshold => thr_frm,
+        -- (the low threshold follows with the selection; equal to the threshold: no low corners)
+        threshold_lo => thr_frm,
+        mode_orb     => mode_frm,
+        in_valid     => px_valid(s),
+        in_x         => px_x(s),
+        in_y         => px_y(s),
+        in_data      => px_data(s),
+        feat_valid   => f_valid(s),
+        feat_x       => f_x((s + 1) * COORD_BITS_c - 1 downto s * COORD_BITS_c),
+        feat_y       => f_y((s + 1) * COORD_BITS_c - 1 downto s * COORD_BITS_c),
+        feat_score   => f_score((s + 1) * SCORE_BITS_c - 1 downto s * SCORE_BITS_c),
+        feat_sector  => f_sect((s + 1) * FEAT_SECTOR_BITS_c - 1 downto s * FEAT_SECTOR_BITS_c),
+        feat_desc    => f_desc((s + 1) * DESC_BITS_c - 1 downto s * DESC_BITS_c),
+        frame_done   => f_done(s),
+        lost         => lost(s)
       );
 
   end generate scales;

@@ -25,22 +25,23 @@ entity orb_scale_path is
     ROTATE_g       : boolean                  := true -- orb_desc_path's ROTATE_g
   );
   port (
-    clk         : in    std_logic;
-    rst         : in    std_logic;
-    threshold   : in    std_logic_vector(7 downto 0);
-    mode_orb    : in    std_logic;
-    in_valid    : in    std_logic;
-    in_x        : in    std_logic_vector(COORD_BITS_c - 1 downto 0);
-    in_y        : in    std_logic_vector(COORD_BITS_c - 1 downto 0);
-    in_data     : in    std_logic_vector(PIXEL_BITS_c - 1 downto 0);
-    feat_valid  : out   std_logic;
-    feat_x      : out   std_logic_vector(COORD_BITS_c - 1 downto 0);
-    feat_y      : out   std_logic_vector(COORD_BITS_c - 1 downto 0);
-    feat_score  : out   std_logic_vector(SCORE_BITS_c - 1 downto 0);
-    feat_sector : out   std_logic_vector(5 downto 0);
-    feat_desc   : out   std_logic_vector(255 downto 0);
-    frame_done  : out   std_logic;
-    lost        : out   std_logic_vector(31 downto 0)
+    clk          : in    std_logic;
+    rst          : in    std_logic;
+    threshold    : in    std_logic_vector(7 downto 0);
+    threshold_lo : in    std_logic_vector(7 downto 0);
+    mode_orb     : in    std_logic;
+    in_valid     : in    std_logic;
+    in_x         : in    std_logic_vector(COORD_BITS_c - 1 downto 0);
+    in_y         : in    std_logic_vector(COORD_BITS_c - 1 downto 0);
+    in_data      : in    std_logic_vector(PIXEL_BITS_c - 1 downto 0);
+    feat_valid   : out   std_logic;
+    feat_x       : out   std_logic_vector(COORD_BITS_c - 1 downto 0);
+    feat_y       : out   std_logic_vector(COORD_BITS_c - 1 downto 0);
+    feat_score   : out   std_logic_vector(SCORE_BITS_c - 1 downto 0);
+    feat_sector  : out   std_logic_vector(5 downto 0);
+    feat_desc    : out   std_logic_vector(255 downto 0);
+    frame_done   : out   std_logic;
+    lost         : out   std_logic_vector(31 downto 0)
   );
 end entity orb_scale_path;
 
@@ -89,22 +90,23 @@ begin
       FRAME_HEIGHT_g => FRAME_HEIGHT_g
     )
     port map (
-      clk        => clk,
-      rst        => rst,
-      threshold  => threshold,
-      in_valid   => in_valid,
-      in_x       => in_x,
-      in_y       => in_y,
-      in_data    => in_data,
-      feat_valid => d_valid,
-      feat_x     => d_x,
-      feat_y     => d_y,
-      feat_score => d_score,
-      frame_done => d_done,
-      win_valid  => w_valid,
-      win_x      => w_x,
-      win_y      => w_y,
-      win_data   => w_win
+      clk          => clk,
+      rst          => rst,
+      threshold    => threshold,
+      threshold_lo => threshold_lo,
+      in_valid     => in_valid,
+      in_x         => in_x,
+      in_y         => in_y,
+      in_data      => in_data,
+      feat_valid   => d_valid,
+      feat_x       => d_x,
+      feat_y       => d_y,
+      feat_score   => d_score,
+      frame_done   => d_done,
+      win_valid    => w_valid,
+      win_x        => w_x,
+      win_y        => w_y,
+      win_data     => w_win
     );
 
   gen_desc : if HAS_DESC_c generate

@@ -1,9 +1,12 @@
 -- SPDX-License-Identifier: MIT
 -- orb_fast_nms: 3x3 non-maximum suppression of the FAST score stream (docs/spec.md section 5)
 -- with the raster-order tie rule (strict '>' against the four earlier neighbours, '>=' against
--- the four later ones). The input is orb_fast_score's stream: at stream position (px, py) it
--- carries the score of the centre (px - 3, py - 3). A 3x3 score window (two score lines in block
--- RAM) decides the centre (px - 4, py - 4). The last column and row of centres, whose right or
+-- the four later ones), on the combined map S' = score + 4096 for a corner at the main threshold
+-- (in_main), the score otherwise: a low corner never suppresses a main one. The input is
+-- orb_fast_score's stream with each centre's corner response code beside it (orb_harris): at
+-- stream position (px, py) it carries the centre (px - 3, py - 3). A 3x3 window of S' and the
+-- code (two lines in block RAM) decides the centre (px - 4, py - 4); a survivor leaves with its
+-- score, feat_low = 1 when it is a corner at the low threshold only, and its code. The last column and row of centres, whose right or
 -- lower neighbours lie in the border (score 0) and never arrive, are decided together with their
 -- neighbours at the end of each line (px = W - 1) and in the last line (py = H - 1); of those up
 -- to four mutually adjacent candidates at most one can survive, so the output carries at most one
@@ -15,6 +18,7 @@ use ieee.std_logic_1164.all;
 use ieee.numeric_std.all;
 
 use work.orb_util_pkg.all;
+use work.orb_fast_pkg.all;
 
 entity orb_fast_nms is
   generic (
@@ -28,30 +32,40 @@ entity orb_fast_nms is
     in_x       : in    std_logic_vector(COORD_BITS_c - 1 downto 0);
     in_y       : in    std_logic_vector(COORD_BITS_c - 1 downto 0);
     in_score   : in    std_logic_vector(SCORE_BITS_c - 1 downto 0);
+    in_main    : in    std_logic;
+    in_code    : in    std_logic_vector(RESPONSE_BITS_c - 1 downto 0);
     feat_valid : out   std_logic;
     feat_x     : out   std_logic_vector(COORD_BITS_c - 1 downto 0);
     feat_y     : out   std_logic_vector(COORD_BITS_c - 1 downto 0);
     feat_score : out   std_logic_vector(SCORE_BITS_c - 1 downto 0);
+    feat_low   : out   std_logic;
+    feat_code  : out   std_logic_vector(RESPONSE_BITS_c - 1 downto 0);
     frame_done : out   std_logic
   );
 end entity orb_fast_nms;
 
 architecture rtl of orb_fast_nms is
 
-  constant S_c : positive := SCORE_BITS_c;
+  constant S_c : positive := SCORE_BITS_c + 1;          -- S' = main & score
+  constant D_c : positive := S_c + RESPONSE_BITS_c;    -- a window element: code & S'
 
   subtype score_t is unsigned(S_c - 1 downto 0);
+  subtype code_t is std_logic_vector(RESPONSE_BITS_c - 1 downto 0);
   type row_t is array (0 to 3) of score_t;
+  type code_row_t is array (0 to 2) of code_t;
+  type code_array_t is array (0 to 2) of code_row_t;
 
   signal w_valid : std_logic;
   signal w_x     : std_logic_vector(COORD_BITS_c - 1 downto 0);
   signal w_y     : std_logic_vector(COORD_BITS_c - 1 downto 0);
-  signal w_flat  : std_logic_vector(9 * S_c - 1 downto 0);
+  signal w_flat  : std_logic_vector(9 * D_c - 1 downto 0);
+  signal in_d    : std_logic_vector(D_c - 1 downto 0);
 
   signal f_valid : std_logic := '0';
   signal f_x     : unsigned(COORD_BITS_c - 1 downto 0) := (others => '0');
   signal f_y     : unsigned(COORD_BITS_c - 1 downto 0) := (others => '0');
   signal f_score : score_t := (others => '0');
+  signal f_code  : code_t := (others => '0');
   signal f_done  : std_logic := '0';
 
   -- Survives: > every earlier neighbour, >= every later one, and a corner at all (> 0).
@@ -63,11 +77,13 @@ architecture rtl of orb_fast_nms is
 
 begin
 
+  in_d <= in_code & in_main & in_score;
+
   scores : entity work.orb_window
     generic map (
       LINE_WIDTH_g => LINE_WIDTH_g,
       WIN_g        => 3,
-      DATA_WIDTH_g => S_c
+      DATA_WIDTH_g => D_c
     )
     port map (
       clk       => clk,
@@ -75,7 +91,7 @@ begin
       in_valid  => in_valid,
       in_x      => in_x,
       in_y      => in_y,
-      in_data   => in_score,
+      in_data   => in_d,
       out_valid => w_valid,
       out_x     => w_x,
       out_y     => w_y,
@@ -89,6 +105,7 @@ begin
     variable at_end_x, at_end_y : boolean;
     variable x_ok, y_ok         : boolean;
     constant Z_c                : score_t := (others => '0');
+    variable cd                 : code_array_t;
   begin
     if rising_edge(clk) then
       f_valid <= '0';
@@ -97,7 +114,8 @@ begin
         w := (others => (others => Z_c));
         for r in 0 to 2 loop
           for c in 0 to 2 loop
-            w(r)(c) := unsigned(w_flat((r * 3 + c + 1) * S_c - 1 downto (r * 3 + c) * S_c));
+            w(r)(c)  := unsigned(w_flat((r * 3 + c) * D_c + S_c - 1 downto (r * 3 + c) * D_c));
+            cd(r)(c) := w_flat((r * 3 + c + 1) * D_c - 1 downto (r * 3 + c) * D_c + S_c);
           end loop;
         end loop;
         px       := unsigned(w_x);
@@ -114,24 +132,28 @@ begin
           f_x     <= px - 4;
           f_y     <= py - 4;
           f_score <= w(1)(1);
+          f_code  <= cd(1)(1);
         elsif at_end_x and y_ok and survives(w(1)(2), w(0)(1), w(0)(2), Z_c, w(1)(1),
                                              Z_c, w(2)(1), w(2)(2), Z_c) then
           f_valid <= '1';
           f_x     <= px - 3;
           f_y     <= py - 4;
           f_score <= w(1)(2);
+          f_code  <= cd(1)(2);
         elsif at_end_y and x_ok and survives(w(2)(1), w(1)(0), w(1)(1), w(1)(2), w(2)(0),
                                              w(2)(2), Z_c, Z_c, Z_c) then
           f_valid <= '1';
           f_x     <= px - 4;
           f_y     <= py - 3;
           f_score <= w(2)(1);
+          f_code  <= cd(2)(1);
         elsif at_end_x and at_end_y and survives(w(2)(2), w(1)(1), w(1)(2), Z_c, w(2)(1),
                                                  Z_c, Z_c, Z_c, Z_c) then
           f_valid <= '1';
           f_x     <= px - 3;
           f_y     <= py - 3;
           f_score <= w(2)(2);
+          f_code  <= cd(2)(2);
         end if;
       end if;
       if rst = '1' then
@@ -144,7 +166,9 @@ begin
   feat_valid <= f_valid;
   feat_x     <= std_logic_vector(f_x);
   feat_y     <= std_logic_vector(f_y);
-  feat_score <= std_logic_vector(f_score);
+  feat_score <= std_logic_vector(f_score(SCORE_BITS_c - 1 downto 0));
+  feat_low   <= not f_score(SCORE_BITS_c);
+  feat_code  <= f_code;
   frame_done <= f_done;
 
 end architecture rtl;

@@ -1,5 +1,6 @@
 -- SPDX-License-Identifier: MIT
--- orb_fast_pkg: the FAST-9 circle (docs/spec.md section 4) and the segment-test helpers.
+-- orb_fast_pkg: the FAST-9 circle (docs/spec.md section 4), the segment-test helpers and the
+-- corner response's width and latency (section 15; golden_model.response, orb_harris).
 
 library ieee;
 use ieee.std_logic_1164.all;
@@ -22,8 +23,18 @@ package orb_fast_pkg is
 
   constant ARC_c : positive := 9;
 
+  -- the corner response code (golden_model.response.RESPONSE_BITS; tb/detect/test_orb_harris.py
+  -- checks the value) and orb_harris's latency in clocks
+  constant RESPONSE_BITS_c : positive := 6;
+  constant HARRIS_LAT_c    : positive := 17;
+  -- orb_fast_score's latency in clocks
+  constant FAST_SCORE_LAT_c : positive := 4;
+
   -- True when the mask holds ARC_c cyclically contiguous ones.
   function has_arc (mask : std_logic_vector(15 downto 0)) return std_logic;
+
+  -- 1 for '1', else 0
+  function b2n (b : std_logic) return natural;
 
 end package orb_fast_pkg;
 
@@ -48,5 +59,13 @@ package body orb_fast_pkg is
     end if;
     return '0';
   end function has_arc;
+
+  function b2n (b : std_logic) return natural is
+  begin
+    if b = '1' then
+      return 1;
+    end if;
+    return 0;
+  end function b2n;
 
 end package body orb_fast_pkg;

@@ -222,11 +222,11 @@ architecture rtl of orb_axil_regs is
   -- the register file, indexed as REGS_c: stored bits (only stored(REGS_c(i)) ever leave 0; power-up
   -- value 0, rst loads the reset values), pulse fields for one clock after a write, wo registers'
   -- one-clock write strobe
-  signal held    : reg_words_t := (others => ZERO_c);
-  signal pulses  : reg_words_t := (others => ZERO_c);
-  signal written : std_logic_vector(REGS_c'range) := (others => '0');
+  signal held     : reg_words_t := (others => ZERO_c);
+  signal pulses   : reg_words_t := (others => ZERO_c);
+  signal written  : std_logic_vector(REGS_c'range) := (others => '0');
   signal budget_r : std_logic_vector(SELECT_BUDGET_MSB_c - SELECT_BUDGET_LSB_c downto 0) := (others => '0');
-  signal irq_r   : std_logic := '0';
+  signal irq_r    : std_logic := '0';
 
   -- a decoded write, executed in the next clock
   signal d_valid  : std_logic := '0';

@@ -1,10 +1,13 @@
 # SPDX-License-Identifier: MIT
-"""orb_fast_score against golden_model.fast.fast_score, window by window.
+"""orb_fast_score against golden_model.fast.fast_score, window by window, at two thresholds.
 
 The flat 49 x 8-bit window is driven directly (no window generator), tagged with the position
 (x, y) of its newest (bottom-right) pixel, so the tested centre is (x - 3, y - 3). Expected score:
-fast_score of the image the window was cut from at that centre, and 0 whenever x < 6 or y < 6
-(the border rule). Every output must appear exactly 4 clocks after its input and keep its tag.
+fast_score of the image the window was cut from at that centre at the low threshold in effect
+(min(threshold_lo, threshold)), and 0 whenever x < 6 or y < 6 (the border rule); expected
+out_main: a corner at the main threshold there (docs/spec.md section 5). Every output must appear
+exactly 4 clocks after its input and keep its tag. Each window gets a low threshold at random:
+equal to the main one, below it, above it (acts as equal) or 0.
 
 Stimulus: windows at every position of photograph crops (border positions carry real corner
 windows, which must still score 0), and synthetic windows: threshold edges (p = c + t is not
@@ -24,23 +27,32 @@ from orbtb.runner import run
 from orbtb.unit import SIM_ENV, Stream, random_gaps, reset, to_int, window_word
 
 LATENCY = 4
-Item = tuple[int, int, int, int]  # (x, y, threshold, window word)
+Item = tuple[int, int, int, int, int]  # (x, y, threshold, threshold_lo, window word)
+_LOW = np.random.default_rng(99)
 
 
-def model_score(win: np.ndarray, t: int, x: int, y: int) -> int:
-    """The model's score of the window's centre (3, 3), and the border rule of the tag."""
+def low_for(t: int) -> int:
+    """A low threshold for a window of main threshold t: equal, below, above (acts as t) or 0."""
+    kind = int(_LOW.integers(0, 4))
+    return (t, int(_LOW.integers(0, t + 1)), int(_LOW.integers(t, 256)), 0)[kind]
+
+
+def model_score(win: np.ndarray, t: int, x: int, y: int, t_lo: int | None = None) -> tuple[int, int]:
+    """The model's (score, main) of the window's centre (3, 3), and the border rule of the tag."""
     if x < 6 or y < 6:
-        return 0
-    return int(fast_score(np.ascontiguousarray(win, dtype=np.uint8), t)[3, 3])
+        return 0, 0
+    w = np.ascontiguousarray(win, dtype=np.uint8)
+    lo = t if t_lo is None else min(t_lo, t)
+    return int(fast_score(w, lo)[3, 3]), int(fast_score(w, t)[3, 3] > 0)
 
 
-async def check_windows(dut, items: list[Item], expected: list[int], labels: list[str], seed: int) -> None:
-    await reset(dut, {"in_valid": 0, "in_x": 0, "in_y": 0, "threshold": 0, "in_win": 0})
+async def check_windows(dut, items: list[Item], expected: list[tuple[int, int]], labels: list[str], seed: int) -> None:
+    await reset(dut, {"in_valid": 0, "in_x": 0, "in_y": 0, "threshold": 0, "threshold_lo": 0, "in_win": 0})
     stream = Stream(
         dut.clk,
         dut.in_valid,
-        [dut.in_x, dut.in_y, dut.threshold, dut.in_win],
-        [dut.out_x, dut.out_y, dut.out_score],
+        [dut.in_x, dut.in_y, dut.threshold, dut.threshold_lo, dut.in_win],
+        [dut.out_x, dut.out_y, dut.out_score, dut.out_main],
         [dut.out_valid],
     )
     await stream.run(items, random_gaps(len(items), seed=seed, prob=0.2, long_every=500), tail=6)
@@ -52,14 +64,19 @@ async def check_windows(dut, items: list[Item], expected: list[int], labels: lis
             f"outputs are not the inputs delayed by {LATENCY} clocks: {len(out_edges)} outputs for {len(items)} "
             f"inputs, first difference at output {i} ({labels[i] if 0 <= i < len(labels) else 'extra output'})"
         )
-    for (x, y, t, _), exp, label, (_, (x_v, y_v, s_v)) in zip(items, expected, labels, stream.samples, strict=True):
+    for (x, y, t, tl, _), exp, label, (_, (x_v, y_v, s_v, m_v)) in zip(
+        items, expected, labels, stream.samples, strict=True
+    ):
         got_tag = (to_int(x_v), to_int(y_v))
         assert got_tag == (x, y), f"{label}: tag (x={x}, y={y}) came out as {got_tag}"
-        got = to_int(s_v)
+        got = (to_int(s_v), to_int(m_v))
         assert got == exp, (
-            f"{label}, tag (x={x}, y={y}), centre (x={x - 3}, y={y - 3}), t={t}: score {got}, model {exp}"
+            f"{label}, tag (x={x}, y={y}), centre (x={x - 3}, y={y - 3}), t={t}, t_lo={tl}: (score, main) {got}, "
+            f"model {exp}"
         )
-    corners = sum(e > 0 for e in expected)
+    corners = sum(e[0] > 0 for e in expected)
+    low_only = sum(e[0] > 0 and not e[1] for e in expected)
+    assert not items or low_only > 0, "no window is a corner at the low threshold only: the test cannot fail"
     dut._log.info("%d windows checked, %d corners", len(items), corners)
 
 
@@ -68,11 +85,12 @@ async def photo_windows(dut) -> None:
     """Every window position of photograph crops; border positions get corner windows (score 0)."""
     w, h = 40, 30
     items: list[Item] = []
-    expected: list[int] = []
+    expected: list[tuple[int, int]] = []
     labels: list[str] = []
-    for name, t in (("camera", 8), ("astronaut", 20), ("coffee", 0), ("rocket", 45), ("chelsea", 8)):
+    for name, t, tl in (("camera", 8, 8), ("astronaut", 20, 7), ("coffee", 0, 9), ("rocket", 45, 12), ("chelsea", 8, 0)):
         img = images.photo(name, w, h)
         score = fast_score(img, t)
+        low = fast_score(img, min(t, tl))
         corner_windows = [
             img[cy - 3 : cy + 4, cx - 3 : cx + 4] for cy, cx in zip(*np.nonzero(score), strict=True) if score[cy, cx]
         ]
@@ -82,26 +100,27 @@ async def photo_windows(dut) -> None:
             for x in range(w):
                 if x >= 6 and y >= 6:
                     win = img[y - 6 : y + 1, x - 6 : x + 1]
-                    exp = int(score[y - 3, x - 3])
+                    exp = (int(low[y - 3, x - 3]), int(score[y - 3, x - 3] > 0))
                 else:
                     win = corner_windows[k % len(corner_windows)]  # a corner, masked by the border rule
                     k += 1
-                    exp = 0
-                items.append((x, y, t, window_word(win)))
+                    exp = (0, 0)
+                items.append((x, y, t, tl, window_word(win)))
                 expected.append(exp)
                 labels.append(f"photo {name} {w}x{h}")
     await check_windows(dut, items, expected, labels, seed=1)
 
 
-def synthetic_windows() -> tuple[list[Item], list[int], list[str]]:
+def synthetic_windows() -> tuple[list[Item], list[tuple[int, int]], list[str]]:
     rng = np.random.default_rng(5)
     items: list[Item] = []
-    expected: list[int] = []
+    expected: list[tuple[int, int]] = []
     labels: list[str] = []
 
     def add(win: np.ndarray, t: int, label: str, x: int = 100, y: int = 50) -> None:
-        items.append((x, y, t, window_word(win)))
-        expected.append(model_score(win, t, x, y))
+        tl = low_for(t)
+        items.append((x, y, t, tl, window_word(win)))
+        expected.append(model_score(win, t, x, y, tl))
         labels.append(label)
 
     def arc_window(c: int, p: int, start: int, length: int, rest: int | None = None) -> np.ndarray:
@@ -161,8 +180,9 @@ def synthetic_windows() -> tuple[list[Item], list[int], list[str]]:
 async def synthetic(dut) -> None:
     items, expected, labels = synthetic_windows()
     # sanity of the stimulus itself: it must exercise both outcomes of every edge case
-    assert sum(e > 0 for e in expected) > 500 and sum(e == 0 for e in expected) > 500
-    assert 4080 in expected, "the maximum score is not exercised"
+    assert sum(e[0] > 0 for e in expected) > 500 and sum(e[0] == 0 for e in expected) > 500
+    assert sum(e[1] for e in expected) > 300, "too few corners at the main threshold"
+    assert 4080 in [e[0] for e in expected], "the maximum score is not exercised"
     await check_windows(dut, items, expected, labels, seed=2)
 
 

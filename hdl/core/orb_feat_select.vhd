@@ -1,0 +1,499 @@
+-- SPDX-License-Identifier: MIT
+-- orb_feat_select: the grid selection of one pyramid level (docs/spec.md section 14,
+-- docs/selection.md), decided as the level's candidates stream past, in raster order, at most
+-- one every second clock (3x3 NMS keeps two candidates of a line at least two pixels apart). For
+-- each candidate it gives one decision: dropped, or stored in slot `out_slot` (0 .. budget - 1) of
+-- the level, a slot new in this frame (`out_new`) or one whose occupant it replaces. The kept set
+-- after the frame's last candidate is golden_model.select.select_level's, and the decisions are
+-- golden_model.select.LevelSelector's, one for one.
+--
+-- A cell is a square of `cell` level pixels (the cell of (x, y) is (x div cell, y div cell),
+-- formed as (x recip) >> 24 with recip = ceil(2^24 / cell), exact for these widths). Only the
+-- current cell row can change (raster order), so the cell table holds one row: per cell its
+-- floor's rank (main flag and code), slot and a `rejected` flag, valid where its `touched` bit is
+-- set; the bits clear when the row changes. The rest R is a store of buckets, one per response
+-- code, each a LIFO list of slots through the next-pointer RAM; a bitmap marks the non-empty
+-- buckets. The lowest bucket, the one evictions take from, is kept in registers (its code, its
+-- top slot and the slot below it, prefetched from the next-pointer RAM): a pop needs no table
+-- write, so no operation writes the bucket heads twice. Pipeline: two clocks for the cell
+-- (multipliers, DSP48), then D1 (reads: cell table, bucket heads, the next non-empty bucket) and
+-- D2 (decision, writes); a decision leaves SELECT_LAT_c = 5 clocks after its candidate. In `all`
+-- mode (grid = 0) every main candidate is kept (new), low ones are dropped, and no state changes.
+-- The parameters (grid, budget, recip) must hold from the frame's first candidate to in_done;
+-- in_done (after the frame's last candidate has left) clears the frame's state.
+
+library ieee;
+use ieee.std_logic_1164.all;
+use ieee.numeric_std.all;
+
+use work.orb_util_pkg.all;
+use work.orb_fast_pkg.all;
+use work.orb_limits_pkg.all;
+
+entity orb_feat_select is
+  generic (
+    LINE_WIDTH_g : positive range 8 to 4095 := 640; -- the level's width: the cell table's size
+    SLOTS_g      : positive range 1 to 4095 := 1023 -- the largest budget the level can be given
+  );
+  port (
+    clk : in    std_logic;
+    rst : in    std_logic;
+    -- the frame's parameters
+    grid   : in    std_logic;
+    budget : in    std_logic_vector(SLOT_BITS_c - 1 downto 0);
+    recip  : in    std_logic_vector(RECIP_BITS_c - 1 downto 0);
+    -- candidates
+    in_valid : in    std_logic;
+    in_x     : in    std_logic_vector(COORD_BITS_c - 1 downto 0);
+    in_y     : in    std_logic_vector(COORD_BITS_c - 1 downto 0);
+    in_low   : in    std_logic;
+    in_code  : in    std_logic_vector(RESPONSE_BITS_c - 1 downto 0);
+    in_done  : in    std_logic;
+    -- decisions
+    out_valid : out   std_logic;
+    out_keep  : out   std_logic;
+    out_slot  : out   std_logic_vector(SLOT_BITS_c - 1 downto 0);
+    out_new   : out   std_logic
+  );
+end entity orb_feat_select;
+
+architecture rtl of orb_feat_select is
+
+  -- cells in a row, at most
+  constant CELLS_c   : positive := (LINE_WIDTH_g + CELL_MIN_c - 1) / CELL_MIN_c + 1;
+  constant CBITS_c   : positive := clog2(CELLS_c);
+  constant BUCKETS_c : positive := 2 ** RESPONSE_BITS_c;
+  -- next-pointer RAM address bits
+  constant NBITS_c : positive := clog2(SLOTS_g + 1);
+  -- no slot (budget <= 4095)
+  constant NIL_c : unsigned(SLOT_BITS_c - 1 downto 0) := (others => '1');
+
+  subtype slot_t is unsigned(SLOT_BITS_c - 1 downto 0);
+  subtype code_t is unsigned(RESPONSE_BITS_c - 1 downto 0);
+  -- main & code
+  subtype rank_t is unsigned(RESPONSE_BITS_c downto 0);
+  subtype cell_t is unsigned(CBITS_c - 1 downto 0);
+
+  -- cell table entry: rejected & rank & slot
+  constant CT_BITS_c : positive := 1 + RESPONSE_BITS_c + 1 + SLOT_BITS_c;
+
+  type ct_ram_t is array (0 to CELLS_c - 1) of std_logic_vector(CT_BITS_c - 1 downto 0);
+  type head_ram_t is array (0 to BUCKETS_c - 1) of slot_t;
+  type next_ram_t is array (0 to 2 ** NBITS_c - 1) of slot_t;
+
+  signal ct      : ct_ram_t := (others => (others => '0'));
+  signal touched : std_logic_vector(CELLS_c - 1 downto 0) := (others => '0');
+  signal heads   : head_ram_t := (others => (others => '0'));
+  signal nexts   : next_ram_t := (others => (others => '0'));
+  signal bitmap  : std_logic_vector(BUCKETS_c - 1 downto 0) := (others => '0');
+
+  -- frame state
+  signal used   : slot_t := (others => '0');
+  signal cur_cy : cell_t := (others => '0');
+  -- cur_cy names the current row
+  signal row_ok : std_logic := '0';
+  -- the rest holds a slot
+  signal rest_any : std_logic := '0';
+  -- the lowest non-empty bucket
+  signal mb : code_t := (others => '0');
+  -- its top slot (the next victim)
+  signal c0 : slot_t := (others => '0');
+  -- the slot below it (NIL_c: none)
+  signal c1 : slot_t := (others => '0');
+  -- c1 comes from the next-pointer RAM this clock
+  signal c1_load : std_logic := '0';
+  -- the next-pointer RAM's read register
+  signal n_rd : slot_t := (others => '0');
+
+  -- stage m0: the candidate; m1, m2: the cell products
+  signal v_m0, v_m1, v_m2          : std_logic := '0';
+  signal low_m0, low_m1, low_m2    : std_logic := '0';
+  signal code_m0, code_m1, code_m2 : code_t := (others => '0');
+  signal x_m0, y_m0                : unsigned(COORD_BITS_c - 1 downto 0) := (others => '0');
+  signal r_m0                      : unsigned(RECIP_BITS_c - 1 downto 0) := (others => '0');
+  signal px_m1                     : unsigned(COORD_BITS_c + RECIP_BITS_c - 1 downto 0) := (others => '0');
+  signal py_m1                     : unsigned(COORD_BITS_c + RECIP_BITS_c - 1 downto 0) := (others => '0');
+  signal px_m2                     : unsigned(COORD_BITS_c + RECIP_BITS_c - 1 downto 0) := (others => '0');
+  signal py_m2                     : unsigned(COORD_BITS_c + RECIP_BITS_c - 1 downto 0) := (others => '0');
+
+  -- stage d1: what the decision reads
+  signal v_d1    : std_logic := '0';
+  signal low_d1  : std_logic := '0';
+  signal code_d1 : code_t := (others => '0');
+  signal cx_d1   : cell_t := (others => '0');
+  signal cy_d1   : cell_t := (others => '0');
+  -- in the current row
+  signal same_d1 : std_logic := '0';
+  -- the cell has a floor (or is rejected)
+  signal floor_d1 : std_logic := '0';
+  signal rej_d1   : std_logic := '0';
+  signal frank_d1 : rank_t := (others => '0');
+  signal fslot_d1 : slot_t := (others => '0');
+  -- the top of the candidate's bucket
+  signal hx_d1 : slot_t := (others => '0');
+  -- the top of the floor's bucket
+  signal hf_d1 : slot_t := (others => '0');
+  -- the candidate's bucket is not empty
+  signal bx_d1 : std_logic := '0';
+  signal bf_d1 : std_logic := '0';
+  -- the lowest non-empty bucket above mb
+  signal mb2_d1    : code_t := (others => '0');
+  signal mb2_ok_d1 : std_logic := '0';
+  -- its top
+  signal h2_d1 : slot_t := (others => '0');
+  -- used >= budget
+  signal full_d1 : std_logic := '0';
+
+  -- stage d2: the decision
+  signal v_out    : std_logic := '0';
+  signal keep_out : std_logic := '0';
+  signal slot_out : slot_t := (others => '0');
+  signal new_out  : std_logic := '0';
+
+  -- the lowest set bit of v strictly above bit `above` (above = -1: the lowest), and whether any
+  function lowest_above (v : std_logic_vector; above : integer) return natural is
+  begin
+    for i in v'low to v'high loop
+      if i > above and v(i) = '1' then
+        return i;
+      end if;
+    end loop;
+    return 0;
+  end function lowest_above;
+
+  function any_above (v : std_logic_vector; above : integer) return boolean is
+  begin
+    for i in v'low to v'high loop
+      if i > above and v(i) = '1' then
+        return true;
+      end if;
+    end loop;
+    return false;
+  end function any_above;
+
+begin
+
+  assert SLOTS_g <= 4094
+    report "orb_feat_select: SLOTS_g must be at most 4094 (slot 4095 means none)"
+    severity failure;
+
+  pipe : process (clk) is
+    variable ct_word : std_logic_vector(CT_BITS_c - 1 downto 0);
+    variable cx, cy  : cell_t;
+    -- decision
+    variable rank_x   : rank_t;
+    variable fmain    : std_logic;
+    variable fcode    : code_t;
+    variable keep     : std_logic;
+    variable new_slot : std_logic;
+    variable slot     : slot_t;
+    variable set_fl   : boolean; -- write the cell's floor (rank_x, slot)
+    variable set_rej  : boolean;
+    variable do_pop   : boolean;
+    variable do_push  : boolean;
+    -- pushed code and slot
+    variable pq : code_t;
+    variable ps : slot_t;
+    -- the pushed bucket's top before the push
+    variable ph      : slot_t;
+    variable pb      : std_logic;
+    variable bm      : std_logic_vector(BUCKETS_c - 1 downto 0);
+    variable n_mb    : code_t;
+    variable n_c0    : slot_t;
+    variable n_c1    : slot_t;
+    variable n_load  : std_logic;
+    variable n_any   : std_logic;
+    variable n_addr  : slot_t;
+    variable row_new : std_logic_vector(CELLS_c - 1 downto 0);
+    -- one write port per RAM: (enable, address, data)
+    variable n_we : boolean;
+    variable n_wa : slot_t;
+    variable n_wd : slot_t;
+    variable h_we : boolean;
+    variable h_wa : code_t;
+    variable h_wd : slot_t;
+  begin
+    if rising_edge(clk) then
+      -- stage m0: the candidate
+      v_m0 <= in_valid;
+      if in_valid = '1' then
+        x_m0    <= unsigned(in_x);
+        y_m0    <= unsigned(in_y);
+        low_m0  <= in_low;
+        code_m0 <= unsigned(in_code);
+        r_m0    <= unsigned(recip);
+      end if;
+      -- stages m1, m2: x recip and y recip (DSP48 M and P registers)
+      v_m1    <= v_m0;
+      low_m1  <= low_m0;
+      code_m1 <= code_m0;
+      px_m1   <= x_m0 * r_m0;
+      py_m1   <= y_m0 * r_m0;
+      v_m2    <= v_m1;
+      low_m2  <= low_m1;
+      code_m2 <= code_m1;
+      px_m2   <= px_m1;
+      py_m2   <= py_m1;
+
+      c1_load <= '0';
+
+      -- stage d1: reads
+      v_d1    <= v_m2;
+      low_d1  <= low_m2;
+      code_d1 <= code_m2;
+      cx      := resize(shift_right(px_m2, 24), CBITS_c);
+      cy      := resize(shift_right(py_m2, 24), CBITS_c);
+      cx_d1   <= cx;
+      cy_d1   <= cy;
+      same_d1 <= row_ok and bool2sl(cy = cur_cy);
+      ct_word := ct(to_integer(cx));
+      floor_d1 <= row_ok and bool2sl(cy = cur_cy) and touched(to_integer(cx));
+      rej_d1   <= ct_word(CT_BITS_c - 1);
+      frank_d1 <= unsigned(ct_word(CT_BITS_c - 2 downto SLOT_BITS_c));
+      fslot_d1 <= unsigned(ct_word(SLOT_BITS_c - 1 downto 0));
+      hx_d1    <= heads(to_integer(code_m2));
+      bx_d1    <= bitmap(to_integer(code_m2));
+      hf_d1    <= heads(to_integer(unsigned(ct_word(CT_BITS_c - 3 downto SLOT_BITS_c))));
+      bf_d1    <= bitmap(to_integer(unsigned(ct_word(CT_BITS_c - 3 downto SLOT_BITS_c))));
+      mb2_d1    <= to_unsigned(lowest_above(bitmap, to_integer(mb)), RESPONSE_BITS_c);
+      mb2_ok_d1 <= bool2sl(any_above(bitmap, to_integer(mb)));
+      h2_d1     <= heads(lowest_above(bitmap, to_integer(mb)));
+      full_d1   <= bool2sl(used >= unsigned(budget));
+
+      -- stage d2: the decision and its writes
+      v_out    <= v_d1;
+      keep     := '0';
+      new_slot := '0';
+      slot     := (others => '0');
+      set_fl   := false;
+      set_rej  := false;
+      do_pop   := false;
+      do_push  := false;
+      pq       := (others => '0');
+      ps       := (others => '0');
+      ph       := NIL_c;
+      pb       := '0';
+      rank_x   := (not low_d1) & code_d1;
+      fmain    := frank_d1(RESPONSE_BITS_c);
+      fcode    := frank_d1(RESPONSE_BITS_c - 1 downto 0);
+      if v_d1 = '1' and grid = '0' then
+        keep     := not low_d1;
+        new_slot := '1';
+      elsif v_d1 = '1' and unsigned(budget) /= 0 then
+        if floor_d1 = '0' then
+          -- (a) the cell's first candidate: its floor
+          if full_d1 = '0' then
+            keep := '1';
+            new_slot := '1';
+            slot := used;
+            set_fl := true;
+          elsif rest_any = '1' then
+            keep := '1';
+            slot := c0;
+            do_pop := true;
+            set_fl := true;
+          else
+            -- the level holds nothing but floors
+            set_rej := true;
+          end if;
+        elsif rej_d1 = '1' then
+          -- a cell that found no place stays without one
+          null;
+        elsif rank_x > frank_d1 then
+          -- (b) a record: the new floor
+          keep := '1';
+          set_fl := true;
+          -- (d) a low floor goes, its slot serves the new one
+          if fmain = '0' then
+            slot := fslot_d1;
+          -- the old floor joins the rest
+          elsif full_d1 = '0' then
+            new_slot := '1';
+            slot := used;
+            do_push := true;
+            pq := fcode;
+            ps := fslot_d1;
+            ph := hf_d1;
+            pb := bf_d1;
+          -- the rest's lowest goes, the old floor stays
+          elsif rest_any = '1' and fcode > mb then
+            slot := c0;
+            do_pop := true;
+            do_push := true;
+            pq := fcode;
+            ps := fslot_d1;
+            ph := hf_d1;
+            pb := bf_d1;
+          -- the old floor is the lowest: it goes
+          else
+            slot := fslot_d1;
+          end if;
+        elsif low_d1 = '0' then
+          -- (c) a main candidate for the rest
+          if full_d1 = '0' then
+            keep := '1';
+            new_slot := '1';
+            slot := used;
+            do_push := true;
+            pq := code_d1;
+            ps := used;
+            ph := hx_d1;
+            pb := bx_d1;
+          elsif rest_any = '1' and code_d1 > mb then
+            keep := '1';
+            slot := c0;
+            do_pop := true;
+            do_push := true;
+            pq := code_d1;
+            ps := c0;
+            ph := hx_d1;
+            pb := bx_d1;
+          end if;
+        end if;
+      end if;
+      keep_out <= keep;
+      new_out  <= new_slot;
+      slot_out <= slot;
+      if new_slot = '1' and grid = '1' then
+        used <= used + 1;
+      end if;
+
+      -- the cell table row: a new row starts with no cell touched
+      if v_d1 = '1' and grid = '1' and (set_fl or set_rej) then
+        row_new := touched;
+        if same_d1 = '0' then
+          row_new := (others => '0');
+          cur_cy  <= cy_d1;
+          row_ok  <= '1';
+        end if;
+        row_new(to_integer(cx_d1)) := '1';
+        touched <= row_new;
+        ct(to_integer(cx_d1)) <= bool2sl(set_rej) & std_logic_vector(rank_x) & std_logic_vector(slot);
+      end if;
+
+      -- the rest: pop the lowest bucket's top, push (pq, ps); the lowest bucket stays in registers
+      bm     := bitmap;
+      n_mb   := mb;
+      n_c0   := c0;
+      n_c1   := c1;
+      n_load := '0';
+      n_any  := rest_any;
+      n_addr := c1;
+      n_we   := false;
+      n_wa   := ps;
+      n_wd   := NIL_c;
+      h_we   := false;
+      h_wa   := pq;
+      h_wd   := ps;
+      if do_pop then
+        -- the bucket goes on: its next slot, and the one below it fetched
+        if c1 /= NIL_c then
+          n_c0   := c1;
+          n_load := '1';
+          n_addr := c1;
+        -- the bucket empties
+        else
+          bm(to_integer(mb)) := '0';
+          -- the next bucket up becomes the lowest
+          if mb2_ok_d1 = '1' then
+            n_mb   := mb2_d1;
+            n_c0   := h2_d1;
+            n_load := '1';
+            n_addr := h2_d1;
+          else
+            n_any := '0';
+          end if;
+        end if;
+      end if;
+      if do_push then
+        -- the pushed slot's next pointer: NIL_c unless set below
+        n_we := true;
+        -- the rest was empty: the pushed slot alone is the lowest bucket
+        if n_any = '0' then
+          n_mb := pq;
+          n_c0 := ps;
+          n_c1 := NIL_c;
+          n_load := '0';
+          n_any := '1';
+        -- below the lowest: it becomes the lowest, the old one is written back
+        elsif pq < n_mb then
+          if not do_pop then
+            h_we := true;
+            h_wa := n_mb;
+            h_wd := n_c0;
+          end if;
+          n_mb := pq;
+          n_c0 := ps;
+          n_c1 := NIL_c;
+          n_load := '0';
+        -- onto the lowest bucket (LIFO): on top of its cached top
+        elsif pq = n_mb then
+          n_wd := n_c0;
+          n_c1 := n_c0;
+          n_c0 := ps;
+          n_load := '0';
+        -- onto a bucket above: through the heads table
+        else
+          if pb = '1' then
+            n_wd := ph;
+          end if;
+          h_we := true;
+          h_wa := pq;
+          h_wd := ps;
+        end if;
+        bm(to_integer(pq)) := '1';
+      end if;
+      if v_d1 = '1' and grid = '1' then
+        if n_we then
+          nexts(to_integer(n_wa(NBITS_c - 1 downto 0))) <= n_wd;
+        end if;
+        if h_we then
+          heads(to_integer(h_wa)) <= h_wd;
+        end if;
+      end if;
+      if v_d1 = '1' and grid = '1' then
+        bitmap   <= bm;
+        mb       <= n_mb;
+        c0       <= n_c0;
+        rest_any <= n_any;
+        if n_load = '1' then
+          c1_load <= '1';
+        else
+          c1 <= n_c1;
+        end if;
+      end if;
+      n_rd <= nexts(to_integer(n_addr(NBITS_c - 1 downto 0)));
+      -- the prefetched slot below the lowest bucket's top (read issued at the last D2; no decision
+      -- is made in the clock after one)
+      if c1_load = '1' then
+        c1 <= n_rd;
+      end if;
+
+      -- pragma translate_off
+      assert not (in_valid = '1' and v_m0 = '1')
+        report "orb_feat_select: candidates in consecutive clocks (at most one every second clock)"
+        severity failure;
+      -- pragma translate_on
+      if in_done = '1' or rst = '1' then
+        used     <= (others => '0');
+        row_ok   <= '0';
+        rest_any <= '0';
+        bitmap   <= (others => '0');
+        touched  <= (others => '0');
+      end if;
+      if rst = '1' then
+        v_m0  <= '0';
+        v_m1  <= '0';
+        v_m2  <= '0';
+        v_d1  <= '0';
+        v_out <= '0';
+      end if;
+    end if;
+  end process pipe;
+
+  out_valid <= v_out;
+  out_keep  <= keep_out;
+  out_slot  <= std_logic_vector(slot_out);
+  out_new   <= new_out;
+
+end architecture rtl;

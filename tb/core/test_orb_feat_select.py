@@ -1,0 +1,210 @@
+# SPDX-License-Identifier: MIT
+"""orb_feat_select against golden_model.select: decision by decision, and the kept set per frame.
+
+Each frame's candidates (x, y, low, code) enter in raster order, at most one every second clock
+with random extra gaps; the frame's parameters (grid, budget, recip = ceil(2^24 / cell)) hold
+over it, and in_done pulses once the frame's last decision is out. Every decision must come
+SELECT_LAT = 5 clocks after its candidate and equal golden_model.select.LevelSelector's operation
+(dropped, or (slot, new)); the slots kept after the frame's last candidate must be
+golden_model.select.select_level's. Frames: the candidates of real photographs at two thresholds
+(golden_model.pipeline.candidates: codes, low corners) at several budgets and cell sizes; random
+streams with few codes (ties everywhere), low floors displaced by main corners, more cells than
+places (the `rejected` cells), budget 0 and 1, cell sizes 16 and 255, every candidate in one cell;
+`all` mode (every main candidate kept as new, low ones dropped); frames back to back with the
+state cleared by in_done. A check that the stimulus reaches every case of the decision (new
+floors, records, evictions from the lowest bucket that empty it or not, pushes below, onto and
+above the lowest bucket, rejected cells) makes the test fail if the frames stop exercising them.
+"""
+
+from __future__ import annotations
+
+from collections import Counter
+from dataclasses import dataclass
+
+import cocotb
+import numpy as np
+from cocotb.triggers import ClockCycles, RisingEdge
+
+from golden_model.config import Config
+from golden_model.pipeline import candidates
+from golden_model.select import LevelSelector, select_level
+from orbtb import images
+from orbtb.runner import run
+from orbtb.unit import SIM_ENV, env_int, reset, to_int
+
+LATENCY = 5
+RECIP_SHIFT = 24
+
+
+def recip(cell: int) -> int:
+    return -(-(1 << RECIP_SHIFT) // cell)
+
+
+@dataclass
+class Frame:
+    label: str
+    x: np.ndarray
+    y: np.ndarray
+    low: np.ndarray
+    code: np.ndarray
+    budget: int
+    cell: int
+    grid: bool = True
+
+
+class CaseCounter(LevelSelector):
+    """LevelSelector that also counts which case each operation took (for the coverage check)."""
+
+    def __init__(self, n: int, cell: int, cases: Counter) -> None:
+        super().__init__(n, cell)
+        self.cases = cases
+
+    def _pop_min(self) -> int | None:
+        low = min(self.buckets) if self.buckets else None
+        slot = super()._pop_min()
+        if slot is not None:
+            self.cases["pop empties a bucket" if low not in self.buckets else "pop keeps the bucket"] += 1
+        return slot
+
+    def _push(self, code: int, slot: int) -> None:
+        low = min(self.buckets) if self.buckets else None
+        key = "push to an empty rest" if low is None else "push below" if code < low else "push onto" if code == low else "push above"
+        self.cases[key] += 1
+        super()._push(code, slot)
+
+    def offer(self, x: int, y: int, low: bool, response: int):  # type: ignore[override]
+        c = (x // self.cell, y // self.cell)
+        before = self.floors.get(c)
+        op = super().offer(x, y, low, response)
+        after = self.floors.get(c)
+        if before is None:
+            self.cases["rejected cell" if after == (-1, -1) else "new floor"] += 1
+        elif after != before and after is not None:
+            self.cases["record"] += 1
+        return op
+
+
+def expected_ops(f: Frame, cases: Counter) -> list[tuple[int, int, int]]:
+    """(keep, slot, new) per candidate; slot 0 where it does not matter (dropped, `all` mode)."""
+    if not f.grid:
+        return [(int(not lo), 0, int(not lo)) for lo in f.low]
+    sel = CaseCounter(f.budget, f.cell, cases)
+    ops = []
+    for i in range(len(f.x)):
+        op = sel.offer(int(f.x[i]), int(f.y[i]), bool(f.low[i]), int(f.code[i]))
+        ops.append((0, 0, 0) if op is None else (1, op[0], int(op[1])))
+    assert sel.kept() == select_level(f.x, f.y, f.low, f.code, f.budget, f.cell).tolist(), f.label
+    return ops
+
+
+def photo_frames(width: int, height: int) -> list[Frame]:
+    out = []
+    for name, t, tl, budget, cell in (("astronaut", 20, 7, 60, 16), ("camera", 20, 7, 25, 40), ("coffee", 30, 5, 200, 24),
+                                      ("chelsea", 20, 20, 12, 255), ("rocket", 15, 3, 1000, 80)):  # fmt: skip
+        img = images.photo(name, width, height)
+        cfg = Config(width, height, threshold=t, threshold_lo=tl, selection="grid", budget=budget, cell=cell, mode="fast")
+        c = candidates(img, cfg)
+        out.append(Frame(f"{name} t={t}/{tl} n={budget} cell={cell}", c.x, c.y, c.low, c.response, budget, cell))
+    return out
+
+
+def random_frames(width: int, height: int, seed: int) -> list[Frame]:
+    rng = np.random.default_rng(seed)
+    out = []
+    for k in range(14):
+        count = int(rng.integers(1, 260))
+        pos = np.sort(rng.choice(width * height, size=min(count, width * height // 3), replace=False))
+        # NMS keeps two candidates at least two pixels apart: drop any right neighbour
+        keep = np.r_[True, np.diff(pos) > 1]
+        pos = pos[keep]
+        x, y = pos % width, pos // width
+        low = rng.random(len(pos)) < (0.0, 0.3, 0.7, 1.0)[k % 4]
+        code = rng.integers(0, int(rng.integers(1, 64)), len(pos))
+        budget = int((0, 1, 5, 17, 40, 90, 300)[k % 7])
+        cell = int((16, 255, 20, 33, 64, 17, 100)[k % 7])
+        out.append(Frame(f"random {k}", x, y, low, code, budget, cell))
+    # every candidate in one cell: records, then the rest
+    x = np.arange(0, 60, 2)
+    out.append(Frame("one cell", x, np.zeros_like(x), np.zeros(len(x), bool), rng.integers(0, 8, len(x)), 9, 255))
+    # `all` mode
+    f = out[3]
+    out.append(Frame("all mode", f.x, f.y, f.low, f.code, f.budget, f.cell, grid=False))
+    return out
+
+
+async def run_frames(dut, frames: list[Frame], seed: int) -> Counter:
+    rng = np.random.default_rng(seed)
+    cases: Counter = Counter()
+    await reset(dut, {"in_valid": 0, "in_x": 0, "in_y": 0, "in_low": 0, "in_code": 0, "in_done": 0, "grid": 1,
+                      "budget": 0, "recip": 0})  # fmt: skip
+    edge = 0
+    outs: list[tuple[int, tuple]] = []
+
+    async def clock() -> None:
+        nonlocal edge
+        await RisingEdge(dut.clk)
+        edge += 1
+        if dut.out_valid.value == 1:
+            outs.append((edge, (to_int(dut.out_keep.value), to_int(dut.out_slot.value), to_int(dut.out_new.value))))
+
+    for f in frames:
+        want = expected_ops(f, cases)
+        dut.grid.value = int(f.grid)
+        dut.budget.value = f.budget
+        dut.recip.value = recip(f.cell)
+        outs.clear()
+        in_edges = []
+        for i in range(len(f.x)):
+            dut.in_valid.value = 1
+            dut.in_x.value = int(f.x[i])
+            dut.in_y.value = int(f.y[i])
+            dut.in_low.value = int(f.low[i])
+            dut.in_code.value = int(f.code[i])
+            await clock()
+            in_edges.append(edge)
+            dut.in_valid.value = 0
+            for _ in range(1 + (int(rng.integers(1, 4)) if rng.random() < 0.3 else 0)):
+                await clock()
+        for _ in range(LATENCY + 1):
+            await clock()
+        assert [e for e, _ in outs] == [e + LATENCY for e in in_edges], (
+            f"{f.label}: {len(outs)} decisions for {len(in_edges)} candidates, not each {LATENCY} clocks after"
+        )
+        got = [o for _, o in outs]
+        norm = [(k, s if (k and f.grid) else 0, n if k else 0) for k, s, n in got]
+        for i, (g, w) in enumerate(zip(norm, want, strict=True)):
+            assert g == w, (
+                f"{f.label}: candidate {i} (x={int(f.x[i])}, y={int(f.y[i])}, low={int(f.low[i])}, "
+                f"code={int(f.code[i])}): decision (keep, slot, new) {g}, model {w}"
+            )
+        dut.in_done.value = 1
+        await clock()
+        dut.in_done.value = 0
+        await ClockCycles(dut.clk, int(rng.integers(0, 3)))
+        edge += 0
+    return cases
+
+
+@cocotb.test()
+async def photographs(dut) -> None:
+    w, h = env_int("ORB_LINE_WIDTH"), env_int("ORB_FRAME_HEIGHT")
+    frames = photo_frames(w, h)
+    assert sum(len(f.x) for f in frames) > 500 and any(f.low.any() for f in frames)
+    cases = await run_frames(dut, frames, seed=1)
+    dut._log.info("photographs: %s", dict(cases))
+
+
+@cocotb.test()
+async def corner_cases(dut) -> None:
+    w, h = env_int("ORB_LINE_WIDTH"), env_int("ORB_FRAME_HEIGHT")
+    cases = await run_frames(dut, random_frames(w, h, seed=2), seed=3)
+    need = ("new floor", "record", "rejected cell", "pop empties a bucket", "pop keeps the bucket",
+            "push to an empty rest", "push below", "push onto", "push above")  # fmt: skip
+    missing = [k for k in need if not cases[k]]
+    assert not missing, f"the stimulus never reached: {missing} ({dict(cases)})"
+    dut._log.info("corner cases: %s", dict(cases))
+
+
+def test_orb_feat_select() -> None:
+    run("orb_feat_select", "test_orb_feat_select", {"LINE_WIDTH_g": 160, "SLOTS_g": 1000},
+        env={**SIM_ENV, "ORB_LINE_WIDTH": "160", "ORB_FRAME_HEIGHT": "120"})  # fmt: skip
