@@ -25,7 +25,8 @@ help:
 	@echo "make bench-sim  RTL simulation speed, one 640x480 frame (scripts/bench/bench_sim.py)"
 	@echo "make bench-driver  per-frame CPU cost of the driver and the ROS message, 5,000 features (docs/ros.md)"
 	@echo "make ros-sim the ROS node on the simulated accelerator, publishing /orb_accel/features (IMAGE=; docs/ros.md)"
-	@echo "make eval    compare-fast, rotation-bench and scale-bench against OpenCV on the evaluation photos (STEP=1: ~7 min)"
+	@echo "make eval    compare-fast, rotation-bench and scale-bench against OpenCV on the evaluation photos (STEP=1: ~7 min);"
+	@echo "             then the held-out photographs (apt-get download, no root): scale-, track- and density-bench"
 	@echo "make figures make eval, then copy its figures into docs/img (docs/img/README.md)"
 	@echo "make lint    ruff, the import-layer contracts (lint-imports); GHDL synth check and vsg style of hdl/"
 	@echo "make synth   LUT/FF/BRAM/DSP estimate of orb_core 640x480x1 + 1920x1080x2, checked (GHDL + yosys; 4-7 min, cached;"
@@ -86,12 +87,24 @@ ros-sim: $(STAMP)
 
 STEP ?= 1
 EVAL_PHOTOS := build/eval/photos
+# the held-out photographs (Debian's opencv-doc and mate-backgrounds, orb-accel eval-photos); the tracking clips
+# are made from the 8 largest (most room for the camera's motion) and OpenCV's sample video vtest.avi
+EVAL_HELD := build/eval/held
+EVAL_DEBS := build/eval/debian-cache
+TRACK_PHOTOS := Wood Aqua Garden LadyBird TwoWings YellowFlower Storm Blinds
 eval: $(STAMP)
 	$(BIN)/python scripts/gen/sample_photos.py $(EVAL_PHOTOS) > /dev/null
 	$(BIN)/orb-accel compare-fast $(EVAL_PHOTOS)/*.png --threshold 15 20 25 30 35 40 --out-dir build/eval/compare-fast
 	$(BIN)/orb-accel rotation-bench $(EVAL_PHOTOS)/*.png --sectors 16 32 64 --step $(STEP) --threshold 20 \
 		--scales 1 --out-dir build/eval/rotation-bench
 	$(BIN)/orb-accel scale-bench $(EVAL_PHOTOS)/*.png --out-dir build/eval/scale-bench
+	$(BIN)/orb-accel eval-photos $(EVAL_HELD) --cache $(EVAL_DEBS)
+	$(BIN)/orb-accel scale-bench $(EVAL_HELD)/640x480/*.png --out-dir build/eval/scale-bench-held
+	$(BIN)/orb-accel track-bench $(foreach p,$(TRACK_PHOTOS),$(EVAL_HELD)/native/$(p).png) \
+		$$(ls $(EVAL_DEBS)/opencv-doc/usr/share/doc/opencv-doc/examples/data/vtest.avi 2>/dev/null) \
+		--out-dir build/eval/track-bench
+	$(BIN)/orb-accel density-bench $(EVAL_HELD)/native/*.png --sizes 640x480 1280x720 1920x1080 \
+		--out-dir build/eval/density-bench
 
 # the figures of docs/img (docs/img/README.md): the evaluation, copied
 figures: eval

@@ -130,6 +130,10 @@ class FeatureBeat:
     score: int
     sector: int
     descriptor: int
+    response: int = 0
+    low: int = 0
+    sel_slot: int = 0
+    sel_replace: int = 0
 
     @property
     def descriptor_bytes(self) -> bytes:
@@ -159,12 +163,14 @@ def eof_error(word: int) -> str | None:
     return layout_error(EOF_BEAT, word)
 
 
-def encode_feature(*, scale: int, x: int, y: int, score: int, sector: int = 0, descriptor: int | bytes = 0) -> int:
+def encode_feature(*, scale: int, x: int, y: int, score: int, sector: int = 0, descriptor: int | bytes = 0,
+                   response: int = 0, low: int = 0, sel_slot: int = 0, sel_replace: int = 0) -> int:  # fmt: skip
     """A feature word; `descriptor` as an int (bit i = test i) or golden_model's bytes."""
     if isinstance(descriptor, bytes | bytearray):
         descriptor = int.from_bytes(descriptor, "little")
     return pack(FEATURE_BEAT, {"scale": scale, "x": x, "y": y, "score": score, "sector": sector,
-                               "descriptor": descriptor})  # fmt: skip
+                               "descriptor": descriptor, "response": response, "low": low, "sel_slot": sel_slot,
+                               "sel_replace": sel_replace})  # fmt: skip
 
 
 def encode_eof(frame: int, drops: int = 0) -> int:
@@ -186,13 +192,33 @@ def decode_eof(word: int, check: bool = True) -> EofBeat:
     return EofBeat(**unpack(EOF_BEAT, word))
 
 
+def resolve_selection(words: Sequence[int]) -> list[int]:
+    """A frame's feature words as the feature memory keeps them (docs/selection.md): a word with
+    sel_replace = 0 takes the next place, one with sel_replace = 1 replaces the word that took the
+    place for its sel_slot. In `all` mode every word takes a place (arrival order). Raises
+    LayoutError for a replacing word whose sel_slot no earlier word of the frame took."""
+    slot_f, repl_f = FEATURE_BEAT.field("sel_slot"), FEATURE_BEAT.field("sel_replace")
+    kept: list[int] = []
+    place: dict[int, int] = {}
+    for i, w in enumerate(words):
+        slot = slot_f.get(w)
+        if repl_f.get(w):
+            if slot not in place:
+                raise LayoutError(f"feature word {i} replaces sel_slot {slot}, which no earlier word took")
+            kept[place[slot]] = w
+        else:
+            place[slot] = len(kept)
+            kept.append(w)
+    return kept
+
+
 def decode_stream_features(
     words: Sequence[int], sectors_total: int = 0, descriptors: bool = False, check: bool = True
 ) -> Features:
-    """Feature words as Features in canonical order: fast mode (no sector, no descriptor) unless
-    `descriptors`. With `check`, raise LayoutError at the first word that is not a well-formed
-    feature word."""
-    ch = to_chunks(words, FEAT_BITS)
+    """A frame's feature words as Features in canonical order, after resolve_selection: fast mode
+    (no sector, no descriptor) unless `descriptors`. With `check`, raise LayoutError at the first
+    word that is not a well-formed feature word."""
+    ch = to_chunks(resolve_selection(words), FEAT_BITS)
     if check:
         check_rows(FEATURE_BEAT, ch)
     return _features(FEATURE_BEAT, ch, sectors_total, descriptors)
@@ -207,7 +233,8 @@ def _features(layout: Layout, ch: np.ndarray, sectors_total: int, descriptors: b
         sector, desc = col("sector"), byte_column(ch, layout.field("descriptor"))
     else:
         sector, desc = np.full(n, NO_SECTOR, dtype=np.int64), np.zeros((n, 0), dtype=np.uint8)
-    return Features(col("scale"), col("x"), col("y"), col("score"), sector, desc, sectors_total).sorted()
+    return Features(col("scale"), col("x"), col("y"), col("score"), sector, desc, sectors_total, (2, 1),
+                    col("response"), col("low").astype(bool)).sorted()  # fmt: skip
 
 
 # ------------------------------------------------------------------------------------------------

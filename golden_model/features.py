@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
-CSV_COLUMNS = ("scale", "x", "y", "score", "sector", "descriptor", "x0", "y0", "angle_deg")
+CSV_COLUMNS = ("scale", "x", "y", "score", "sector", "descriptor", "x0", "y0", "angle_deg", "response", "low")
 NO_SECTOR = -1
 
 
@@ -113,7 +113,7 @@ def first_difference(a: Features, b: Features) -> str | None:
         if ka != kb:
             first, other = (ka, "second") if ka < kb else (kb, "first")
             return f"feature {i}: scale {first[0]} (x={first[2]}, y={first[1]}) missing from the {other} list"
-        for name in ("score", "sector"):
+        for name in ("score", "response", "low", "sector"):
             va, vb = int(getattr(a, name)[i]), int(getattr(b, name)[i])
             if va != vb:
                 return f"feature {i} at scale {ka[0]} (x={ka[2]}, y={ka[1]}): {name} {va} != {vb}"
@@ -143,6 +143,7 @@ def write_csv(features: Features, path: Path) -> None:
                 f.descriptor[i].tobytes().hex() if f.has_descriptors else "",
                 f"{x0[i]:.10g}", f"{y0[i]:.10g}",
                 f"{angle[i]:g}" if has_sector else "",
+                int(f.response[i]), int(f.low[i]),
             ])  # fmt: skip
 
 
@@ -161,4 +162,7 @@ def read_csv(path: Path, sectors_total: int = 0, step: tuple[int, int] = (2, 1))
         if has_desc
         else np.zeros((len(rows), 0), dtype=np.uint8)
     )
-    return Features(ints["scale"], ints["x"], ints["y"], ints["score"], sector, desc, sectors_total, step)
+    # response and low: columns added with the selection (0 when a file predates them)
+    extra = {name: np.array([int(r.get(name) or 0) for r in rows], dtype=np.int64) for name in ("response", "low")}
+    return Features(ints["scale"], ints["x"], ints["y"], ints["score"], sector, desc, sectors_total, step,
+                    extra["response"], extra["low"].astype(bool))  # fmt: skip

@@ -71,7 +71,7 @@ class Layout:
         raise KeyError(f"{self.name} has no field {name}")
 
 
-FEAT_BITS = 320  # bits of the stream word (m_axis_feat_tdata)
+FEAT_BITS = 352  # bits of the stream word (m_axis_feat_tdata)
 EOF_FLAG = Field(
     name="eof",
     lsb=39,
@@ -80,7 +80,7 @@ EOF_FLAG = Field(
 )
 FEATURE_BEAT = Layout(
     name="feature",
-    bits=320,
+    bits=352,
     flag=EOF_FLAG,
     flag_value=0,
     fields=(
@@ -115,16 +115,40 @@ FEATURE_BEAT = Layout(
             meaning="orientation sector",
         ),
         Field(
+            name="response",
+            lsb=46,
+            width=6,
+            meaning="corner response code (docs/spec.md section 15)",
+        ),
+        Field(
+            name="low",
+            lsb=52,
+            width=1,
+            meaning="1: a corner at the low threshold only (section 14)",
+        ),
+        Field(
             name="descriptor",
             lsb=64,
             width=256,
             meaning="rBRIEF descriptor: bit i of the field = test i (golden_model's 32 bytes, little-endian)",
         ),
+        Field(
+            name="sel_slot",
+            lsb=320,
+            width=13,
+            meaning="grid selection: the level's first slot + the slot of the level (not stored)",
+        ),
+        Field(
+            name="sel_replace",
+            lsb=333,
+            width=1,
+            meaning="grid selection: 1 to replace the slot's occupant, 0 for a new slot (append)",
+        ),
     ),
 )
 EOF_BEAT = Layout(
     name="eof",
-    bits=320,
+    bits=352,
     flag=EOF_FLAG,
     flag_value=1,
     fields=(
@@ -183,11 +207,25 @@ SLOT_FEATURE = Layout(
             source="score",
         ),
         Field(
+            name="response",
+            lsb=44,
+            width=6,
+            meaning="corner response code",
+            source="response",
+        ),
+        Field(
             name="scale",
-            lsb=48,
+            lsb=50,
             width=3,
             meaning="scale (pyramid level)",
             source="scale",
+        ),
+        Field(
+            name="low",
+            lsb=53,
+            width=1,
+            meaning="1: a corner at the low threshold only",
+            source="low",
         ),
         Field(
             name="sector",

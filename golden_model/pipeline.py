@@ -135,5 +135,5 @@ def extract(img: np.ndarray, cfg: Config) -> Features:
     each level's budget in `grid` selection (golden_model.select)."""
     feats = candidates(img, cfg)
     if cfg.selection == "grid":
-        return select_grid(feats, cfg.budget, cfg.scales, cfg.cell)
+        return select_grid(feats, cfg)
     return feats

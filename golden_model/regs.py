@@ -10,8 +10,8 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 
 ORB_ID = 0x4F524231  # magic identification word, ASCII "ORB1"
-VERSION_MAJOR = 2  # register map major version (incompatible changes)
-VERSION_MINOR = 2  # register map minor version (compatible additions)
+VERSION_MAJOR = 3  # register map major version (incompatible changes)
+VERSION_MINOR = 0  # register map minor version (compatible additions)
 MEM_BASE = 0x10000  # byte address of the feature-memory window; register offsets lie below it
 BANKS = 2  # feature-memory banks (double buffering)
 

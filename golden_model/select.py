@@ -10,8 +10,9 @@ ratio q = den / num per level, in integers (the hardware computes the same at ea
 
 so the budgets never sum to more than N.
 
-Selection (`grid` mode), per level with budget n, over the level's candidates in arrival (raster)
-order: every NMS survivor the level reports, each with its response code and a flag `low` (a corner
+Selection (`grid` mode), per level with budget n, over the level's candidates in arrival order
+(the order the NMS decides them: raster order, but for the last row of centres in fast mode,
+arrival_order): every NMS survivor the level reports, each with its response code and a flag `low` (a corner
 at the low threshold only). Cells are C x C squares of the level's pixels, cell (x // C, y // C).
 
 - A candidate is a *record* when its rank (main before low, then the response code) is strictly
@@ -36,6 +37,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .config import Config
 from .features import Features
 
 FIXED_BITS = 16
@@ -131,15 +133,26 @@ def select_level(x: np.ndarray, y: np.ndarray, low: np.ndarray, response: np.nda
     return np.sort(np.concatenate([floors, cand[best]]))
 
 
-def select_grid(features: Features, total: int, levels: int, cell: int) -> Features:
-    """The `grid` selection of a frame's candidates (all levels, any order), in canonical order."""
-    budgets = level_budgets(total, features.step, levels)
-    f = features.sorted()
+def arrival_order(x: np.ndarray, y: np.ndarray, width: int, height: int) -> np.ndarray:
+    """The order a level's candidates reach its selection: the order the 3x3 NMS decides them,
+    by (min(y + 4, H - 1), min(x + 4, W - 1)) (docs/spec.md section 14): raster order, except that
+    in fast mode the last row of centres (y = H - 4) is decided together with the row above it."""
+    x, y = np.asarray(x, np.int64), np.asarray(y, np.int64)
+    return np.lexsort((np.minimum(x + 4, width - 1), np.minimum(y + 4, height - 1)))
+
+
+def select_grid(features: Features, cfg: Config) -> Features:
+    """The `grid` selection (cfg.budget, cfg.cell) of a frame's candidates (all levels, any
+    order), in canonical order."""
+    budgets = level_budgets(cfg.budget, features.step, cfg.scales)
     keep: list[np.ndarray] = []
     for k, n in enumerate(budgets):
-        idx = np.flatnonzero(f.scale == k)
-        keep.append(idx[select_level(f.x[idx], f.y[idx], f.low[idx], f.response[idx], n, cell)])
-    return f.take(np.concatenate(keep)).sorted()
+        w, h = cfg.scale_size(k)
+        idx = np.flatnonzero(features.scale == k)
+        idx = idx[arrival_order(features.x[idx], features.y[idx], w, h)]
+        keep.append(idx[select_level(features.x[idx], features.y[idx], features.low[idx], features.response[idx], n,
+                                     cfg.cell)])  # fmt: skip
+    return features.take(np.concatenate(keep)).sorted()
 
 
 class LevelSelector:
@@ -239,3 +252,12 @@ class LevelSelector:
     def kept(self) -> list[int]:
         """The candidate indices held now (the selection, once the level's last candidate is in)."""
         return sorted(self.occupant.values())
+
+
+def level_slots(cap: int, step: tuple[int, int], levels: int) -> list[int]:
+    """The most slots each level can be given by a budget of at most `cap`: min(cap, ((cap F_k) >> 16)
+    + levels), F_{L-1} = 2^16 minus the others (orb_util_pkg.level_slots; tb/model/test_select.py
+    checks the bound against level_budgets for every budget up to `cap`)."""
+    f = split_fractions(step, levels)
+    f.append((1 << FIXED_BITS) - sum(f))
+    return [min(cap, ((cap * fk) >> FIXED_BITS) + levels) for fk in f]

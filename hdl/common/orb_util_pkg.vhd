@@ -14,12 +14,26 @@ package orb_util_pkg is
   constant SCORE_BITS_c : positive := 12;
   constant PIXEL_BITS_c : positive := 8;
   -- A level's selection slot: 0 .. 4094 (a budget is at most 4095; slot 4095 means none).
-  constant SLOT_BITS_c : positive := 12;
+  constant SEL_SLOT_BITS_c : positive := 12;
   -- The cell size's reciprocal ceil(2^24 / cell): at most 2^20 for cells of 16 pixels or more.
   constant RECIP_BITS_c : positive := 21;
+  -- orb_desc_path shows a described feature this many clocks before it leaves (its selection's
+  -- decision is ready by then)
+  constant CAND_LEAD_c : positive := 14;
+  -- orb_feat_select's latency: a candidate's decision, in clocks
+  constant SELECT_LAT_c : positive := 5;
 
   -- '1' for true
   function bool2sl (b : boolean) return std_logic;
+
+  -- The budget split of docs/spec.md section 14 (golden_model.select): F_k = round(2^16 (num - den)
+  -- den^k num^(L-1-k) / (num^L - den^L)) for k < L - 1 (the last level: 2^16 minus the others).
+  function split_fraction (num, den, levels, k : natural) return natural;
+  -- The most slots level k can be given by a budget of at most `cap`: min(cap, ((cap F_k) >> 16) +
+  -- levels) (golden_model.select.level_slots), and the first slot of level k when the levels'
+  -- slots are laid out one after the other (level_base(..., levels) is their total).
+  function level_slots (cap, num, den, levels, k : natural) return natural;
+  function level_base (cap, num, den, levels, k : natural) return natural;
 
   function clog2 (n : positive) return natural;
 
@@ -69,5 +83,51 @@ package body orb_util_pkg is
   begin
     return unsigned(win((K_c + 1) * PIXEL_BITS_c - 1 downto K_c * PIXEL_BITS_c));
   end function window_pixel;
+
+  function split_fraction (num, den, levels, k : natural) return natural is
+    variable a, d, acc : unsigned(95 downto 0);
+    variable sum       : natural := 0;
+  begin
+    if k = levels - 1 then
+      for j in 0 to levels - 2 loop
+        sum := sum + split_fraction(num, den, levels, j);
+      end loop;
+      return 2 ** 16 - sum;
+    end if;
+    a := to_unsigned(num - den, 96);
+    for j in 1 to k loop
+      a := resize(a * to_unsigned(den, 8), 96);
+    end loop;
+    for j in 1 to levels - 1 - k loop
+      a := resize(a * to_unsigned(num, 8), 96);
+    end loop;
+    d   := to_unsigned(1, 96);
+    acc := to_unsigned(1, 96);
+    for j in 1 to levels loop
+      d   := resize(d * to_unsigned(num, 8), 96);
+      acc := resize(acc * to_unsigned(den, 8), 96);
+    end loop;
+    d := d - acc;
+    return to_integer((shift_left(a, 17) + d) / shift_left(d, 1));
+  end function split_fraction;
+
+  function level_slots (cap, num, den, levels, k : natural) return natural is
+    variable s : natural;
+  begin
+    s := (cap * split_fraction(num, den, levels, k)) / 2 ** 16 + levels;
+    if s > cap then
+      return cap;
+    end if;
+    return s;
+  end function level_slots;
+
+  function level_base (cap, num, den, levels, k : natural) return natural is
+    variable b : natural := 0;
+  begin
+    for j in 0 to k - 1 loop
+      b := b + level_slots(cap, num, den, levels, j);
+    end loop;
+    return b;
+  end function level_base;
 
 end package body orb_util_pkg;

@@ -8,11 +8,17 @@
 -- rate with no frame buffer (docs/spec.md section 3, docs/pyramid.md). Each scale's
 -- orb_scale_path reports, per frame, either every NMS survivor (fast mode, mode_orb = 0) or
 -- every survivor inside the descriptor border with its sector and 256-bit rBRIEF descriptor
--- (orb mode, mode_orb = 1; needs DESC_g = true, which builds the descriptor
--- path), merged by orb_feat_merge into m_axis_feat (layout in orb_feat_pkg) with an end-of-frame
--- beat after each frame; the descriptor paths leave their tests unrotated and one orb_desc_rotate
--- after the merge applies every feature's orbit rotation. The FAST threshold and the mode are
--- sampled with each frame's first pixel (tuser) and hold for every scale of that frame. Pixels
+-- (orb mode, mode_orb = 1; needs DESC_g = true, which builds the descriptor path), each
+-- scale's selection (orb_feat_select: in grid mode, select_grid = 1, every frame keeps at most
+-- `budget` features, split over the scales as docs/spec.md section 14 says, each scale's share
+-- spread over cells of `cell_size` pixels; in all mode every feature), merged by orb_feat_merge
+-- into m_axis_feat (layout in orb_feat_pkg) with an end-of-frame beat after each frame; the
+-- descriptor paths leave their tests unrotated and one orb_desc_rotate after the merge applies
+-- every feature's orbit rotation. The FAST thresholds, the mode and the selection's parameters
+-- are sampled with each frame's first pixel (tuser) and hold for every scale of that frame; the
+-- budget's split and the cell's reciprocal are formed from the inputs continuously, so a budget
+-- or cell that changes fewer than 2 * SCALES_g + 4 clocks before a frame's first pixel may apply
+-- from the frame after only (the registers change them between frames). Pixels
 -- outside the configured WIDTH_g x HEIGHT_g frame (a long line or extra lines) are ignored and
 -- counted in bad_pixels; features the descriptor path had to discard (only on a malformed frame)
 -- are counted in desc_lost.
@@ -34,7 +40,9 @@ entity orb_core is
     STEP_DEN_g   : step_den_t              := 1;
     FIFO_DEPTH_g : positive range 2 to 512 := 32;
     SECTORS_g    : sectors_t               := 32; -- orientation sectors in all (orb_limits_pkg)
-    DESC_g       : boolean                 := true
+    DESC_g       : boolean                 := true;
+    -- the largest budget: the feature memory's capacity (each scale's selection is sized for it)
+    BUDGET_MAX_g : positive range 1 to 4095 := 1023
   );
   port (
     clk                 : in    std_logic;
@@ -45,7 +53,11 @@ entity orb_core is
     s_axis_video_tuser  : in    std_logic;
     s_axis_video_tlast  : in    std_logic;
     threshold           : in    std_logic_vector(7 downto 0);
+    threshold_lo        : in    std_logic_vector(7 downto 0);
     mode_orb            : in    std_logic;
+    select_grid         : in    std_logic;
+    budget              : in    std_logic_vector(SEL_SLOT_BITS_c - 1 downto 0);
+    cell_size           : in    std_logic_vector(7 downto 0);
     m_axis_feat_tdata   : out   std_logic_vector(FEAT_BITS_c - 1 downto 0);
     m_axis_feat_tvalid  : out   std_logic;
     m_axis_feat_tready  : in    std_logic;
@@ -81,12 +93,56 @@ architecture rtl of orb_core is
   signal f_score : std_logic_vector(SCALES_g * SCORE_BITS_c - 1 downto 0);
   signal f_sect  : std_logic_vector(SCALES_g * FEAT_SECTOR_BITS_c - 1 downto 0);
   signal f_desc  : std_logic_vector(SCALES_g * DESC_BITS_c - 1 downto 0);
+  signal f_low   : std_logic_vector(SCALES_g - 1 downto 0);
+  signal f_code  : std_logic_vector(SCALES_g * FEAT_RESPONSE_BITS_c - 1 downto 0);
+  signal f_slot  : std_logic_vector(SCALES_g * FEAT_SEL_SLOT_BITS_c - 1 downto 0);
+  signal f_repl  : std_logic_vector(SCALES_g - 1 downto 0);
 
   type lost_arr_t is array (0 to SCALES_g - 1) of std_logic_vector(31 downto 0);
 
   signal lost     : lost_arr_t;
   signal lost_q   : unsigned(31 downto 0) := (others => '0');
   signal mode_frm : std_logic := '0';
+
+  -- the selection's parameters: formed from the inputs (live), sampled with tuser (frm)
+  type split_t is array (0 to SCALES_g - 1) of unsigned(SEL_SLOT_BITS_c - 1 downto 0);
+  type recip_rom_t is array (0 to 255) of unsigned(RECIP_BITS_c - 1 downto 0);
+  type fraction_t is array (0 to SCALES_g - 1) of unsigned(16 downto 0);
+
+  -- ceil(2^24 / c) for the legal cells (0 elsewhere)
+  function recip_rom return recip_rom_t is
+    variable r : recip_rom_t := (others => (others => '0'));
+  begin
+    for c in CELL_MIN_c to CELL_MAX_c loop
+      r(c) := to_unsigned((2 ** 24 + c - 1) / c, RECIP_BITS_c);
+    end loop;
+    return r;
+  end function recip_rom;
+
+  function fractions return fraction_t is
+    variable f : fraction_t;
+  begin
+    for k in 0 to SCALES_g - 1 loop
+      f(k) := to_unsigned(split_fraction(STEP_NUM_g, STEP_DEN_g, SCALES_g, k), 17);
+    end loop;
+    return f;
+  end function fractions;
+
+  constant RECIP_ROM_c : recip_rom_t := recip_rom;
+  constant FRACTIONS_c : fraction_t  := fractions;
+
+  signal split_live : split_t := (others => (others => '0'));
+  signal split_work : split_t := (others => (others => '0'));
+  signal split_frm  : split_t := (others => (others => '0'));
+  signal sp_k       : natural range 0 to SCALES_g - 1 := 0;
+  signal sp_phase   : std_logic := '0';
+  signal sp_n       : unsigned(SEL_SLOT_BITS_c - 1 downto 0) := (others => '0');  -- the budget being split
+  signal sp_sum     : unsigned(SEL_SLOT_BITS_c - 1 downto 0) := (others => '0');  -- the levels before
+  signal sp_prod    : unsigned(SEL_SLOT_BITS_c + 16 downto 0) := (others => '0');
+  signal recip_live : unsigned(RECIP_BITS_c - 1 downto 0) := (others => '0');
+  signal recip_frm  : std_logic_vector(RECIP_BITS_c - 1 downto 0) := (others => '0');
+  signal grid_frm   : std_logic := '0';
+  signal tlo_frm    : std_logic_vector(7 downto 0) := (others => '0');
 
   -- the merged stream, before the shared orbit rotation
   signal mg_tdata  : std_logic_vector(FEAT_BITS_c - 1 downto 0);
@@ -131,8 +187,17 @@ begin
           y := next_y;
         end if;
         if s_axis_video_tuser = '1' then
-          thr_frm  <= threshold;  -- the whole frame, every scale, uses these values
-          mode_frm <= mode_orb;
+          thr_frm   <= threshold;  -- the whole frame, every scale, uses these values
+          mode_frm  <= mode_orb;
+          grid_frm  <= select_grid;
+          split_frm <= split_live;
+          recip_frm <= std_logic_vector(recip_live);
+          -- all mode reports main corners only: no low threshold
+          if select_grid = '1' then
+            tlo_frm <= threshold_lo;
+          else
+            tlo_frm <= threshold;
+          end if;
         end if;
         if x < WIDTH_g and y < HEIGHT_g then
           px_valid(0) <= '1';
@@ -159,6 +224,53 @@ begin
       end if;
     end if;
   end process input;
+
+  -- The budget's split (docs/spec.md section 14), level after level, two clocks each, over and
+  -- over: n_k = min((N F_k + 2^15) >> 16, N - the levels before), the last level the rest; a whole
+  -- new split replaces split_live at once. N is the budget input, at most BUDGET_MAX_g.
+  split : process (clk) is
+    variable n     : unsigned(SEL_SLOT_BITS_c - 1 downto 0);
+    variable share : unsigned(SEL_SLOT_BITS_c - 1 downto 0);
+    variable fin   : split_t;
+  begin
+    if rising_edge(clk) then
+      recip_live <= RECIP_ROM_c(to_integer(unsigned(cell_size)));
+      if sp_phase = '0' then
+        if sp_k = 0 then
+          n := unsigned(budget);
+          if n > BUDGET_MAX_g then
+            n := to_unsigned(BUDGET_MAX_g, SEL_SLOT_BITS_c);
+          end if;
+          sp_n   <= n;
+          sp_sum <= (others => '0');
+        else
+          n := sp_n;
+        end if;
+        sp_prod  <= resize(n * FRACTIONS_c(sp_k), sp_prod'length);
+        sp_phase <= '1';
+      else
+        sp_phase <= '0';
+        if sp_k = SCALES_g - 1 then
+          share := sp_n - sp_sum;
+        else
+          share := resize(shift_right(sp_prod + 2 ** 15, 16), SEL_SLOT_BITS_c);
+          if share > sp_n - sp_sum then
+            share := sp_n - sp_sum;
+          end if;
+        end if;
+        fin              := split_work;
+        fin(sp_k)        := share;
+        split_work(sp_k) <= share;
+        sp_sum           <= sp_sum + share;
+        if sp_k = SCALES_g - 1 then
+          sp_k       <= 0;
+          split_live <= fin;
+        else
+          sp_k <= sp_k + 1;
+        end if;
+      end if;
+    end if;
+  end process split;
 
   scales : for s in 0 to SCALES_g - 1 generate
 
@@ -210,14 +322,18 @@ begin
         FRAME_HEIGHT_g => level_size(HEIGHT_g, STEP_NUM_g, STEP_DEN_g, s),
         SECTORS_g      => SECTORS_g,
         DESC_g         => DESC_g,
-        ROTATE_g       => false
+        ROTATE_g       => false,
+        SLOTS_g        => level_slots(BUDGET_MAX_g, STEP_NUM_g, STEP_DEN_g, SCALES_g, s),
+        BASE_g         => level_base(BUDGET_MAX_g, STEP_NUM_g, STEP_DEN_g, SCALES_g, s)
       )
       port map (
         clk       => clk,
         rst       => rst,
         threshold => thr_frm,
-        -- (the low threshold follows with the selection; equal to the threshold: no low corners)
-        threshold_lo => thr_frm,
+        threshold_lo => tlo_frm,
+        select_grid  => grid_frm,
+        budget       => std_logic_vector(split_frm(s)),
+        recip        => recip_frm,
         mode_orb     => mode_frm,
         in_valid     => px_valid(s),
         in_x         => px_x(s),
@@ -226,7 +342,11 @@ begin
         feat_valid   => f_valid(s),
         feat_x       => f_x((s + 1) * COORD_BITS_c - 1 downto s * COORD_BITS_c),
         feat_y       => f_y((s + 1) * COORD_BITS_c - 1 downto s * COORD_BITS_c),
-        feat_score   => f_score((s + 1) * SCORE_BITS_c - 1 downto s * SCORE_BITS_c),
+        feat_score  => f_score((s + 1) * SCORE_BITS_c - 1 downto s * SCORE_BITS_c),
+        feat_low    => f_low(s),
+        feat_code   => f_code((s + 1) * FEAT_RESPONSE_BITS_c - 1 downto s * FEAT_RESPONSE_BITS_c),
+        feat_slot   => f_slot((s + 1) * FEAT_SEL_SLOT_BITS_c - 1 downto s * FEAT_SEL_SLOT_BITS_c),
+        feat_replace => f_repl(s),
         feat_sector  => f_sect((s + 1) * FEAT_SECTOR_BITS_c - 1 downto s * FEAT_SECTOR_BITS_c),
         feat_desc    => f_desc((s + 1) * DESC_BITS_c - 1 downto s * DESC_BITS_c),
         frame_done   => f_done(s),
@@ -248,6 +368,10 @@ begin
       in_x               => f_x,
       in_y               => f_y,
       in_score           => f_score,
+      in_low             => f_low,
+      in_code            => f_code,
+      in_slot            => f_slot,
+      in_replace         => f_repl,
       in_sector          => f_sect,
       in_desc            => f_desc,
       in_done            => f_done,

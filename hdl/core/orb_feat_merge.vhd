@@ -43,6 +43,10 @@ entity orb_feat_merge is
     in_x               : in    std_logic_vector(SCALES_g * COORD_BITS_c - 1 downto 0);
     in_y               : in    std_logic_vector(SCALES_g * COORD_BITS_c - 1 downto 0);
     in_score           : in    std_logic_vector(SCALES_g * SCORE_BITS_c - 1 downto 0);
+    in_low             : in    std_logic_vector(SCALES_g - 1 downto 0);
+    in_code            : in    std_logic_vector(SCALES_g * FEAT_RESPONSE_BITS_c - 1 downto 0);
+    in_slot            : in    std_logic_vector(SCALES_g * FEAT_SEL_SLOT_BITS_c - 1 downto 0);
+    in_replace         : in    std_logic_vector(SCALES_g - 1 downto 0);
     in_sector          : in    std_logic_vector(SCALES_g * FEAT_SECTOR_BITS_c - 1 downto 0);
     in_desc            : in    std_logic_vector(SCALES_g * DESC_BITS_c - 1 downto 0);
     in_done            : in    std_logic_vector(SCALES_g - 1 downto 0);
@@ -56,26 +60,27 @@ end entity orb_feat_merge;
 
 architecture rtl of orb_feat_merge is
 
-  -- FIFO entry: [11:0] score, [23:12] x, [35:24] y, then with DESC_g [41:36] sector and
-  -- [297:42] descriptor.
+  -- FIFO entry: [11:0] score, [23:12] x, [35:24] y, then the selection's fields (low, response
+  -- code, slot, replace: SEL_BITS_c), then with DESC_g the sector and the descriptor.
   constant BASE_BITS_c   : positive := 2 * COORD_BITS_c + SCORE_BITS_c;
-  constant SECTOR_LO_c   : natural  := BASE_BITS_c;
+  constant SEL_BITS_c    : positive := 2 + FEAT_RESPONSE_BITS_c + FEAT_SEL_SLOT_BITS_c;
+  constant SECTOR_LO_c   : natural  := BASE_BITS_c + SEL_BITS_c;
   constant SECTOR_BITS_c : positive := FEAT_SECTOR_BITS_c;
-  constant DESC_LO_c     : natural  := BASE_BITS_c + FEAT_SECTOR_BITS_c;
+  constant DESC_LO_c     : natural  := SECTOR_LO_c + FEAT_SECTOR_BITS_c;
 
   function entry_bits (desc : boolean) return positive is
   begin
     if desc then
-      return BASE_BITS_c + FEAT_SECTOR_BITS_c + DESC_BITS_c;
+      return SECTOR_LO_c + FEAT_SECTOR_BITS_c + DESC_BITS_c;
     end if;
-    return BASE_BITS_c;
+    return SECTOR_LO_c;
   end function entry_bits;
 
   constant ENTRY_BITS_c : positive := entry_bits(DESC_g);
   constant PTR_BITS_c   : positive := clog2(FIFO_DEPTH_g);
   constant SAT_c        : natural  := 2 ** 16 - 1;
-  constant GAP_ZERO_c   : std_logic_vector(FEAT_DESC_LO_c - 1 downto FEAT_SECTOR_LO_c + FEAT_SECTOR_BITS_c) :=
-    (others => '0');
+  constant GAP_ZERO_c   : std_logic_vector(FEAT_DESC_LO_c - 1 downto FEAT_LOW_BIT_c + 1) := (others => '0');
+  constant TOP_ZERO_c   : std_logic_vector(FEAT_BITS_c - 1 downto FEAT_SEL_REPLACE_BIT_c + 1) := (others => '0');
 
   subtype count_t is natural range 0 to FIFO_DEPTH_g;
   subtype drops_t is natural range 0 to SAT_c;
@@ -114,6 +119,8 @@ architecture rtl of orb_feat_merge is
   signal o_data    : std_logic_vector(FEAT_SECTOR_LO_c - 1 downto 0) := (others => '0');
   -- sector (low bits) and descriptor of the output word
   signal o_pay     : std_logic_vector(FEAT_SECTOR_BITS_c + DESC_BITS_c - 1 downto 0) := (others => '0');
+  -- the selection's fields of the output word: low, code, slot, replace (the FIFO entry's order)
+  signal o_sel     : std_logic_vector(SEL_BITS_c - 1 downto 0) := (others => '0');
   signal frame_no  : unsigned(EOF_FRAME_BITS_c - 1 downto 0) := (others => '0');
   signal total_drp : unsigned(31 downto 0) := (others => '0');
 
@@ -149,6 +156,10 @@ begin
     wr_data(BASE_BITS_c - 1 downto 0) <= in_y((k + 1) * COORD_BITS_c - 1 downto k * COORD_BITS_c) &
                                          in_x((k + 1) * COORD_BITS_c - 1 downto k * COORD_BITS_c) &
                                          in_score((k + 1) * SCORE_BITS_c - 1 downto k * SCORE_BITS_c);
+    wr_data(SECTOR_LO_c - 1 downto BASE_BITS_c) <= in_replace(k) &
+                                                   in_slot((k + 1) * FEAT_SEL_SLOT_BITS_c - 1 downto k * FEAT_SEL_SLOT_BITS_c) &
+                                                   in_code((k + 1) * FEAT_RESPONSE_BITS_c - 1 downto k * FEAT_RESPONSE_BITS_c) &
+                                                   in_low(k);
 
     fifo_desc : if DESC_g generate
       wr_data(ENTRY_BITS_c - 1 downto DESC_LO_c) <= in_desc((k + 1) * DESC_BITS_c - 1 downto k * DESC_BITS_c);
@@ -270,6 +281,7 @@ begin
           entry(SCORE_BITS_c + 2 * COORD_BITS_c - 1 downto SCORE_BITS_c + COORD_BITS_c);
         o_data(FEAT_SCALE_LO_c + FEAT_SCALE_BITS_c - 1 downto FEAT_SCALE_LO_c) <=
           std_logic_vector(to_unsigned(p, FEAT_SCALE_BITS_c));
+        o_sel   <= entry(SECTOR_LO_c - 1 downto BASE_BITS_c);
         if mk(p) >= 1 then
           a0(p) := a0(p) - 1;
           nz(p) := '1' when ahead0(p) /= 1 else '0';
@@ -282,6 +294,7 @@ begin
         o_valid <= '1';
         o_last  <= '1';
         o_data  <= (others => '0');
+        o_sel   <= (others => '0');
         o_data(FEAT_EOF_BIT_c) <= '1';
         o_data(EOF_FRAME_LO_c + EOF_FRAME_BITS_c - 1 downto EOF_FRAME_LO_c) <= std_logic_vector(frame_no);
         o_data(EOF_DROPS_LO_c + EOF_DROPS_BITS_c - 1 downto EOF_DROPS_LO_c) <=
@@ -429,8 +442,10 @@ begin
 
   end generate out_desc;
 
-  m_axis_feat_tdata  <= o_pay(o_pay'high downto FEAT_SECTOR_BITS_c) & GAP_ZERO_c &
-                        o_pay(FEAT_SECTOR_BITS_c - 1 downto 0) & o_data;
+  -- the word: sel_replace, sel_slot above the descriptor; low, response between sector and descriptor
+  m_axis_feat_tdata  <= TOP_ZERO_c & o_sel(SEL_BITS_c - 1) & o_sel(SEL_BITS_c - 2 downto FEAT_RESPONSE_BITS_c + 1) &
+                        o_pay(o_pay'high downto FEAT_SECTOR_BITS_c) & GAP_ZERO_c & o_sel(0) &
+                        o_sel(FEAT_RESPONSE_BITS_c downto 1) & o_pay(FEAT_SECTOR_BITS_c - 1 downto 0) & o_data;
   m_axis_feat_tvalid <= o_valid;
   m_axis_feat_tlast  <= o_last;
   dropped            <= std_logic_vector(total_drp);

@@ -1,7 +1,8 @@
 -- SPDX-License-Identifier: MIT
 -- orb_feat_select: the grid selection of one pyramid level (docs/spec.md section 14,
--- docs/selection.md), decided as the level's candidates stream past, in raster order, at most
--- one every second clock (3x3 NMS keeps two candidates of a line at least two pixels apart). For
+-- docs/selection.md), decided as the level's candidates stream past, in their arrival order
+-- (raster order but for fast mode's last row of centres, which the NMS decides with the row above
+-- it: golden_model.select.arrival_order), at most one every second clock. For
 -- each candidate it gives one decision: dropped, or stored in slot `out_slot` (0 .. budget - 1) of
 -- the level, a slot new in this frame (`out_new`) or one whose occupant it replaces. The kept set
 -- after the frame's last candidate is golden_model.select.select_level's, and the decisions are
@@ -9,9 +10,10 @@
 --
 -- A cell is a square of `cell` level pixels (the cell of (x, y) is (x div cell, y div cell),
 -- formed as (x recip) >> 24 with recip = ceil(2^24 / cell), exact for these widths). Only the
--- current cell row can change (raster order), so the cell table holds one row: per cell its
+-- current cell row and the one above it can change (a candidate arrives at most one pixel row
+-- above the last), so the cell table holds two rows, one per parity of the cell row: per cell its
 -- floor's rank (main flag and code), slot and a `rejected` flag, valid where its `touched` bit is
--- set; the bits clear when the row changes. The rest R is a store of buckets, one per response
+-- set; a parity's bits clear when a new row takes it. The rest R is a store of buckets, one per response
 -- code, each a LIFO list of slots through the next-pointer RAM; a bitmap marks the non-empty
 -- buckets. The lowest bucket, the one evictions take from, is kept in registers (its code, its
 -- top slot and the slot below it, prefetched from the next-pointer RAM): a pop needs no table
@@ -40,7 +42,7 @@ entity orb_feat_select is
     rst : in    std_logic;
     -- the frame's parameters
     grid   : in    std_logic;
-    budget : in    std_logic_vector(SLOT_BITS_c - 1 downto 0);
+    budget : in    std_logic_vector(SEL_SLOT_BITS_c - 1 downto 0);
     recip  : in    std_logic_vector(RECIP_BITS_c - 1 downto 0);
     -- candidates
     in_valid : in    std_logic;
@@ -52,7 +54,7 @@ entity orb_feat_select is
     -- decisions
     out_valid : out   std_logic;
     out_keep  : out   std_logic;
-    out_slot  : out   std_logic_vector(SLOT_BITS_c - 1 downto 0);
+    out_slot  : out   std_logic_vector(SEL_SLOT_BITS_c - 1 downto 0);
     out_new   : out   std_logic
   );
 end entity orb_feat_select;
@@ -66,32 +68,34 @@ architecture rtl of orb_feat_select is
   -- next-pointer RAM address bits
   constant NBITS_c : positive := clog2(SLOTS_g + 1);
   -- no slot (budget <= 4095)
-  constant NIL_c : unsigned(SLOT_BITS_c - 1 downto 0) := (others => '1');
+  constant NIL_c : unsigned(SEL_SLOT_BITS_c - 1 downto 0) := (others => '1');
 
-  subtype slot_t is unsigned(SLOT_BITS_c - 1 downto 0);
+  subtype slot_t is unsigned(SEL_SLOT_BITS_c - 1 downto 0);
   subtype code_t is unsigned(RESPONSE_BITS_c - 1 downto 0);
   -- main & code
   subtype rank_t is unsigned(RESPONSE_BITS_c downto 0);
   subtype cell_t is unsigned(CBITS_c - 1 downto 0);
 
   -- cell table entry: rejected & rank & slot
-  constant CT_BITS_c : positive := 1 + RESPONSE_BITS_c + 1 + SLOT_BITS_c;
+  constant CT_BITS_c : positive := 1 + RESPONSE_BITS_c + 1 + SEL_SLOT_BITS_c;
 
-  type ct_ram_t is array (0 to CELLS_c - 1) of std_logic_vector(CT_BITS_c - 1 downto 0);
+  type ct_ram_t is array (0 to 2 * 2 ** CBITS_c - 1) of std_logic_vector(CT_BITS_c - 1 downto 0);
+  type touched_t is array (0 to 1) of std_logic_vector(CELLS_c - 1 downto 0);
+  type row_of_t is array (0 to 1) of unsigned(CBITS_c - 1 downto 0);
   type head_ram_t is array (0 to BUCKETS_c - 1) of slot_t;
   type next_ram_t is array (0 to 2 ** NBITS_c - 1) of slot_t;
 
   signal ct      : ct_ram_t := (others => (others => '0'));
-  signal touched : std_logic_vector(CELLS_c - 1 downto 0) := (others => '0');
+  signal touched : touched_t := (others => (others => '0'));
   signal heads   : head_ram_t := (others => (others => '0'));
   signal nexts   : next_ram_t := (others => (others => '0'));
   signal bitmap  : std_logic_vector(BUCKETS_c - 1 downto 0) := (others => '0');
 
   -- frame state
   signal used   : slot_t := (others => '0');
-  signal cur_cy : cell_t := (others => '0');
-  -- cur_cy names the current row
-  signal row_ok : std_logic := '0';
+  -- the cell row each parity holds, and whether it holds one
+  signal row_of : row_of_t := (others => (others => '0'));
+  signal row_ok : std_logic_vector(0 to 1) := (others => '0');
   -- the rest holds a slot
   signal rest_any : std_logic := '0';
   -- the lowest non-empty bucket
@@ -173,6 +177,10 @@ architecture rtl of orb_feat_select is
 
 begin
 
+  assert SELECT_LAT_c = 5
+    report "orb_feat_select: SELECT_LAT_c (orb_util_pkg) must be this pipeline's 5 clocks"
+    severity failure;
+
   assert SLOTS_g <= 4094
     report "orb_feat_select: SLOTS_g must be at most 4094 (slot 4095 means none)"
     severity failure;
@@ -205,6 +213,7 @@ begin
     variable n_any   : std_logic;
     variable n_addr  : slot_t;
     variable row_new : std_logic_vector(CELLS_c - 1 downto 0);
+    variable par     : natural range 0 to 1;
     -- one write port per RAM: (enable, address, data)
     variable n_we : boolean;
     variable n_wa : slot_t;
@@ -245,16 +254,17 @@ begin
       cy      := resize(shift_right(py_m2, 24), CBITS_c);
       cx_d1   <= cx;
       cy_d1   <= cy;
-      same_d1 <= row_ok and bool2sl(cy = cur_cy);
-      ct_word := ct(to_integer(cx));
-      floor_d1 <= row_ok and bool2sl(cy = cur_cy) and touched(to_integer(cx));
+      par      := to_integer(cy(0 downto 0));
+      same_d1  <= row_ok(par) and bool2sl(cy = row_of(par));
+      ct_word  := ct(to_integer(cy(0 downto 0) & cx));
+      floor_d1 <= row_ok(par) and bool2sl(cy = row_of(par)) and touched(par)(to_integer(cx));
       rej_d1   <= ct_word(CT_BITS_c - 1);
-      frank_d1 <= unsigned(ct_word(CT_BITS_c - 2 downto SLOT_BITS_c));
-      fslot_d1 <= unsigned(ct_word(SLOT_BITS_c - 1 downto 0));
+      frank_d1 <= unsigned(ct_word(CT_BITS_c - 2 downto SEL_SLOT_BITS_c));
+      fslot_d1 <= unsigned(ct_word(SEL_SLOT_BITS_c - 1 downto 0));
       hx_d1    <= heads(to_integer(code_m2));
       bx_d1    <= bitmap(to_integer(code_m2));
-      hf_d1    <= heads(to_integer(unsigned(ct_word(CT_BITS_c - 3 downto SLOT_BITS_c))));
-      bf_d1    <= bitmap(to_integer(unsigned(ct_word(CT_BITS_c - 3 downto SLOT_BITS_c))));
+      hf_d1    <= heads(to_integer(unsigned(ct_word(CT_BITS_c - 3 downto SEL_SLOT_BITS_c))));
+      bf_d1    <= bitmap(to_integer(unsigned(ct_word(CT_BITS_c - 3 downto SEL_SLOT_BITS_c))));
       mb2_d1    <= to_unsigned(lowest_above(bitmap, to_integer(mb)), RESPONSE_BITS_c);
       mb2_ok_d1 <= bool2sl(any_above(bitmap, to_integer(mb)));
       h2_d1     <= heads(lowest_above(bitmap, to_integer(mb)));
@@ -360,15 +370,17 @@ begin
 
       -- the cell table row: a new row starts with no cell touched
       if v_d1 = '1' and grid = '1' and (set_fl or set_rej) then
-        row_new := touched;
+        par     := to_integer(cy_d1(0 downto 0));
+        row_new := touched(par);
         if same_d1 = '0' then
-          row_new := (others => '0');
-          cur_cy  <= cy_d1;
-          row_ok  <= '1';
+          row_new     := (others => '0');
+          row_of(par) <= cy_d1;
+          row_ok(par) <= '1';
         end if;
         row_new(to_integer(cx_d1)) := '1';
-        touched <= row_new;
-        ct(to_integer(cx_d1)) <= bool2sl(set_rej) & std_logic_vector(rank_x) & std_logic_vector(slot);
+        touched(par) <= row_new;
+        ct(to_integer(cy_d1(0 downto 0) & cx_d1)) <= bool2sl(set_rej) & std_logic_vector(rank_x) &
+                                                     std_logic_vector(slot);
       end if;
 
       -- the rest: pop the lowest bucket's top, push (pq, ps); the lowest bucket stays in registers
@@ -476,10 +488,10 @@ begin
       -- pragma translate_on
       if in_done = '1' or rst = '1' then
         used     <= (others => '0');
-        row_ok   <= '0';
+        row_ok   <= (others => '0');
         rest_any <= '0';
         bitmap   <= (others => '0');
-        touched  <= (others => '0');
+        touched  <= (others => (others => '0'));
       end if;
       if rst = '1' then
         v_m0  <= '0';

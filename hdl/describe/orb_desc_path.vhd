@@ -14,8 +14,12 @@
 -- rotates them: orb_core does so). The FIFO holds every feature that can be waiting at the
 -- densest legal NMS output (see QDEPTH_c), so it cannot overflow; a feature whose window
 -- position is never reached (a malformed frame) is discarded at the next frame start or once the
--- window has passed it, and counted in `lost`, as is one that found the FIFO full. Page:
--- docs/rtl-description.md.
+-- window has passed it, and counted in `lost`, as is one that found the FIFO full. Each feature
+-- carries its score, response code and low flag (docs/spec.md sections 14 and 15) through; the
+-- queue holds them in 36 bits (the window tag's x in 11 bits: at most 1919; its y modulo 64: a
+-- waiting feature is never 32 lines or more from the window), and the full tag is the window's
+-- own at the match. cand_* shows every described feature CAND_LEAD_c = 14 clocks before it
+-- leaves on feat_*, for the level's selection (orb_feat_select). Page: docs/rtl-description.md.
 
 library ieee;
 use ieee.std_logic_1164.all;
@@ -24,6 +28,7 @@ use ieee.numeric_std.all;
 use work.orb_util_pkg.all;
 use work.orb_pattern_pkg.all;
 use work.orb_limits_pkg.all;
+use work.orb_fast_pkg.all;
 
 entity orb_desc_path is
   generic (
@@ -46,11 +51,21 @@ entity orb_desc_path is
     det_x     : in    std_logic_vector(COORD_BITS_c - 1 downto 0);
     det_y     : in    std_logic_vector(COORD_BITS_c - 1 downto 0);
     det_score : in    std_logic_vector(SCORE_BITS_c - 1 downto 0);
+    det_low   : in    std_logic;
+    det_code  : in    std_logic_vector(RESPONSE_BITS_c - 1 downto 0);
+    -- the described features, CAND_LEAD_c clocks ahead of feat_*
+    cand_valid : out   std_logic;
+    cand_x     : out   std_logic_vector(COORD_BITS_c - 1 downto 0);
+    cand_y     : out   std_logic_vector(COORD_BITS_c - 1 downto 0);
+    cand_low   : out   std_logic;
+    cand_code  : out   std_logic_vector(RESPONSE_BITS_c - 1 downto 0);
     -- described features, raster order
     feat_valid  : out   std_logic;
     feat_x      : out   std_logic_vector(COORD_BITS_c - 1 downto 0);
     feat_y      : out   std_logic_vector(COORD_BITS_c - 1 downto 0);
     feat_score  : out   std_logic_vector(SCORE_BITS_c - 1 downto 0);
+    feat_low    : out   std_logic;
+    feat_code   : out   std_logic_vector(RESPONSE_BITS_c - 1 downto 0);
     feat_sector : out   std_logic_vector(5 downto 0);
     feat_desc   : out   std_logic_vector(255 downto 0);
     frame_done  : out   std_logic;
@@ -76,7 +91,13 @@ architecture rtl of orb_desc_path is
   -- entries of 36 bits), not to a power of two, so the pointers wrap at QDEPTH_c.
   constant QDEPTH_c : positive := ((8 * ROW_FEATS_c + 40 + 511) / 512) * 512;
   constant QBITS_c  : positive := clog2(QDEPTH_c);
-  constant ENTRY_c  : positive := 2 * COORD_BITS_c + SCORE_BITS_c;
+  -- a queue entry: tag x (11 bits) & tag y mod 64 & score & code & low (36 bits: one RAMB18 per
+  -- 512 entries); after the match the info: tag y & tag x (12 bits each) & score & code & low
+  constant QX_c     : positive := 11;
+  constant QY_c     : positive := 6;
+  constant PAY_c    : positive := SCORE_BITS_c + RESPONSE_BITS_c + 1;  -- score & code & low
+  constant ENTRY_c  : positive := QX_c + QY_c + PAY_c;
+  constant INFO_c   : positive := 2 * COORD_BITS_c + PAY_c;
   -- clocks from the column stage to the sector: orb_orient_moments (9) + orb_orient_sector (5);
   -- the tests are registered 2 clocks after the column stage, so they wait 12 clocks
   constant MOMENTS_LAT_c : positive := 9;
@@ -85,11 +106,12 @@ architecture rtl of orb_desc_path is
 
   subtype coord_t is unsigned(COORD_BITS_c - 1 downto 0);
   subtype entry_t is std_logic_vector(ENTRY_c - 1 downto 0);
+  subtype info_t is std_logic_vector(INFO_c - 1 downto 0);
   subtype bits_t is std_logic_vector(255 downto 0);
 
   type win_t is array (0 to WIN_c - 1) of std_logic_vector(COL_BITS_c - 1 downto 0);
   type queue_t is array (0 to QDEPTH_c - 1) of entry_t;
-  type wait_ram_t is array (0 to 15) of std_logic_vector(256 + ENTRY_c - 1 downto 0);
+  type wait_ram_t is array (0 to 15) of std_logic_vector(256 + INFO_c - 1 downto 0);
 
   -- column stage
   signal col_valid : std_logic;
@@ -125,11 +147,11 @@ architecture rtl of orb_desc_path is
   -- window stage (the window itself is a variable of the tests process)
   signal w_valid : std_logic := '0';
   signal w_match : std_logic := '0';
-  signal w_info  : entry_t := (others => '0');
+  signal w_info  : info_t := (others => '0');
 
   -- test stage
   signal t_valid : std_logic := '0';
-  signal t_info  : entry_t := (others => '0');
+  signal t_info  : info_t := (others => '0');
   signal t_bits  : bits_t := (others => '0');
 
   -- moments and sector, in step with the column stream
@@ -151,17 +173,17 @@ architecture rtl of orb_desc_path is
   signal wait_valid : std_logic_vector(1 to WAIT_c) := (others => '0');
   signal wait_ram   : wait_ram_t;
   signal wait_cnt   : unsigned(3 downto 0) := (others => '0');
-  signal wait_out   : std_logic_vector(256 + ENTRY_c - 1 downto 0) := (others => '0');
+  signal wait_out   : std_logic_vector(256 + INFO_c - 1 downto 0) := (others => '0');
 
   -- output stages
   signal o1_valid  : std_logic := '0';
   signal o1_last   : std_logic := '0';
-  signal o1_info   : entry_t;
+  signal o1_info   : info_t;
   signal o1_bits   : bits_t;
   signal o1_sector : unsigned(5 downto 0) := (others => '0');
   signal o2_valid  : std_logic := '0';
   signal o2_last   : std_logic := '0';
-  signal o2_info   : entry_t := (others => '0');
+  signal o2_info   : info_t := (others => '0');
   signal o2_desc   : bits_t := (others => '0');
   signal o2_sector : std_logic_vector(5 downto 0) := (others => '0');
   signal done_q    : std_logic := '0';
@@ -189,10 +211,20 @@ architecture rtl of orb_desc_path is
     return p + 1;
   end function wrap_next;
 
-  function pack (tx, ty : unsigned; score : std_logic_vector) return entry_t is
+  function pack (tx, ty : unsigned; score, code : std_logic_vector; low : std_logic) return entry_t is
   begin
-    return std_logic_vector(ty) & std_logic_vector(tx) & score;
+    return std_logic_vector(tx(QX_c - 1 downto 0)) & std_logic_vector(ty(QY_c - 1 downto 0)) & score & code & low;
   end function pack;
+
+  -- a tag y modulo 64 (hy) against the window's y (cy): the entry's line is before the window's
+  -- (stale) when cy - hy mod 64 is 1 .. 31, the same when 0; a waiting feature is never 32 lines
+  -- or more before or after the window
+  function before (hy, cy : unsigned) return boolean is
+    variable d : unsigned(QY_c - 1 downto 0);
+  begin
+    d := cy(QY_c - 1 downto 0) - hy;
+    return d /= 0 and d(QY_c - 1) = '0';
+  end function before;
 
 begin
 
@@ -202,6 +234,14 @@ begin
 
   assert 256 mod ORBIT_c = 0
     report "orb_desc_path: 256 tests must split into orbits of SECTORS_g"
+    severity failure;
+
+  assert LINE_WIDTH_g <= 2 ** QX_c
+    report "orb_desc_path: LINE_WIDTH_g must be at most 2048 (the queue's 11-bit tag x)"
+    severity failure;
+
+  assert WAIT_c + 2 = CAND_LEAD_c
+    report "orb_desc_path: CAND_LEAD_c (orb_util_pkg) must be WAIT_c + 2"
     severity failure;
 
   lines : entity work.orb_line_buffer
@@ -245,23 +285,23 @@ begin
   -- the head to the queue's state: docs/synthesis.md, "Timing").
   ahead : process (clk) is
     variable hx : coord_t;
-    variable hy : coord_t;
+    variable hy : unsigned(QY_c - 1 downto 0);
     variable px : coord_t;
-    variable py : coord_t;
+    variable py : unsigned(QY_c - 1 downto 0);
     variable cx : coord_t;
     variable cy : coord_t;
   begin
     if rising_edge(clk) then
-      hx    := unsigned(head(SCORE_BITS_c + COORD_BITS_c - 1 downto SCORE_BITS_c));
-      hy    := unsigned(head(ENTRY_c - 1 downto SCORE_BITS_c + COORD_BITS_c));
-      px    := unsigned(pf2(SCORE_BITS_c + COORD_BITS_c - 1 downto SCORE_BITS_c));
-      py    := unsigned(pf2(ENTRY_c - 1 downto SCORE_BITS_c + COORD_BITS_c));
+      hx    := resize(unsigned(head(ENTRY_c - 1 downto ENTRY_c - QX_c)), COORD_BITS_c);
+      hy    := unsigned(head(ENTRY_c - QX_c - 1 downto PAY_c));
+      px    := resize(unsigned(pf2(ENTRY_c - 1 downto ENTRY_c - QX_c)), COORD_BITS_c);
+      py    := unsigned(pf2(ENTRY_c - QX_c - 1 downto PAY_c));
       cx    := unsigned(x_in);
       cy    := unsigned(y_in);
-      hm_r  <= hx = cx and hy = cy;
-      hs_r  <= hy < cy or (hy = cy and hx < cx);
-      pm_r  <= px = cx and py = cy;
-      ps_r  <= py < cy or (py = cy and px < cx);
+      hm_r  <= hx = cx and hy = cy(QY_c - 1 downto 0);
+      hs_r  <= before(hy, cy) or (hy = cy(QY_c - 1 downto 0) and hx < cx);
+      pm_r  <= px = cx and py = cy(QY_c - 1 downto 0);
+      ps_r  <= before(py, cy) or (py = cy(QY_c - 1 downto 0) and px < cx);
     end if;
   end process ahead;
 
@@ -302,7 +342,7 @@ begin
         lost_inc := lost_inc + 1;
       end if;
       if write then
-        queue(to_integer(wr_ptr)) <= pack(dx + BORDER_c, dy + BORDER_c, det_score);
+        queue(to_integer(wr_ptr)) <= pack(dx + BORDER_c, dy + BORDER_c, det_score, det_code, det_low);
         wr_ptr                    <= wrap_next(wr_ptr);
       end if;
       if col_valid = '1' and col_x = 0 and col_y = 0 then
@@ -387,7 +427,8 @@ begin
         win(0 to WIN_c - 2) := win(1 to WIN_c - 1);
         win(WIN_c - 1)      := col_data;
         w_match             <= match;
-        w_info              <= head;
+        -- at a match the column is the feature's tag
+        w_info <= std_logic_vector(col_y) & std_logic_vector(col_x) & head(PAY_c - 1 downto 0);
       end if;
       if rst = '1' then
         w_valid <= '0';
@@ -472,8 +513,8 @@ begin
     end if;
   end process pending;
 
-  o1_info <= wait_out(ENTRY_c - 1 downto 0);
-  o1_bits <= wait_out(256 + ENTRY_c - 1 downto ENTRY_c);
+  o1_info <= wait_out(INFO_c - 1 downto 0);
+  o1_bits <= wait_out(256 + INFO_c - 1 downto INFO_c);
 
   -- pragma translate_off
   aligned : process (clk) is
@@ -481,7 +522,7 @@ begin
     variable s_ok  : std_logic := '0';
   begin
     if rising_edge(clk) then
-      assert o1_valid = '0' or (s_ok = '1' and o1_info(ENTRY_c - 1 downto SCORE_BITS_c) = s_tag)
+      assert o1_valid = '0' or (s_ok = '1' and o1_info(INFO_c - 1 downto PAY_c) = s_tag)
         report "orb_desc_path: sector and tests out of step (ORIENT_LAT_c is wrong)"
         severity failure;
       s_tag := s_y & s_x;  -- what the o1 stage takes with this edge
@@ -518,9 +559,16 @@ begin
   end process rotate;
 
   feat_valid  <= o2_valid;
-  feat_x      <= std_logic_vector(unsigned(o2_info(SCORE_BITS_c + COORD_BITS_c - 1 downto SCORE_BITS_c)) - BORDER_c);
-  feat_y      <= std_logic_vector(unsigned(o2_info(ENTRY_c - 1 downto SCORE_BITS_c + COORD_BITS_c)) - BORDER_c);
-  feat_score  <= o2_info(SCORE_BITS_c - 1 downto 0);
+  feat_x      <= std_logic_vector(unsigned(o2_info(PAY_c + COORD_BITS_c - 1 downto PAY_c)) - BORDER_c);
+  feat_y      <= std_logic_vector(unsigned(o2_info(INFO_c - 1 downto PAY_c + COORD_BITS_c)) - BORDER_c);
+  feat_score  <= o2_info(PAY_c - 1 downto PAY_c - SCORE_BITS_c);
+  feat_code   <= o2_info(RESPONSE_BITS_c downto 1);
+  feat_low    <= o2_info(0);
+  cand_valid  <= t_valid;
+  cand_x      <= std_logic_vector(unsigned(t_info(PAY_c + COORD_BITS_c - 1 downto PAY_c)) - BORDER_c);
+  cand_y      <= std_logic_vector(unsigned(t_info(INFO_c - 1 downto PAY_c + COORD_BITS_c)) - BORDER_c);
+  cand_code   <= t_info(RESPONSE_BITS_c downto 1);
+  cand_low    <= t_info(0);
   feat_sector <= o2_sector;
   feat_desc   <= o2_desc;
   frame_done  <= done_q;

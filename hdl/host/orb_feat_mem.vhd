@@ -1,10 +1,15 @@
 -- SPDX-License-Identifier: MIT
 -- orb_feat_mem: the feature memory the CPU reads, double-buffered per frame. It takes the feature
--- stream of orb_core (s_axis_feat, 320-bit words, layout in orb_feat_pkg; tready is always
--- 1: one beat per clock is stored, nothing ever stalls the stream) and writes each frame into one
--- of two banks of DEPTH_g 64-byte slots: the features in arrival order, then an end-of-frame
+-- stream of orb_core (s_axis_feat, layout in orb_feat_pkg; tready is always 1: one beat per clock
+-- is stored, nothing ever stalls the stream) and writes each frame into one of two banks of
+-- DEPTH_g 64-byte slots: the features in the order their slots first appear, then an end-of-frame
 -- record (so at most DEPTH_g - 1 features per frame are kept; further ones are counted as
--- truncated). At the frame's end-of-frame beat (tlast = 1) the bank's header (feature count,
+-- truncated). A feature beat with sel_replace = 0 takes the next slot (in all mode every beat
+-- does: arrival order); one with sel_replace = 1 (the grid selection replacing a feature it
+-- evicted) is written over the slot that the frame's beat with the same sel_slot took, through a
+-- map of SEL_SLOTS_g entries (docs/selection.md), so a frame of the grid selection fills slots
+-- 0 .. count - 1 with the selection. Every input (stream, frame_abort, release) is registered
+-- once before the rules below apply (the map's read takes that clock). At the frame's end-of-frame beat (tlast = 1) the bank's header (feature count,
 -- frame number, dropped-upstream count, truncated count and flag) is stored, the bank becomes
 -- READY, frame_done pulses for one clock, and the next frame goes to the other bank. The CPU
 -- reads a READY bank at leisure and releases it (release_valid with release_bank). A frame whose
@@ -31,7 +36,8 @@ use work.orb_limits_pkg.all;
 
 entity orb_feat_mem is
   generic (
-    DEPTH_g : mem_depth_t := 1024  -- slots per bank (MEM_DEPTH_g of orb_accel_top)
+    DEPTH_g     : mem_depth_t              := 1024; -- slots per bank (MEM_DEPTH_g of orb_accel_top)
+    SEL_SLOTS_g : positive range 2 to 8192 := 1024  -- the selection's slots (sel_slot < SEL_SLOTS_g)
   );
   port (
     clk : in    std_logic;
@@ -76,9 +82,28 @@ architecture rtl of orb_feat_mem is
   constant BANK_c      : std_logic_vector(0 to 1) := "01";
 
   type mem_t is array (0 to 2 * DEPTH_g - 1) of std_logic_vector(WORD_BITS_c - 1 downto 0);
+  constant MAP_BITS_c  : positive := clog2(SEL_SLOTS_g);  -- (a power of two: no range check)
+  type map_t is array (0 to 2 ** MAP_BITS_c - 1) of unsigned(SLOT_BITS_c - 1 downto 0);
   type u16_pair_t is array (0 to 1) of unsigned(15 downto 0);
   type u32_pair_t is array (0 to 1) of unsigned(31 downto 0);
 
+
+  -- the inputs, registered (the rules below apply to these)
+  signal in_data  : std_logic_vector(FEAT_BITS_c - 1 downto 0) := (others => '0');
+  signal in_beat  : std_logic := '0';
+  signal in_last  : std_logic := '0';
+  signal in_abort : std_logic := '0';
+  signal in_rel   : std_logic := '0';
+  signal in_relb  : std_logic := '0';
+
+  -- the selection's slot map: read with the input register, written when a new slot is taken
+  signal smap     : map_t := (others => (others => '0'));
+  signal map_q    : unsigned(SLOT_BITS_c - 1 downto 0) := (others => '0');
+  signal fwd_ok   : std_logic := '0';                                      -- the last clock took a new slot ...
+  signal fwd_sel  : std_logic_vector(FEAT_SEL_SLOT_BITS_c - 1 downto 0) := (others => '0');  -- for this sel_slot
+  signal fwd_phys : unsigned(SLOT_BITS_c - 1 downto 0) := (others => '0');  -- ... this slot
+  signal repl     : std_logic;                                             -- the beat replaces
+  signal phys     : unsigned(SLOT_BITS_c - 1 downto 0);                    -- the slot it goes to
 
   -- write side
   signal wr_en    : std_logic;
@@ -142,7 +167,49 @@ begin
     report "orb_feat_mem: DEPTH_g must be " & MEM_DEPTH_TEXT_c
     severity failure;
 
-  beat <= s_axis_feat_tvalid;
+  -- the inputs, registered; the map read of the beat's slot beside them
+  inputs : process (clk) is
+  begin
+    if rising_edge(clk) then
+      in_data  <= s_axis_feat_tdata;
+      in_beat  <= s_axis_feat_tvalid;
+      in_last  <= s_axis_feat_tlast;
+      in_abort <= frame_abort;
+      in_rel   <= release_valid;
+      in_relb  <= release_bank;
+      map_q    <= smap(to_integer(unsigned(s_axis_feat_tdata(FEAT_SEL_SLOT_LO_c + MAP_BITS_c - 1 downto
+                                                             FEAT_SEL_SLOT_LO_c))));
+      if rst = '1' then
+        in_beat  <= '0';
+        in_abort <= '0';
+        in_rel   <= '0';
+      end if;
+    end if;
+  end process inputs;
+
+  beat <= in_beat;
+  repl <= in_data(FEAT_SEL_REPLACE_BIT_c) and not in_last;
+  -- a replacing beat's slot: the map's, or the slot the beat of the clock before took for it
+  phys <= cnt when repl = '0' else
+          fwd_phys when fwd_ok = '1' and fwd_sel = in_data(FEAT_SEL_SLOT_LO_c + FEAT_SEL_SLOT_BITS_c - 1 downto
+                                                          FEAT_SEL_SLOT_LO_c) else
+          map_q;
+
+  -- the map: the slot each of the frame's sel_slots took
+  slot_map : process (clk) is
+    variable sel : natural range 0 to 2 ** MAP_BITS_c - 1;
+  begin
+    if rising_edge(clk) then
+      sel    := to_integer(unsigned(in_data(FEAT_SEL_SLOT_LO_c + MAP_BITS_c - 1 downto FEAT_SEL_SLOT_LO_c)));
+      fwd_ok <= '0';
+      if wr_en = '1' and in_last = '0' and repl = '0' then
+        smap(sel) <= cnt;
+        fwd_ok    <= '1';
+        fwd_sel   <= in_data(FEAT_SEL_SLOT_LO_c + FEAT_SEL_SLOT_BITS_c - 1 downto FEAT_SEL_SLOT_LO_c);
+        fwd_phys  <= cnt;
+      end if;
+    end if;
+  end process slot_map;
 
   -- A frame's first beat decides whether the frame is stored: bank wbank must not be READY (a
   -- release of it in the same clock frees it). The decision holds for the whole frame.
@@ -150,7 +217,7 @@ begin
     variable free_w : std_logic;
   begin
     free_w := '0';
-    if ready(bank_index(wbank)) = '0' or (release_valid = '1' and release_bank = wbank) then
+    if ready(bank_index(wbank)) = '0' or (in_rel = '1' and in_relb = wbank) then
       free_w := '1';
     end if;
     if in_frame = '1' then
@@ -160,11 +227,12 @@ begin
     end if;
   end process decide;
 
-  abort_nw <= abort_f or frame_abort;
+  abort_nw <= abort_f or in_abort;
   full     <= '1' when cnt = LAST_SLOT_c else
               '0';
-  wr_en    <= beat and store_nw and not abort_nw and (s_axis_feat_tlast or not full);
-  wr_addr  <= wbank & cnt;
+  wr_en    <= beat and store_nw and not abort_nw and (in_last or repl or not full);
+  wr_addr  <= wbank & cnt when in_last = '1' else
+              wbank & phys;
 
   -- The RAM word: CPU words 0..9 of the slot (word k at bits 32 * k + 31 downto 32 * k), fields at
   -- orb_feat_pkg's SLOT_/REC_ positions (docs/feature-word.md); a field of the stream word is
@@ -173,24 +241,26 @@ begin
     variable w : std_logic_vector(WORD_BITS_c - 1 downto 0);
   begin
     w := (others => '0');
-    if s_axis_feat_tlast = '1' then
+    if in_last = '1' then
       -- end-of-frame record: count, flags, frame number, dropped upstream, truncated count
       w(REC_COUNT_LO_c + SLOT_BITS_c - 1 downto REC_COUNT_LO_c) := std_logic_vector(cnt);
       w(SLOT_RECORD_BIT_c)                                      := '1';
       if trunc /= 0 then
         w(REC_TRUNCATED_BIT_c) := '1';
       end if;
-      copy_field(w, REC_FRAME_LO_c, s_axis_feat_tdata, EOF_FRAME_LO_c, EOF_FRAME_BITS_c);
-      copy_field(w, REC_DROPPED_LO_c, s_axis_feat_tdata, EOF_DROPS_LO_c, EOF_DROPS_BITS_c);
+      copy_field(w, REC_FRAME_LO_c, in_data, EOF_FRAME_LO_c, EOF_FRAME_BITS_c);
+      copy_field(w, REC_DROPPED_LO_c, in_data, EOF_DROPS_LO_c, EOF_DROPS_BITS_c);
       w(REC_TRUNC_LO_c + trunc'length - 1 downto REC_TRUNC_LO_c) := std_logic_vector(trunc);
     else
-      -- feature: x, y, score, scale, sector, descriptor (record flag 0)
-      copy_field(w, SLOT_X_LO_c, s_axis_feat_tdata, FEAT_X_LO_c, FEAT_X_BITS_c);
-      copy_field(w, SLOT_Y_LO_c, s_axis_feat_tdata, FEAT_Y_LO_c, FEAT_Y_BITS_c);
-      copy_field(w, SLOT_SCORE_LO_c, s_axis_feat_tdata, FEAT_SCORE_LO_c, FEAT_SCORE_BITS_c);
-      copy_field(w, SLOT_SCALE_LO_c, s_axis_feat_tdata, FEAT_SCALE_LO_c, FEAT_SCALE_BITS_c);
-      copy_field(w, SLOT_SECTOR_LO_c, s_axis_feat_tdata, FEAT_SECTOR_LO_c, FEAT_SECTOR_BITS_c);
-      copy_field(w, SLOT_DESC_LO_c, s_axis_feat_tdata, FEAT_DESC_LO_c, FEAT_DESC_BITS_c);
+      -- feature: x, y, score, response, scale, low, sector, descriptor (record flag 0)
+      copy_field(w, SLOT_X_LO_c, in_data, FEAT_X_LO_c, FEAT_X_BITS_c);
+      copy_field(w, SLOT_Y_LO_c, in_data, FEAT_Y_LO_c, FEAT_Y_BITS_c);
+      copy_field(w, SLOT_SCORE_LO_c, in_data, FEAT_SCORE_LO_c, FEAT_SCORE_BITS_c);
+      copy_field(w, SLOT_RESPONSE_LO_c, in_data, FEAT_RESPONSE_LO_c, FEAT_RESPONSE_BITS_c);
+      copy_field(w, SLOT_SCALE_LO_c, in_data, FEAT_SCALE_LO_c, FEAT_SCALE_BITS_c);
+      w(SLOT_LOW_BIT_c) := in_data(FEAT_LOW_BIT_c);
+      copy_field(w, SLOT_SECTOR_LO_c, in_data, FEAT_SECTOR_LO_c, FEAT_SECTOR_BITS_c);
+      copy_field(w, SLOT_DESC_LO_c, in_data, FEAT_DESC_LO_c, FEAT_DESC_BITS_c);
     end if;
     wr_data <= w;
   end process pack;
@@ -216,17 +286,17 @@ begin
     if rising_edge(clk) then
       done_r <= '0';
       for k in 0 to 1 loop
-        if release_valid = '1' and release_bank = BANK_c(k) then
+        if in_rel = '1' and in_relb = BANK_c(k) then
           ready(k) <= '0';
         end if;
       end loop;
-      if frame_abort = '1' then
+      if in_abort = '1' then
         abort_f <= '1';
       end if;
-      if beat = '1' and s_axis_feat_tlast = '0' then
+      if beat = '1' and in_last = '0' then
         in_frame <= '1';
         storing  <= store_nw;
-        if store_nw = '1' and abort_nw = '0' then
+        if store_nw = '1' and abort_nw = '0' and repl = '0' then
           if full = '0' then
             cnt <= cnt + 1;
           else
@@ -251,8 +321,8 @@ begin
             if wbank = BANK_c(k) then
               ready(k)   <= '1';
               h_count(k) <= resize(cnt, 16);
-              h_frame(k) <= unsigned(s_axis_feat_tdata(EOF_FRAME_LO_c + 15 downto EOF_FRAME_LO_c));
-              h_drop(k)  <= unsigned(s_axis_feat_tdata(EOF_DROPS_LO_c + 15 downto EOF_DROPS_LO_c));
+              h_frame(k) <= unsigned(in_data(EOF_FRAME_LO_c + 15 downto EOF_FRAME_LO_c));
+              h_drop(k)  <= unsigned(in_data(EOF_DROPS_LO_c + 15 downto EOF_DROPS_LO_c));
               h_trunc(k) <= trunc;
             end if;
           end loop;

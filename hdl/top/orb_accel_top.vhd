@@ -75,6 +75,8 @@ architecture rtl of orb_accel_top is
 
   constant ADDR_BITS_c : positive := maximum(18, clog2(MEM_BASE_c + 2 * 64 * MEM_DEPTH_g));
   constant MEM_BITS_c  : positive := clog2(MEM_DEPTH_g) + 7;  -- byte offset into both banks
+  -- the levels' selection slots, laid out one after the other (orb_core's scale paths)
+  constant SEL_SLOTS_c : positive := maximum(2, level_base(MEM_DEPTH_g - 1, STEP_NUM_g, STEP_DEN_g, SCALES_g, SCALES_g));
   constant LUMA_c      : boolean  := INPUT_g = "LUMA";
   constant RBG_c       : boolean  := INPUT_g = "RBG";
 
@@ -85,6 +87,10 @@ architecture rtl of orb_accel_top is
   -- registers
   signal enable   : std_logic;
   signal mode_orb : std_logic;
+  signal thr_lo   : std_logic_vector(7 downto 0);
+  signal sel_grid : std_logic;
+  signal sel_cell : std_logic_vector(7 downto 0);
+  signal budget   : std_logic_vector(SEL_SLOT_BITS_c - 1 downto 0);
   signal thresh   : std_logic_vector(7 downto 0);
 
   -- video broadcast
@@ -201,6 +207,10 @@ begin
       soft_reset       => soft_reset,
       mode_orb         => mode_orb,
       threshold        => thresh,
+      threshold_lo     => thr_lo,
+      select_grid      => sel_grid,
+      cell_size        => sel_cell,
+      budget           => budget,
       frame_count      => std_logic_vector(frames),
       dropped          => dropped,
       proto_errors     => protocol_errors,
@@ -309,8 +319,9 @@ begin
       SCALES_g   => SCALES_g,
       STEP_NUM_g => STEP_NUM_g,
       STEP_DEN_g => STEP_DEN_g,
-      SECTORS_g  => SECTORS_g,
-      DESC_g     => true
+      SECTORS_g    => SECTORS_g,
+      DESC_g       => true,
+      BUDGET_MAX_g => MEM_DEPTH_g - 1
     )
     port map (
       clk                 => clk,
@@ -321,7 +332,11 @@ begin
       s_axis_video_tuser  => c_user,
       s_axis_video_tlast  => c_last,
       threshold           => thresh,
+      threshold_lo        => thr_lo,
       mode_orb            => mode_orb,
+      select_grid         => sel_grid,
+      budget              => budget,
+      cell_size           => sel_cell,
       m_axis_feat_tdata   => f_data,
       m_axis_feat_tvalid  => f_valid,
       m_axis_feat_tready  => f_ready,
@@ -348,7 +363,8 @@ begin
 
   mem : entity work.orb_feat_mem
     generic map (
-      DEPTH_g => MEM_DEPTH_g
+      DEPTH_g     => MEM_DEPTH_g,
+      SEL_SLOTS_g => SEL_SLOTS_c
     )
     port map (
       clk                => clk,

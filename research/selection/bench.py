@@ -72,7 +72,7 @@ def one_image(args):
                 nlev -= 1
             cfg = Config(w, h, scales=nlev, step_num=5, step_den=4, sectors=64, threshold=20,
                          threshold_lo=v["t_lo"], selection="grid", budget=v["budget"], cell=v["kw"].get("cell", 80))
-            f = select_grid(candidates(im, cfg), cfg.budget, cfg.scales, cfg.cell)
+            f = select_grid(candidates(im, cfg), cfg)
             x0, y0 = f.full_res()
             return lib.Pts(x0, y0, f.descriptor, f.scale)
 

@@ -10,8 +10,9 @@ from __future__ import annotations
 import argparse
 import sys
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -21,6 +22,7 @@ from golden_model.config import (
     RECOMMENDED_SCALES,
     RECOMMENDED_SECTORS,
     RECOMMENDED_STEP,
+    RECOMMENDED_THRESHOLD_LO,
     Config,
     ConfigError,
     check_step,
@@ -33,12 +35,18 @@ from golden_model.select import best_per_level
 from orb_sim.rtl_backend import RtlUnavailable
 from orb_tools import board_cli
 
+if TYPE_CHECKING:
+    from orb_tools.track_bench import Settings
+
 BACKENDS = ("model", "opencv", "rtl", "rtl-fast")
-# the thesis's pyramid, ours at the recommended configuration (with its 640x480 budget), OpenCV at
-# both pyramids and at its defaults with each one's feature count as the budget
+# the thesis's pyramid, ours at the recommended configuration (with its 640x480 budget) with the host's
+# budget and with the fabric's grid selection, OpenCV at both pyramids and at its defaults with each one's
+# feature count as the budget
 _REC = f"{RECOMMENDED_STEP[0]}:{RECOMMENDED_STEP[1]}x{RECOMMENDED_SCALES}"
-SCALE_BENCH_DEFAULT = ("2:1x4", f"{_REC}s{RECOMMENDED_SECTORS}/{RECOMMENDED_BUDGET}", "cv-2:1x4", f"cv-{_REC}",
-                       "cv-default@2:1x4", f"cv-default@{_REC}s{RECOMMENDED_SECTORS}/{RECOMMENDED_BUDGET}")  # fmt: skip
+_REC_HOST = f"{_REC}s{RECOMMENDED_SECTORS}/{RECOMMENDED_BUDGET}"
+_REC_GRID = f"{_REC}s{RECOMMENDED_SECTORS}/g{RECOMMENDED_BUDGET}"
+SCALE_BENCH_DEFAULT = ("2:1x4", _REC_HOST, _REC_GRID, "cv-2:1x4", f"cv-{_REC}", "cv-default@2:1x4",
+                       f"cv-default@{_REC_HOST}", f"cv-default@{_REC_GRID}")  # fmt: skip
 
 
 class UsageError(Exception):
@@ -90,6 +98,72 @@ def _step(text: str) -> tuple[int, int]:
     except ConfigError as exc:
         raise argparse.ArgumentTypeError(str(exc)) from None
     return num, den
+
+
+def _size(text: str) -> tuple[int, int]:
+    w, sep, h = text.lower().partition("x")
+    if not sep or not w.isdigit() or not h.isdigit():
+        raise argparse.ArgumentTypeError(f"expected a size WxH, e.g. 640x480, got {text!r}")
+    if not (limits.WIDTH.legal(int(w)) and limits.HEIGHT.legal(int(h))):
+        raise argparse.ArgumentTypeError(f"size {text}: width must be {limits.WIDTH.text}, height {limits.HEIGHT.text}")
+    return int(w), int(h)
+
+
+def _at_least(low: int) -> Callable[[str], int]:
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected an integer, got {text!r}") from None
+        if value < low:
+            raise argparse.ArgumentTypeError(f"must be at least {low}, got {value}")
+        return value
+
+    return parse
+
+
+def _contrast(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"contrast must be a number, got {text!r}") from None
+    if not value >= 0:
+        raise argparse.ArgumentTypeError(f"contrast must be 0 or more, got {value}")
+    return value
+
+
+def _add_model_options(p: argparse.ArgumentParser) -> None:
+    """The model's settings of track-bench and density-bench (orb_tools.track_bench.Settings)."""
+    p.add_argument(
+        "--budget",
+        type=lambda t: _limited(limits.BUDGET, t),
+        default=None,
+        help="features per frame (default: golden_model.config.recommended_budget of the size)",
+    )
+    p.add_argument(
+        "--cell",
+        type=lambda t: _limited(limits.CELL, t),
+        default=None,
+        help="grid cell in level pixels (default: recommended_cell, an eighth of the width)",
+    )
+    p.add_argument("--threshold", type=_threshold, default=20, help="FAST threshold (default 20)")
+    p.add_argument(
+        "--threshold-lo",
+        type=lambda t: _limited(limits.THRESHOLD_LO, t),
+        default=RECOMMENDED_THRESHOLD_LO,
+        help=f"low threshold (default {RECOMMENDED_THRESHOLD_LO})",
+    )
+    p.add_argument(
+        "--scales", type=_scales, default=RECOMMENDED_SCALES, help=f"pyramid levels (default {RECOMMENDED_SCALES})"
+    )
+    p.add_argument(
+        "--step",
+        type=_step,
+        default=RECOMMENDED_STEP,
+        help=f"pyramid step NUM:DEN (default {RECOMMENDED_STEP[0]}:{RECOMMENDED_STEP[1]})",
+    )
+    p.add_argument("--sectors", type=_sectors, default=RECOMMENDED_SECTORS,
+                   help=f"orientation sectors (default {RECOMMENDED_SECTORS})")  # fmt: skip
 
 
 def _positive_float(text: str) -> float:
@@ -155,6 +229,45 @@ def build_parser() -> argparse.ArgumentParser:
     sb.add_argument("--extractors", nargs="+", default=list(SCALE_BENCH_DEFAULT),
                     help="ours NUM:DENxLEVELS; OpenCV cv-NUM:DENxLEVELS, cv-default[@OURS] (OURS budget)")  # fmt: skip
     sb.add_argument("--out-dir", type=Path, default=Path("build/scale-bench"))
+
+    ep = sub.add_parser("eval-photos", help="the 32 held-out photographs from Debian packages (docs/evaluation.md)")
+    ep.add_argument("out_dir", type=Path, help="writes native/, 640x480/, 1280x720/, 1920x1080/ and photos.json")
+    ep.add_argument(
+        "--cache",
+        type=Path,
+        default=Path("build/eval/debian-cache"),
+        help="where the .deb files are downloaded and unpacked (default build/eval/debian-cache)",
+    )
+    ep.add_argument("--deb", type=Path, default=None,
+                    help="a directory holding opencv-doc_*.deb and mate-backgrounds_*.deb (no download)")  # fmt: skip
+
+    tr = sub.add_parser("track-bench", help="frame-to-frame tracking, grid selection vs OpenCV ORB")
+    tr.add_argument("inputs", nargs="+", type=Path, help="videos, or photographs to make camera clips of")
+    tr.add_argument("--frames", type=_at_least(2), default=30, help="frames per clip (default 30)")
+    tr.add_argument("--gaps", type=_at_least(1), nargs="+", default=[1, 5], help="frame gaps of the pairs (1 5)")
+    tr.add_argument("--size", type=_size, default=(640, 480), help="frame size WxH (default 640x480)")
+    tr.add_argument("--seed", type=int, default=1, help="camera motion, noise and RANSAC seed (default 1)")
+    tr.add_argument("--out-dir", type=Path, default=Path("build/track-bench"))
+    _add_model_options(tr)
+
+    db = sub.add_parser("density-bench", help="feature spread of the grid selection on dense and sparse scenes")
+    db.add_argument("photos", nargs="+", type=Path)
+    db.add_argument(
+        "--sizes",
+        type=_size,
+        nargs="+",
+        default=[(640, 480), (1280, 720), (1920, 1080)],
+        help="frame sizes WxH (default 640x480 1280x720 1920x1080)",
+    )
+    db.add_argument(
+        "--contrast",
+        type=_contrast,
+        nargs="+",
+        default=[1.0, 0.25],
+        help="contrast factors about grey 128 (default 1.0 0.25)",
+    )
+    db.add_argument("--out-dir", type=Path, default=Path("build/density-bench"))
+    _add_model_options(db)  # fmt: skip
     board_cli.add_parsers(sub)
     return p
 
@@ -280,9 +393,69 @@ def cmd_scale_bench(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_eval_photos(args: argparse.Namespace) -> int:
+    from . import eval_photos as ep
+
+    try:
+        records = ep.make(args.out_dir, args.cache, args.deb)
+    except ep.PhotoSourceError as exc:
+        raise UsageError(str(exc)) from None
+    sizes = ", ".join(f"{w}x{h}" for w, h in ep.SIZES)
+    print(f"{len(records)} photographs -> {args.out_dir}/native, {sizes} ({args.out_dir}/photos.json)")
+    return 0
+
+
+def _settings(args: argparse.Namespace) -> Settings:
+    from .track_bench import Settings
+
+    return Settings(budget=args.budget, cell=args.cell, threshold=args.threshold, threshold_lo=args.threshold_lo,
+                    scales=args.scales, step=args.step, sectors=args.sectors)  # fmt: skip
+
+
+def _existing(paths: Sequence[Path]) -> None:
+    for path in paths:
+        if not path.is_file():
+            raise ImageError(f"{path}: no such file")
+
+
+def cmd_track_bench(args: argparse.Namespace) -> int:
+    from . import track_bench as tb
+
+    if max(args.gaps) >= args.frames:
+        raise UsageError(f"gap {max(args.gaps)} needs more than {max(args.gaps)} frames (--frames {args.frames})")
+    _existing(args.inputs)
+    settings = _settings(args)
+    record = tb.settings_record(settings, args.size, args.frames, args.gaps, args.seed)  # refuses a bad level count
+    jobs = tb.make_jobs(args.inputs, args.frames, args.gaps, args.size, args.seed, settings)
+    t0 = time.perf_counter()
+    rows = tb.run(jobs, progress=lambda line: print(f"{line} ({time.perf_counter() - t0:.0f} s)", flush=True))
+    summary = tb.write_outputs(args.out_dir, rows, record)
+    print(tb.table(summary))
+    print(f"-> {args.out_dir}/track_bench.csv, track_bench_summary.json, track_bench.png "
+          f"({time.perf_counter() - t0:.0f} s)")  # fmt: skip
+    return 0
+
+
+def cmd_density_bench(args: argparse.Namespace) -> int:
+    from . import density_bench as dbench
+
+    _existing(args.photos)
+    settings = _settings(args)
+    for w, h in args.sizes:
+        settings.config(w, h)  # refuses a level count too large for a size before any work
+    jobs = dbench.make_jobs(args.photos, args.sizes, args.contrast, settings)
+    t0 = time.perf_counter()
+    rows = dbench.run(jobs, progress=lambda line: print(f"{line} ({time.perf_counter() - t0:.0f} s)", flush=True))
+    summary = dbench.write_outputs(args.out_dir, rows, settings)
+    print(dbench.table(summary))
+    print(f"-> {args.out_dir}/density_bench.csv, density_bench_summary.json ({time.perf_counter() - t0:.0f} s)")
+    return 0
+
+
 COMMANDS = {"extract": cmd_extract, "compare-fast": cmd_compare_fast, "rotation-bench": cmd_rotation_bench,
-            "scale-bench": cmd_scale_bench, "ros-env": board_cli.cmd_ros_env, "sim-server": board_cli.cmd_sim_server,
-            "bag": board_cli.cmd_bag}  # fmt: skip
+            "scale-bench": cmd_scale_bench, "eval-photos": cmd_eval_photos, "track-bench": cmd_track_bench,
+            "density-bench": cmd_density_bench, "ros-env": board_cli.cmd_ros_env,
+            "sim-server": board_cli.cmd_sim_server, "bag": board_cli.cmd_bag}  # fmt: skip
 BOARD_COMMANDS = {"info": board_cli.cmd_info, "stream": board_cli.cmd_stream}
 
 

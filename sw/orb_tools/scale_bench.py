@@ -14,6 +14,11 @@ Extractors:
   other steps the fixed-phase bilinear resampler), 32 sectors unless `sSECTORS`, threshold 20; with
   `/BUDGET`, each level's best of a per-level budget (golden_model.select, what the driver's
   Frame.best keeps); a level-k feature is centred at (x + 0.5) r^k - 0.5;
+- ours with the fabric's selection, `NUM:DENxLEVELS[sSECTORS]/gBUDGET[cCELL]` (e.g. `5:4x5s64/g1000`):
+  golden_model.pipeline.extract with selection "grid" (docs/spec.md section 14): BUDGET features per
+  image, low threshold 7 (RECOMMENDED_THRESHOLD_LO), cells of CELL pixels, by default
+  golden_model.config.recommended_cell of each image's width; on an image too small for LEVELS levels
+  of at least 37x37 pixels, the most levels that fit (the budget is split over those);
 - `cv-STEPxLEVELS`: OpenCV ORB with that pyramid (scale factor, levels), FAST score, threshold 20,
   no feature limit;
 - `cv-default@OURS` (e.g. `cv-default@5:4x6`): OpenCV ORB's defaults (8 levels x 1.2, Harris
@@ -34,9 +39,10 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from golden_model.config import Config
+from golden_model import limits
+from golden_model.config import RECOMMENDED_THRESHOLD_LO, Config, level_size, recommended_cell
 from golden_model.features import Features
-from golden_model.pipeline import DESC_BORDER, extract_scale
+from golden_model.pipeline import DESC_BORDER, extract, extract_scale
 from golden_model.scaler import pyramid
 from golden_model.select import best_per_level
 
@@ -49,7 +55,10 @@ THRESHOLD = 20
 SECTORS = 32
 # what extract_scale reads of a configuration; a level may be smaller than a frame may be (64x48)
 LEVEL_CFG = Config(64, 48, scales=1, sectors=SECTORS, threshold=THRESHOLD, mode="orb")
-EXTRACTOR_RE = re.compile(r"(?P<num>\d+):(?P<den>\d+)x(?P<levels>\d+)(?:s(?P<sectors>\d+))?(?:/(?P<budget>\d+))?")
+MIN_LEVEL = 2 * DESC_BORDER + 1  # 37: the smallest level that can hold a feature
+EXTRACTOR_RE = re.compile(
+    r"(?P<num>\d+):(?P<den>\d+)x(?P<levels>\d+)(?:s(?P<sectors>\d+))?(?:/(?P<grid>g)?(?P<budget>\d+)(?:c(?P<cell>\d+))?)?"
+)
 
 
 @dataclass(frozen=True)
@@ -61,6 +70,8 @@ class Extractor:
     budget_of: str = ""  # opencv-default: the extractor of ours whose feature count is the budget
     sectors: int = SECTORS  # ours: orientation sectors in all
     budget: int = 0  # ours: features kept per image, each level's best (0: every feature)
+    grid: bool = False  # ours: the fabric's grid selection of `budget` features instead of the host's
+    cell: int = 0  # ours, grid: the cell size (0: recommended_cell of each image's width)
 
     @property
     def factor(self) -> float:
@@ -68,22 +79,29 @@ class Extractor:
 
 
 def parse_extractor(text: str) -> Extractor:
-    """`2:1x4`, `5:4x6`, `5:4x4s64/1000` (ours), `cv-2:1x4` (OpenCV with that pyramid),
-    `cv-default[@OURS]`."""
+    """`2:1x4`, `5:4x6`, `5:4x4s64/1000` (ours), `5:4x5s64/g1000`, `5:4x5s64/g1000c80` (ours, grid
+    selection), `cv-2:1x4` (OpenCV with that pyramid), `cv-default[@OURS]`."""
     if text == "cv-default" or text.startswith("cv-default@"):
         return Extractor(text, "opencv-default", budget_of=text.partition("@")[2])
     kind = "opencv" if text.startswith("cv-") else "ours"
     body = text[3:] if kind == "opencv" else text
     m = EXTRACTOR_RE.fullmatch(body)
-    if m is None or (kind == "opencv" and (m["sectors"] or m["budget"])):
+    if m is None or (kind == "opencv" and (m["sectors"] or m["budget"])) or (m["cell"] and not m["grid"]):
         raise ValueError(
-            f"extractor {text!r}: expected NUM:DENxLEVELS[sSECTORS][/BUDGET], cv-NUM:DENxLEVELS or cv-default"
+            f"extractor {text!r}: expected NUM:DENxLEVELS[sSECTORS][/BUDGET], NUM:DENxLEVELS[sSECTORS]/gBUDGET[cCELL], "
+            "cv-NUM:DENxLEVELS or cv-default"
         )
     num, den, levels = int(m["num"]), int(m["den"]), int(m["levels"])
     ext = Extractor(text, kind, (num, den), levels, sectors=int(m["sectors"] or SECTORS),
-                    budget=int(m["budget"] or 0))  # fmt: skip
+                    budget=int(m["budget"] or 0), grid=bool(m["grid"]), cell=int(m["cell"] or 0))  # fmt: skip
     if not (num > den >= 1 and 1 <= ext.levels <= 12 and ext.sectors in (16, 32, 64)):
         raise ValueError(f"extractor {text!r}: need num > den >= 1, 1..12 levels and 16, 32 or 64 sectors")
+    if ext.grid:
+        if not (1 <= ext.levels <= limits.SCALES.max and limits.BUDGET.legal(ext.budget)):
+            raise ValueError(f"extractor {text!r}: the grid selection needs levels {limits.SCALES.text} and a budget "
+                             f"{limits.BUDGET.text}")  # fmt: skip
+        if m["cell"] and not limits.CELL.legal(ext.cell):
+            raise ValueError(f"extractor {text!r}: the cell must be {limits.CELL.text}")
     return ext
 
 
@@ -99,7 +117,31 @@ class Points:
         return len(self.x)
 
 
+def max_levels(width: int, height: int, step: tuple[int, int]) -> int:
+    """The most pyramid levels whose smallest is at least MIN_LEVEL x MIN_LEVEL (0: not even the frame)."""
+    n = 0
+    while min(level_size(width, height, n, step)) >= MIN_LEVEL:
+        n += 1
+    return n
+
+
+def extract_grid(img: np.ndarray, ext: Extractor) -> Features:
+    """The fabric's grid selection (`/gBUDGET[cCELL]`) on as many of the extractor's levels as fit."""
+    h, w = img.shape
+    levels = min(ext.levels, max_levels(w, h, ext.step))
+    if levels < 1:
+        raise ValueError(f"{ext.name}: a {w}x{h} image is smaller than a level may be ({MIN_LEVEL}x{MIN_LEVEL})")
+    cfg = Config(w, h, scales=levels, sectors=ext.sectors, threshold=THRESHOLD, step_num=ext.step[0],
+                 step_den=ext.step[1], threshold_lo=RECOMMENDED_THRESHOLD_LO, selection="grid", budget=ext.budget,
+                 cell=ext.cell or recommended_cell(w))  # fmt: skip
+    return extract(img, cfg)
+
+
 def extract_ours(img: np.ndarray, ext: Extractor) -> Points:
+    if ext.grid:
+        grid = extract_grid(img, ext)
+        gx, gy = grid.full_res()
+        return Points(gx, gy, grid.descriptor.reshape(-1, 32))
     cfg = replace(LEVEL_CFG, sectors=ext.sectors)
     parts = []
     for k, level in enumerate(pyramid(img, ext.levels, ext.step)):

@@ -256,13 +256,16 @@ def test_every_reserved_bit_and_the_flag_are_caught(layout: fw.Layout) -> None:
 
 def feature_words(rng: np.random.Generator, n: int) -> tuple[list[int], Features]:
     vals = [random_values(rng, FEATURE) for _ in range(n)]
+    for v in vals:  # every word a new place (a replacing word needs an earlier one with its sel_slot)
+        v["sel_replace"] = 0
     words = [fc.encode_feature(**v) for v in vals]
 
     def col(name: str) -> np.ndarray:
         return np.array([v[name] for v in vals], dtype=np.int64).reshape(n)
 
     desc = np.array([list(v["descriptor"].to_bytes(32, "little")) for v in vals], dtype=np.uint8).reshape(n, 32)
-    return words, Features(col("scale"), col("x"), col("y"), col("score"), col("sector"), desc, 64).sorted()
+    return words, Features(col("scale"), col("x"), col("y"), col("score"), col("sector"), desc, 64, (2, 1),
+                           col("response"), col("low").astype(bool)).sorted()  # fmt: skip
 
 
 @pytest.mark.parametrize("n", [0, 1, 57])

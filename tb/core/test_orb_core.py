@@ -1,10 +1,14 @@
 # SPDX-License-Identifier: MIT
 """orb_core (the accelerator's streaming core) against the golden model, bit for bit.
 
-The cocotb test streams one or more frames back to back (each with its own image, threshold and
-mode) through s_axis_video, collects m_axis_feat and compares every frame with the model's
-features: scale, x, y and score in fast mode, plus sector and descriptor in orb mode. The pytest
-runners below pick widths, heights, scales, sectors, modes, images, thresholds and input gaps.
+The cocotb test streams one or more frames back to back (each with its own image, threshold, mode
+and selection) through s_axis_video, collects m_axis_feat, resolves each frame's selection
+(golden_model.featcodec.resolve_selection: what the feature memory keeps) and compares every
+frame with the model's features: scale, x, y, score, response and low flag in fast mode, plus
+sector and descriptor in orb mode. The pytest runners below pick widths, heights, scales,
+sectors, modes, selections (`all`, or `grid:BUDGET:CELL:LOW`), images, thresholds and input gaps.
+A selection that changes waits SELECT_SETTLE idle clocks before its frame (the budget's split is
+formed from the inputs, orb_core's header).
 """
 
 from __future__ import annotations
@@ -24,6 +28,16 @@ from orbtb.runner import run
 from orbtb.scoreboard import check_frame, expected_features
 
 EOF_TIMEOUT_CYCLES = 5000
+SELECT_SETTLE = 40  # > 2 * SCALES_g + 4 clocks: the split of a new budget is ready
+
+
+def drive_selection(dut, selection: str, threshold: int) -> None:
+    """The selection inputs for `all` or `grid:BUDGET:CELL:LOW`."""
+    kind, *arg = selection.split(":")
+    dut.select_grid.value = int(kind == "grid")
+    dut.budget.value = int(arg[0]) if arg else 0
+    dut.cell_size.value = int(arg[1]) if arg else 80
+    dut.threshold_lo.value = int(arg[2]) if arg else threshold
 
 
 def _env_list(name: str, default: str) -> list[str]:
@@ -43,11 +57,14 @@ async def detect_frames(dut) -> None:
     modes = [modes[i % len(modes)] for i in range(len(frames))]
     sectors = int(os.environ.get("ORB_SECTORS", "32"))
     step = parse_step(os.environ.get("ORB_STEP", "2:1"))
+    selections = _env_list("ORB_SELECT", "all")
+    selections = [selections[i % len(selections)] for i in range(len(frames))]
 
     clk = dut.clk
     dut.rst.value = 1
     dut.threshold.value = thresholds[0]
     dut.mode_orb.value = int(modes[0] == "orb")
+    drive_selection(dut, selections[0], thresholds[0])
     dut.m_axis_feat_tready.value = 1
     source = VideoSource(dut, clk)
     source.idle()
@@ -58,9 +75,15 @@ async def detect_frames(dut) -> None:
     monitor = FeatureMonitor(dut, clk)
     cocotb.start_soon(monitor.run())
 
-    for frame, t, mode in zip(frames, thresholds, modes, strict=True):
+    await ClockCycles(clk, SELECT_SETTLE)
+    previous = selections[0]
+    for frame, t, mode, sel in zip(frames, thresholds, modes, selections, strict=True):
         dut.threshold.value = t
         dut.mode_orb.value = int(mode == "orb")
+        drive_selection(dut, sel, t)
+        if sel != previous:
+            await ClockCycles(clk, SELECT_SETTLE)
+            previous = sel
         await source.send_frame(frame, gaps)
     latency = 0
     while len(monitor.frames) < len(frames):
@@ -68,12 +91,21 @@ async def detect_frames(dut) -> None:
         latency += 1
         if latency > EOF_TIMEOUT_CYCLES:
             raise AssertionError(f"only {len(monitor.frames)} of {len(frames)} end-of-frame beats arrived")
-    for i, (frame, t, mode, got) in enumerate(zip(frames, thresholds, modes, monitor.frames, strict=True)):
+    for i, (frame, t, mode, sel, got) in enumerate(zip(frames, thresholds, modes, selections, monitor.frames,
+                                                       strict=True)):  # fmt: skip
         assert got.number == i, f"frame {i}: end-of-frame beat numbered {got.number}"
         assert got.drops == 0, f"frame {i}: {got.drops} features dropped"
         orb = mode == "orb"
-        exp = expected_features(frame, scales, t, mode, sectors, step)
-        check_frame(got.features(sectors, descriptors=orb), exp, f"frame {i} ({mode}, threshold {t})")
+        exp = expected_features(frame, scales, t, mode, sectors, step, sel)
+        if os.environ.get("ORB_DEBUG_DUMP"):
+            import pickle
+
+            with open(f"{os.environ['ORB_DEBUG_DUMP']}_{i}.pkl", "wb") as fh:
+                pickle.dump((got.beats, frame), fh)
+        check_frame(got.features(sectors, descriptors=orb), exp, f"frame {i} ({mode}, threshold {t}, {sel})")
+        if sel.startswith("grid"):
+            budget = int(sel.split(":")[1])
+            assert len(exp) <= budget, f"frame {i}: the model kept {len(exp)} of a budget of {budget}"
         if orb:
             assert len(exp) > 0 or names[i] == "flat", f"frame {i} ({names[i]}): no feature to compare"
     assert int(dut.bad_pixels.value) == 0, "pixels outside the frame were counted"
@@ -86,7 +118,8 @@ async def detect_frames(dut) -> None:
 
 
 def run_detect(width: int, height: int, scales: int, images_: str, thresholds: str, gaps: str = "none",
-               modes: str = "fast", sectors: int = 32, step: tuple[int, int] = (2, 1)) -> None:  # fmt: skip
+               modes: str = "fast", sectors: int = 32, step: tuple[int, int] = (2, 1),
+               selections: str = "all") -> None:  # fmt: skip
     generics = {"WIDTH_g": width, "HEIGHT_g": height, "SCALES_g": scales, "SECTORS_g": sectors}
     if step != (2, 1):
         generics |= {"STEP_NUM_g": step[0], "STEP_DEN_g": step[1]}
@@ -100,8 +133,27 @@ def run_detect(width: int, height: int, scales: int, images_: str, thresholds: s
             "ORB_GAPS": gaps,
             "ORB_MODES": modes,
             "ORB_STEP": f"{step[0]}:{step[1]}",
+            "ORB_SELECT": selections,
         },
     )
+
+
+# The grid selection (issue 24): photographs with low corners, budgets below and above the
+# candidates, cells from 16 to 255, back to back with the selection changing, both modes, every
+# level of the finer pyramid; the densest legal patterns (at most the budget, nothing dropped).
+@pytest.mark.parametrize(
+    ("width", "height", "scales", "step", "images_", "thresholds", "gaps", "modes", "selections"),
+    [
+        (160, 96, 3, (5, 4), "photo:astronaut,photo:coffee,photo:camera", "20,20,25", "random:3", "orb,orb,fast",
+         "grid:60:32:7,grid:25:16:5,grid:1000:255:10"),
+        (128, 96, 2, (2, 1), "photo:chelsea,photo:chelsea", "20,20", "none", "orb,orb", "all,grid:40:24:7"),
+        (128, 96, 5, (5, 4), "dots4,checker,photo:coffee", "20,0,30", "none", "orb,fast,orb",
+         "grid:90:20:7,grid:200:17:0,grid:0:80:7"),
+    ],
+)  # fmt: skip
+def test_grid_selection(width: int, height: int, scales: int, step: tuple[int, int], images_: str, thresholds: str,
+                        gaps: str, modes: str, selections: str) -> None:  # fmt: skip
+    run_detect(width, height, scales, images_, thresholds, gaps, modes, 32, step, selections)
 
 
 @pytest.mark.parametrize(

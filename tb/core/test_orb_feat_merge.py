@@ -36,8 +36,10 @@ from orbtb.unit import SIM_ENV, env_int, env_str, reset
 # equal orb_util_pkg's COORD_BITS_c and SCORE_BITS_c)
 COORD, SCORE = FEATURE_BEAT.field("x").width, FEATURE_BEAT.field("score").width
 SECTOR_BITS, DESC_BITS = FEATURE_BEAT.field("sector").width, FEATURE_BEAT.field("descriptor").width
+CODE, SLOT = FEATURE_BEAT.field("response").width, FEATURE_BEAT.field("sel_slot").width
 DROPS_MAX = (1 << EOF_BEAT.field("drops").width) - 1  # the end-of-frame beat's count saturates here
-Feat = tuple[int, int, int, int, int]  # (x, y, score, sector, descriptor) as pushed into one scale
+# (x, y, score, sector, descriptor, low, code, sel_slot, sel_replace) as pushed into one scale
+Feat = tuple[int, int, int, int, int, int, int, int, int]
 
 
 @dataclass
@@ -70,12 +72,13 @@ class MergeBench:
         self.expected_drops: list[int] = [0]
         self._ready = 0
         self._stalled: tuple[int, int] | None = None  # (tdata, tlast) offered but not taken
-        self._driven = (0, 0, 0, 0, 0, 0, 0)
+        self._driven = (0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0)
 
     async def start(self) -> None:
         await reset(
             self.dut,
-            dict.fromkeys(("in_valid", "in_x", "in_y", "in_score", "in_sector", "in_desc", "in_done"), 0)
+            dict.fromkeys(("in_valid", "in_x", "in_y", "in_score", "in_sector", "in_desc", "in_done", "in_low",
+                           "in_code", "in_slot", "in_replace"), 0)
             | {"m_axis_feat_tready": 0},
         )
 
@@ -86,22 +89,28 @@ class MergeBench:
         score = int(self.rng.integers(0, 1 << SCORE))
         sector = int(self.rng.integers(0, 1 << SECTOR_BITS))
         desc = int.from_bytes(self.rng.bytes(DESC_BITS // 8), "little")
-        return (x, frame % (1 << COORD), score, sector, desc)
+        low, code = int(self.rng.integers(0, 2)), int(self.rng.integers(0, 1 << CODE))
+        slot, repl = int(self.rng.integers(0, 1 << SLOT)), int(self.rng.integers(0, 2))
+        return (x, frame % (1 << COORD), score, sector, desc, low, code, slot, repl)
 
     async def cycle(self, feats: dict[int, Feat] | None = None, done: tuple[int, ...] = (), ready: int = 1) -> None:
         """One clock: push `feats` (scale -> feature), pulse in_done for `done`, drive tready."""
         dut = self.dut
-        valid = xs = ys = scs = sec = dsc = dn = 0
-        for s, (x, y, sc, sector, desc) in (feats or {}).items():
+        valid = xs = ys = scs = sec = dsc = dn = lows = codes = slots = repls = 0
+        for s, (x, y, sc, sector, desc, low, code, slot, repl) in (feats or {}).items():
             valid |= 1 << s
             xs |= x << (s * COORD)
             ys |= y << (s * COORD)
             scs |= sc << (s * SCORE)
             sec |= sector << (s * SECTOR_BITS)
             dsc |= desc << (s * DESC_BITS)
+            lows |= low << s
+            codes |= code << (s * CODE)
+            slots |= slot << (s * SLOT)
+            repls |= repl << s
         for s in done:
             dn |= 1 << s
-        driven = (valid, xs, ys, scs, sec, dsc, dn)
+        driven = (valid, xs, ys, scs, sec, dsc, dn, lows, codes, slots, repls)
         if driven != self._driven:
             dut.in_valid.value = valid
             if valid:
@@ -110,6 +119,10 @@ class MergeBench:
                 dut.in_score.value = scs
                 dut.in_sector.value = sec
                 dut.in_desc.value = dsc
+                dut.in_low.value = lows
+                dut.in_code.value = codes
+                dut.in_slot.value = slots
+                dut.in_replace.value = repls
             dut.in_done.value = dn
             self._driven = driven
         if ready != self._ready:
@@ -150,7 +163,9 @@ class MergeBench:
         else:
             assert feature_error(data) is None, f"edge {self.edge}: {feature_error(data)}"
             f = decode_feature(data)
-            self.current.beats.append((f.scale, (f.x, f.y, f.score, f.sector, f.descriptor)))
+            self.current.beats.append(
+                (f.scale, (f.x, f.y, f.score, f.sector, f.descriptor, f.low, f.response, f.sel_slot, f.sel_replace))
+            )
 
     # ---- scenario helpers ----------------------------------------------------------------------
     async def plug_output(self) -> None:
@@ -167,7 +182,7 @@ class MergeBench:
         while len(self.expected) <= frame:
             self.expected.append({s: [] for s in range(self.scales)})
             self.expected_drops.append(0)
-        self.expected[frame][scale].append(feat if self.desc else (*feat[:3], 0, 0))
+        self.expected[frame][scale].append(feat if self.desc else (*feat[:3], 0, 0, *feat[5:]))
 
     def expect_drops(self, frame: int, n: int) -> None:
         self.expect_frame(frame)

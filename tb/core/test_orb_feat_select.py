@@ -7,7 +7,8 @@ over it, and in_done pulses once the frame's last decision is out. Every decisio
 SELECT_LAT = 5 clocks after its candidate and equal golden_model.select.LevelSelector's operation
 (dropped, or (slot, new)); the slots kept after the frame's last candidate must be
 golden_model.select.select_level's. Frames: the candidates of real photographs at two thresholds
-(golden_model.pipeline.candidates: codes, low corners) at several budgets and cell sizes; random
+(golden_model.pipeline.candidates: codes, low corners) at several budgets and cell sizes, in arrival order; a
+level whose last row of centres (fast mode) goes back into the cell row above; random
 streams with few codes (ties everywhere), low floors displaced by main corners, more cells than
 places (the `rejected` cells), budget 0 and 1, cell sizes 16 and 255, every candidate in one cell;
 `all` mode (every main candidate kept as new, low ones dropped); frames back to back with the
@@ -26,8 +27,9 @@ import numpy as np
 from cocotb.triggers import ClockCycles, RisingEdge
 
 from golden_model.config import Config
-from golden_model.pipeline import candidates
-from golden_model.select import LevelSelector, select_level
+from golden_model.pipeline import candidates, extract_scale
+from golden_model.scaler import pyramid
+from golden_model.select import LevelSelector, arrival_order, select_level
 from orbtb import images
 from orbtb.runner import run
 from orbtb.unit import SIM_ENV, env_int, reset, to_int
@@ -104,6 +106,7 @@ def photo_frames(width: int, height: int) -> list[Frame]:
         img = images.photo(name, width, height)
         cfg = Config(width, height, threshold=t, threshold_lo=tl, selection="grid", budget=budget, cell=cell, mode="fast")
         c = candidates(img, cfg)
+        c = c.take(arrival_order(c.x, c.y, width, height))  # fast mode: the last row with the one above
         out.append(Frame(f"{name} t={t}/{tl} n={budget} cell={cell}", c.x, c.y, c.low, c.response, budget, cell))
     return out
 
@@ -123,6 +126,14 @@ def random_frames(width: int, height: int, seed: int) -> list[Frame]:
         budget = int((0, 1, 5, 17, 40, 90, 300)[k % 7])
         cell = int((16, 255, 20, 33, 64, 17, 100)[k % 7])
         out.append(Frame(f"random {k}", x, y, low, code, budget, cell))
+    # a pyramid level of the densest pattern at threshold 0 (fast mode): runs of code-0 candidates
+    lvl = pyramid(images.make("checker", 128, 96), 5, (5, 4))[4]
+    c = extract_scale(lvl, 4, Config(128, 96, threshold=0, threshold_lo=0, selection="grid", budget=25, cell=17,
+                                     mode="fast"))  # fmt: skip
+    # in arrival order: the last row of centres with the row above it, crossing a cell row (34 = 2 * 17)
+    c = c.take(arrival_order(c.x, c.y, lvl.shape[1], lvl.shape[0]))
+    assert list(np.diff(c.y) < 0).count(True) > 0, "the frame does not go back a row"
+    out.append(Frame("checker level 4", c.x, c.y, c.low, c.response, 25, 17))
     # every candidate in one cell: records, then the rest
     x = np.arange(0, 60, 2)
     out.append(Frame("one cell", x, np.zeros_like(x), np.zeros(len(x), bool), rng.integers(0, 8, len(x)), 9, 255))

@@ -10,7 +10,10 @@ builds it) the descriptor is the sector-0 table's tests, which orb_desc_rotate r
 Cases: photographs at 16, 32 and 64 sectors with and without input gaps, back-to-back frames;
 the densest legal feature pattern (one feature per 2x2 block over the whole frame, on a random
 smoothed image); a frame cut short, whose waiting features must be counted in `lost` exactly and
-must not disturb the next frame.
+must not disturb the next frame. Each survivor carries its low flag and response code through
+(photographs: detect at a main and a low threshold, golden_model.response's codes; the patterns:
+random ones), and every feature must be shown on cand_* exactly CAND_LEAD = 14 clocks before it
+leaves, with the same position, low flag and code.
 """
 
 from __future__ import annotations
@@ -23,27 +26,37 @@ from cocotb.triggers import RisingEdge
 from golden_model.brief import describe
 from golden_model.orientation import moments, quantise
 from golden_model.pipeline import DESC_BORDER, detect, in_desc_border
+from golden_model.response import response_map
 from golden_model.smooth import smooth
 from orbtb import images
 from orbtb.runner import run
 from orbtb.unit import SIM_ENV, env_int, random_gaps, reset, to_int
 
 DETECT_DELAY = 4  # a survivor (x, y) is offered with the stream tag (x + 4, y + 4)
-Feature = tuple[int, int, int, int, int]  # x, y, score, sector, descriptor (bit i = test i)
+CAND_LEAD = 14  # orb_util_pkg.CAND_LEAD_c: cand_* shows a feature this many clocks before feat_*
+# x, y, score, low, code, sector, descriptor (bit i = test i)
+Feature = tuple[int, int, int, int, int, int, int]
+Offer = tuple[int, int, int]  # a survivor's score, low flag and code
 
 
-def expected(smoothed: np.ndarray, xs: np.ndarray, ys: np.ndarray, score: np.ndarray, n: int) -> list[Feature]:
+def expected(smoothed: np.ndarray, xs: np.ndarray, ys: np.ndarray, offer: list[Offer], n: int) -> list[Feature]:
     """With ROTATE_g false the descriptor is the sector-0 table's tests (orb_desc_rotate's input)."""
     h, w = smoothed.shape
     keep = in_desc_border(xs, ys, w, h)
-    xs, ys, score = xs[keep], ys[keep], score[keep]
+    xs, ys = xs[keep], ys[keep]
+    offer = [o for o, k in zip(offer, keep, strict=True) if k]
     m10, m01 = moments(smoothed, xs, ys)
     sector = quantise(m10, m01, n)
     desc = describe(smoothed, xs, ys, sector if env_int("ORB_ROTATE") else np.zeros_like(sector), n)
     return [
-        (int(x), int(y), int(s), int(q), int.from_bytes(d.tobytes(), "little"))
-        for x, y, s, q, d in zip(xs, ys, score, sector, desc, strict=True)
+        (int(x), int(y), *o, int(q), int.from_bytes(d.tobytes(), "little"))
+        for x, y, o, q, d in zip(xs, ys, offer, sector, desc, strict=True)
     ]
+
+
+def random_offers(rng: np.random.Generator, count: int) -> list[Offer]:
+    return [(int(s), int(lo), int(c)) for s, lo, c in zip(rng.integers(1, 4081, count), rng.integers(0, 2, count),
+                                                           rng.integers(0, 64, count), strict=True)]  # fmt: skip
 
 
 def tagged(smoothed: np.ndarray) -> np.ndarray:
@@ -58,6 +71,8 @@ class Bench:
     def __init__(self, dut) -> None:
         self.dut = dut
         self.out: list[Feature] = []
+        self.out_edges: list[int] = []
+        self.cands: list[tuple[int, tuple[int, int, int, int]]] = []  # (edge, (x, y, low, code))
         self.done_at: list[int] = []  # number of features seen when each frame_done pulsed
         self.edge = 0
 
@@ -66,8 +81,13 @@ class Bench:
         if d.feat_valid.value == 1:
             self.out.append(
                 (to_int(d.feat_x.value), to_int(d.feat_y.value), to_int(d.feat_score.value),
-                 to_int(d.feat_sector.value), to_int(d.feat_desc.value))
+                 to_int(d.feat_low.value), to_int(d.feat_code.value), to_int(d.feat_sector.value),
+                 to_int(d.feat_desc.value))
             )  # fmt: skip
+            self.out_edges.append(self.edge)
+        if d.cand_valid.value == 1:
+            self.cands.append((self.edge, (to_int(d.cand_x.value), to_int(d.cand_y.value), to_int(d.cand_low.value),
+                                           to_int(d.cand_code.value))))  # fmt: skip
         if d.frame_done.value == 1:
             self.done_at.append(len(self.out))
 
@@ -76,10 +96,10 @@ class Bench:
         self.edge += 1
         self.sample()
 
-    async def frame(self, stream: np.ndarray, feats: dict[tuple[int, int], int], gaps: list[int] | None,
+    async def frame(self, stream: np.ndarray, feats: dict[tuple[int, int], Offer], gaps: list[int] | None,
                     stop: int | None = None) -> None:  # fmt: skip
-        """Drive one frame (stream values by tag, survivors by their own position -> score); stop
-        after `stop` pixels when given (a frame cut short)."""
+        """Drive one frame (stream values by tag, survivors by their own position -> score, low,
+        code); stop after `stop` pixels when given (a frame cut short)."""
         d = self.dut
         h, w = stream.shape
         n = h * w if stop is None else stop
@@ -101,7 +121,7 @@ class Bench:
                 d.det_valid.value = 1
                 d.det_x.value = x - DETECT_DELAY
                 d.det_y.value = y - DETECT_DELAY
-                d.det_score.value = f
+                d.det_score.value, d.det_low.value, d.det_code.value = f
             await self.tick()
         d.in_valid.value = 0
         d.det_valid.value = 0
@@ -112,7 +132,8 @@ class Bench:
 
 
 async def start(dut) -> Bench:
-    zero = dict.fromkeys(("in_valid", "in_x", "in_y", "in_data", "det_valid", "det_x", "det_y", "det_score"), 0)
+    zero = dict.fromkeys(("in_valid", "in_x", "in_y", "in_data", "det_valid", "det_x", "det_y", "det_score", "det_low",
+                          "det_code"), 0)  # fmt: skip
     await reset(dut, zero)
     return Bench(dut)
 
@@ -122,21 +143,32 @@ def queue_depth(w: int) -> int:
     return -(-(8 * ((w - 2 * DESC_BORDER + 1) // 2) + 40) // 512) * 512
 
 
+def check_cands(bench: Bench) -> None:
+    """Every feature shown on cand_* exactly CAND_LEAD clocks before it leaves, and nothing else."""
+    want = [(e - CAND_LEAD, (f[0], f[1], f[3], f[4])) for e, f in zip(bench.out_edges, bench.out, strict=True)]
+    assert bench.cands == want, (
+        f"{len(bench.cands)} candidates for {len(want)} features; first difference: "
+        + str(next(((a, b) for a, b in zip(bench.cands, want, strict=False) if a != b), "in the counts"))
+    )
+
+
 def check(got: list[Feature], exp: list[Feature], what: str) -> None:
     for i, (g, e) in enumerate(zip(got, exp, strict=False)):
         if g != e:
-            fields = ("x", "y", "score", "sector", "descriptor")
+            fields = ("x", "y", "score", "low", "code", "sector", "descriptor")
             diff = [f"{f}: rtl {a:#x} model {b:#x}" for f, a, b in zip(fields, g, e, strict=True) if a != b]
             raise AssertionError(f"{what}: feature {i} at (x={e[0]}, y={e[1]}) differs: {'; '.join(diff)}")
     assert len(got) == len(exp), f"{what}: {len(got)} features out, model has {len(exp)}"
 
 
-def photo_case(name: str, w: int, h: int, threshold: int, n: int):
+def photo_case(name: str, w: int, h: int, threshold: int, n: int, low_threshold: int | None = None):
     img = images.photo(name, w, h)
-    xs, ys, score, _ = detect(img, threshold)
+    xs, ys, score, low = detect(img, threshold, low_threshold)
+    codes = response_map(img)
     sm = smooth(img)
-    feats = {(int(x), int(y)): int(s) for x, y, s in zip(xs, ys, score, strict=True)}
-    return tagged(sm), feats, expected(sm, xs, ys, score, n)
+    offer = [(int(s), int(lo), int(codes[y, x])) for x, y, s, lo in zip(xs, ys, score, low, strict=True)]
+    feats = {(int(x), int(y)): o for x, y, o in zip(xs, ys, offer, strict=True)}
+    return tagged(sm), feats, expected(sm, xs, ys, offer, n)
 
 
 @cocotb.test()
@@ -147,14 +179,17 @@ async def photographs(dut) -> None:
     bench = await start(dut)
     lost0 = to_int(dut.lost.value)
     total: list[Feature] = []
-    for k, (name, thr, gap_prob) in enumerate((("astronaut", 10, 0.0), ("coffee", 8, 0.3), ("camera", 12, 0.0))):
-        stream, feats, exp = photo_case(name, w, h, thr, n)
+    for k, (name, thr, low, gap_prob) in enumerate((("astronaut", 10, 4, 0.0), ("coffee", 8, None, 0.3),
+                                                     ("camera", 20, 7, 0.0))):  # fmt: skip
+        stream, feats, exp = photo_case(name, w, h, thr, n, low)
         assert len(exp) > 12, f"{name}: too few features to be a test ({len(exp)})"
         gaps = random_gaps(w * h, seed=k, prob=gap_prob, long_every=500) if gap_prob else None
         await bench.frame(stream, feats, gaps)
         total += exp
     await bench.idle(60)
     check(bench.out, total, "photographs")
+    check_cands(bench)
+    assert any(f[3] for f in total) and len({f[4] for f in total}) > 10, "low flags and codes are not exercised"
     assert len(bench.done_at) == 3, f"frame_done pulsed {len(bench.done_at)} times for 3 frames"
     assert to_int(dut.lost.value) == lost0, "features lost on legal frames"
 
@@ -169,13 +204,14 @@ async def densest(dut) -> None:
     sm = smooth(img)
     ys, xs = np.mgrid[0:h:2, 0:w:2]
     xs, ys = xs.ravel(), ys.ravel()
-    score = rng.integers(1, 4081, xs.shape)
-    feats = {(int(x), int(y)): int(s) for x, y, s in zip(xs, ys, score, strict=True)}
-    exp = expected(sm, xs, ys, score, n)
+    offer = random_offers(rng, len(xs))
+    feats = {(int(x), int(y)): o for x, y, o in zip(xs, ys, offer, strict=True)}
+    exp = expected(sm, xs, ys, offer, n)
     bench = await start(dut)
     await bench.frame(tagged(sm), feats, None)
     await bench.idle(60)
     check(bench.out, exp, "densest pattern")
+    check_cands(bench)
     assert len(exp) == ((w - 2 * DESC_BORDER + 1) // 2) * ((h - 2 * DESC_BORDER + 1) // 2)
     assert to_int(dut.lost.value) == 0, f"densest legal pattern lost {to_int(dut.lost.value)} features"
 
@@ -204,10 +240,10 @@ async def cut_frame(dut) -> None:
     assert 0 < k <= ys0.size, f"no pre-frame of {k} features fits {w}x{h}"
     xs0, ys0 = xs0.ravel()[:k], ys0.ravel()[:k]
     sm0 = smooth(np.random.default_rng(6).integers(0, 256, (h, w)).astype(np.uint8))
-    score0 = np.full(k, 99)
-    await bench.frame(tagged(sm0), {(int(x), int(y)): 99 for x, y in zip(xs0, ys0, strict=True)}, None)
+    offer0 = random_offers(np.random.default_rng(7), k)
+    await bench.frame(tagged(sm0), {(int(x), int(y)): o for x, y, o in zip(xs0, ys0, offer0, strict=True)}, None)
     await bench.idle(60)
-    check(bench.out, expected(sm0, xs0, ys0, score0, n), "pre-frame")
+    check(bench.out, expected(sm0, xs0, ys0, offer0, n), "pre-frame")
     bench.out.clear()
     bench.done_at.clear()
     await bench.frame(stream, feats, None, stop=stop)

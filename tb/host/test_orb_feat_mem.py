@@ -11,7 +11,12 @@ features of every published frame decoded from words read through mem_rd_*, the 
 record, the sequence of published frame numbers, and the overrun/overflow/aborted counts.
 
 Feature beats carry random x, y, score, scale, sector and descriptor (every field distinct per
-feature with high probability), so a feature in the wrong slot, bank or frame shows.
+feature with high probability), so a feature in the wrong slot, bank or frame shows. The memory
+registers its inputs (stream, frame_abort, release) once before its rules apply: the model takes
+each clock's inputs one clock later. The grid selection's beats (sel_replace = 1 writes over the
+slot its sel_slot took) are checked by `selection_replaces`: the CPU view of each frame must be
+golden_model.featcodec.resolve_selection of its beats, with replacements right after their own
+slot's first beat, two clocks after it, and later.
 """
 
 from __future__ import annotations
@@ -25,7 +30,15 @@ import pytest
 from cocotb.clock import Clock
 from cocotb.triggers import ClockCycles, RisingEdge
 
-from golden_model.featcodec import decode_eof, encode_eof, encode_feature, feature_slot, is_record, record_slot
+from golden_model.featcodec import (
+    decode_eof,
+    encode_eof,
+    encode_feature,
+    feature_slot,
+    is_record,
+    record_slot,
+    resolve_selection,
+)
 from golden_model.featword import EOF_BEAT, FEATURE_BEAT, SLOT_BYTES, SLOT_WORD_BITS, SLOT_WORDS, SLOT_WORDS_USED
 from orbtb.runner import run
 from orbtb.unit import SIM_ENV, env_int
@@ -134,6 +147,8 @@ class MemModel:
     rd_pipe: deque = field(default_factory=lambda: deque([None, None]))
     rd_data: int = 0
     published: list[Published] = field(default_factory=list)
+    pending: tuple = (None, 0, None)  # the inputs of the last clock (the memory registers them)
+    smap: dict[int, int] = field(default_factory=dict)  # sel_slot -> the slot it took
 
     def __post_init__(self) -> None:
         self.mem = [[0] * STORED for _ in range(2 * self.depth)]
@@ -151,6 +166,7 @@ class MemModel:
         self.cnt = self.trunc = self.done = self.last_bank = 0
         self.overrun = self.overflow = self.aborted = 0
         self.rd_pipe = deque([None, None])
+        self.pending = (None, 0, None)
 
     def step(self, beat: Beat | None, abort: int, release: int | None, rd_addr: int | None) -> None:
         # read port: RAM read register loaded at this edge (read-first), its output register at the
@@ -159,6 +175,8 @@ class MemModel:
         out = self.rd_pipe.popleft()
         if out is not None:
             self.rd_data = out
+        # the stream, frame_abort and release: the last clock's, registered
+        (beat, abort, release), self.pending = self.pending, (beat, abort, release)
         free = not self.ready[self.wbank] or release == self.wbank
         store = self.storing if self.in_frame else free
         abort_now = self.abort_f or bool(abort)
@@ -173,9 +191,13 @@ class MemModel:
         base = self.wbank * self.depth
         if not last:
             self.in_frame, self.storing = True, store
+            sel = FEATURE_BEAT.field("sel_slot").get(data)
             if store and not abort_now:
-                if self.cnt < self.depth - 1:
+                if FEATURE_BEAT.field("sel_replace").get(data):
+                    self.mem[base + self.smap[sel]] = feature_words(data)[:STORED]
+                elif self.cnt < self.depth - 1:
                     self.mem[base + self.cnt] = feature_words(data)[:STORED]
+                    self.smap[sel] = self.cnt
                     self.cnt += 1
                 else:
                     self.trunc += 1
@@ -522,6 +544,48 @@ async def truncation(dut) -> None:
         b.clear_reads()
         await b.run([], reads=b.bank_reads(bank))
         b.check_frame(bank, f)
+        await b.run([], releases={0: bank})
+
+
+def selection_frame(b: MemBench, n_new: int, n_repl: int) -> tuple[TxFrame, list[int]]:
+    """A frame of the grid selection: n_new beats taking places for distinct sel_slots (not in
+    order), and n_repl beats replacing earlier ones: right after their own slot's first beat, two
+    beats after it, and at random later. Returns the frame and the words the memory keeps."""
+    slots = [int(v) for v in b.rng.permutation(2 * n_new + 5)[:n_new]]
+    words: list[int] = []
+    taken: list[int] = []
+    for k, slot in enumerate(slots):
+        words.append(feature_beat(b.rng) | FEATURE_BEAT.field("sel_slot").put(slot))
+        taken.append(slot)
+        if k % 5 == 0 or (k % 5 == 2 and len(taken) > 2):
+            target = slot if k % 5 == 0 else taken[-3]  # the beat just before, two before it
+            words.append(feature_beat(b.rng) | FEATURE_BEAT.field("sel_slot").put(target)
+                         | FEATURE_BEAT.field("sel_replace").put(1))  # fmt: skip
+    for _ in range(n_repl):
+        target = taken[int(b.rng.integers(0, len(taken)))]
+        words.append(feature_beat(b.rng) | FEATURE_BEAT.field("sel_slot").put(target)
+                     | FEATURE_BEAT.field("sel_replace").put(1))  # fmt: skip
+    f = TxFrame(b.frame_no, words, int(b.rng.integers(0, DROPS_LIMIT)))
+    b.frame_no = (b.frame_no + 1) & FRAME_MASK
+    return f, resolve_selection(words)
+
+
+@cocotb.test()
+async def selection_replaces(dut) -> None:
+    """Frames of the grid selection: each bank holds resolve_selection of its beats, in the order
+    their places were taken; replacements right after their slot's first beat (the map is read
+    before that beat's write lands: forwarded), two beats later, later, and with input gaps."""
+    b = MemBench(dut)
+    await b.start()
+    d = b.depth
+    for k, (n_new, n_repl, gaps) in enumerate(((d - 1, 3 * d, 0.0), (d // 2, d, 0.5), (3, 9, 0.0), (1, 0, 0.0))):
+        bank = k % 2
+        f, kept = selection_frame(b, min(n_new, d - 1), n_repl)
+        await b.run(b.with_gaps(f.beats(), prob=gaps))
+        assert b.model.published[-1].number == f.number
+        b.clear_reads()
+        await b.run([], reads=b.bank_reads(bank))
+        b.check_frame(bank, TxFrame(f.number, kept, f.dropped))
         await b.run([], releases={0: bank})
 
 

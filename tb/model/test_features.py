@@ -82,10 +82,10 @@ def test_write_csv_hand_checked(tmp_path: Path) -> None:
     assert tuple(rows[0]) == CSV_COLUMNS
     d = np.arange(4 * 32, dtype=np.uint8).reshape(4, 32)
     assert rows[1:] == [
-        ["0", "3", "3", "50", "31", d[2].tobytes().hex(), "3", "3", "348.75"],
-        ["0", "10", "3", "100", "0", d[1].tobytes().hex(), "10", "3", "0"],
-        ["1", "5", "7", "200", "5", d[0].tobytes().hex(), "10.5", "14.5", "56.25"],
-        ["2", "7", "1", "9", "16", d[3].tobytes().hex(), "29.5", "5.5", "180"],
+        ["0", "3", "3", "50", "31", d[2].tobytes().hex(), "3", "3", "348.75", "0", "0"],
+        ["0", "10", "3", "100", "0", d[1].tobytes().hex(), "10", "3", "0", "0", "0"],
+        ["1", "5", "7", "200", "5", d[0].tobytes().hex(), "10.5", "14.5", "56.25", "0", "0"],
+        ["2", "7", "1", "9", "16", d[3].tobytes().hex(), "29.5", "5.5", "180", "0", "0"],
     ]
 
 
@@ -94,12 +94,13 @@ def test_write_csv_fast_mode_leaves_sector_descriptor_and_angle_empty(tmp_path: 
     write_csv(fast_features(), path)
     with open(path, newline="") as fh:
         rows = list(csv.reader(fh))
-    assert rows[1:] == [["0", "3", "9", "17", "", "", "3", "9", ""], ["0", "4", "9", "3200", "", "", "4", "9", ""]]
+    assert rows[1:] == [["0", "3", "9", "17", "", "", "3", "9", "", "0", "0"],
+                        ["0", "4", "9", "3200", "", "", "4", "9", "", "0", "0"]]  # fmt: skip
 
 
 def assert_same_columns(a: Features, b: Features) -> None:
     a, b = a.sorted(), b.sorted()
-    for name in ("scale", "x", "y", "score", "sector", "descriptor"):
+    for name in ("scale", "x", "y", "score", "sector", "descriptor", "response", "low"):
         va, vb = getattr(a, name), getattr(b, name)
         assert va.shape == vb.shape, f"{name}: shape {va.shape} != {vb.shape}"
         if len(va) == 0:

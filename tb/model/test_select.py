@@ -10,7 +10,7 @@ import pytest
 from golden_model import Config, extract
 from golden_model.features import NO_SECTOR, Features
 from golden_model.pipeline import candidates
-from golden_model.select import LevelSelector, best_per_level, level_budgets, select_grid, select_level
+from golden_model.select import LevelSelector, best_per_level, level_budgets, level_slots, select_grid, select_level
 
 
 @pytest.mark.parametrize(
@@ -149,7 +149,7 @@ def test_grid_selection_on_photographs(photographs) -> None:
                      budget=300, cell=40)  # fmt: skip
         cand = candidates(img, cfg)
         got = extract(img, cfg)
-        assert got == select_grid(cand, 300, 4, 40) and got == got.sorted()
+        assert got == select_grid(cand, cfg) and got == got.sorted()
         assert cand.low.any() and not Config(320, 240, scales=4, step_num=5, step_den=4).selection == "grid"
         for k, n in enumerate(level_budgets(300, cfg.step, cfg.scales)):
             lv, kept = cand.take(np.flatnonzero(cand.scale == k)), got.take(np.flatnonzero(got.scale == k))
@@ -190,3 +190,15 @@ def test_all_selection_reports_the_main_corners_only(photographs) -> None:
     g = candidates(img, Config(260, 200, scales=2, threshold=25, threshold_lo=5, selection="grid", budget=100))
     main = g.take(np.flatnonzero(~g.low))
     assert main == a, "the main candidates of the combined NMS are exactly the `all` features"
+
+
+@pytest.mark.parametrize(("step", "levels", "cap"), [((5, 4), 5, 1023), ((2, 1), 2, 2047), ((5, 4), 8, 4095),
+                                                     ((9, 8), 8, 1023), ((16, 8), 1, 15), ((3, 2), 4, 511)])  # fmt: skip
+def test_level_slots_bound_every_budget(step: tuple[int, int], levels: int, cap: int) -> None:
+    """The slots the hardware reserves per level hold every budget up to the capacity."""
+    slots = level_slots(cap, step, levels)
+    worst = [0] * levels
+    for total in range(cap + 1):
+        worst = [max(w, b) for w, b in zip(worst, level_budgets(total, step, levels), strict=True)]
+    assert all(w <= s for w, s in zip(worst, slots, strict=True)), (worst, slots)
+    assert sum(slots) <= cap + levels * levels, "the reservation is far above the capacity"

@@ -10,10 +10,15 @@ from golden_model.features import Features
 
 
 def expected_features(img: np.ndarray, scales: int, threshold: int, mode: str = "fast", sectors: int = 32,
-                      step: tuple[int, int] = (2, 1)) -> Features:  # fmt: skip
+                      step: tuple[int, int] = (2, 1), selection: str = "all") -> Features:  # fmt: skip
+    """The model's features; `selection` is `all` or `grid:BUDGET:CELL:LOW` (docs/spec.md section 14)."""
     h, w = img.shape
+    kind, *arg = selection.split(":")
+    sel = {}
+    if kind == "grid":
+        sel = {"selection": "grid", "budget": int(arg[0]), "cell": int(arg[1]), "threshold_lo": int(arg[2])}
     return extract(img, Config(w, h, scales=scales, sectors=sectors, threshold=threshold, mode=mode,
-                               step_num=step[0], step_den=step[1]))  # fmt: skip
+                               step_num=step[0], step_den=step[1], **sel))  # fmt: skip
 
 
 def check_frame(got: Features, expected: Features, what: str) -> None:
