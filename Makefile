@@ -19,7 +19,7 @@ help:
 	@echo "make test    run the test suite (pytest -n $(JOBS), slow tests excluded)"
 	@echo "make test-all  run every test, slow full-frame ones included"
 	@echo "make sim     the complete accelerator in GHDL on the bundled image, recommended configuration 5:4 x 5, 64 sectors"
-	@echo "             (IMAGE=, SCALES=, PYRAMID=NUM:DEN, SECTORS=, THRESHOLD=;"
+	@echo "             (IMAGE=, SCALES=, PYRAMID=NUM:DEN, SECTORS=, THRESHOLD=, SELECTION=grid|all, BUDGET=;"
 	@echo "             FAST=1: its synthesised netlist in Verilator; VIDEO=file: every frame of a video, fast; docs/fast-sim.md)"
 	@echo "make bench   model speed benchmark (scripts/bench/bench_model.py)"
 	@echo "make bench-sim  RTL simulation speed, one 640x480 frame (scripts/bench/bench_sim.py)"
@@ -65,6 +65,7 @@ VIDEO ?=
 sim: $(STAMP)
 	$(BIN)/python scripts/flow/sim_accel.py $(if $(IMAGE),--image $(IMAGE)) $(if $(VIDEO),--video $(VIDEO)) \
 		$(if $(SCALES),--scales $(SCALES)) $(if $(PYRAMID),--step $(PYRAMID)) $(if $(SECTORS),--sectors $(SECTORS)) \
+		$(if $(SELECTION),--selection $(SELECTION)) $(if $(BUDGET),--budget $(BUDGET)) \
 		--threshold $(THRESHOLD) --out-dir build/sim \
 		$(if $(filter 1 yes true,$(FAST)),--fast)
 

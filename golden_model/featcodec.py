@@ -213,12 +213,13 @@ def resolve_selection(words: Sequence[int]) -> list[int]:
 
 
 def decode_stream_features(
-    words: Sequence[int], sectors_total: int = 0, descriptors: bool = False, check: bool = True
+    words: Sequence[int], sectors_total: int = 0, descriptors: bool = False, check: bool = True, resolve: bool = True
 ) -> Features:
-    """A frame's feature words as Features in canonical order, after resolve_selection: fast mode
-    (no sector, no descriptor) unless `descriptors`. With `check`, raise LayoutError at the first
-    word that is not a well-formed feature word."""
-    ch = to_chunks(resolve_selection(words), FEAT_BITS)
+    """A frame's feature words as Features in canonical order, after resolve_selection (unless not
+    `resolve`: every word, as the overlay marks them): fast mode (no sector, no descriptor) unless
+    `descriptors`. With `check`, raise LayoutError at the first word that is not a well-formed
+    feature word."""
+    ch = to_chunks(resolve_selection(words) if resolve else list(words), FEAT_BITS)
     if check:
         check_rows(FEATURE_BEAT, ch)
     return _features(FEATURE_BEAT, ch, sectors_total, descriptors)

@@ -38,7 +38,7 @@ from __future__ import annotations
 import numpy as np
 
 from .config import Config
-from .features import Features
+from .features import Features, first_difference
 
 FIXED_BITS = 16
 
@@ -152,6 +152,40 @@ def select_grid(features: Features, cfg: Config) -> Features:
         idx = idx[arrival_order(features.x[idx], features.y[idx], w, h)]
         keep.append(idx[select_level(features.x[idx], features.y[idx], features.low[idx], features.response[idx], n,
                                      cfg.cell)])  # fmt: skip
+    return features.take(np.concatenate(keep)).sorted()
+
+
+def truncation_difference(stored: Features, every: Features, capacity: int, cfg: Config) -> str | None:
+    """For a frame of the `all` selection that filled its bank: None when `stored` is what the
+    feature memory keeps of `every` (the model's features) -- min(capacity, len(every)) of them, and
+    of each level a prefix in arrival order (the levels interleave by timing, each level in its own
+    order: arrival_order), bit-exact; else where they first differ."""
+    want_n = min(capacity, len(every))
+    if len(stored) != want_n:
+        return f"{len(stored)} features stored, expected {want_n} (capacity {capacity}, {len(every)} in the frame)"
+    picked: list[np.ndarray] = []
+    for k in range(cfg.scales):
+        w, h = cfg.scale_size(k)
+        idx = np.flatnonzero(every.scale == k)
+        idx = idx[arrival_order(every.x[idx], every.y[idx], w, h)]
+        picked.append(idx[: int(np.count_nonzero(stored.scale == k))])
+    return first_difference(stored, every.take(np.concatenate(picked)).sorted())
+
+
+def streamed_grid(features: Features, cfg: Config) -> Features:
+    """Every candidate the `grid` selection's stream carries (LevelSelector stores it in a slot,
+    new or replacing): the kept features and those a later candidate replaced, in canonical order.
+    The HDMI overlay marks these (docs/spec.md section 13)."""
+    budgets = level_budgets(cfg.budget, features.step, cfg.scales)
+    keep: list[np.ndarray] = []
+    for k, n in enumerate(budgets):
+        w, h = cfg.scale_size(k)
+        idx = np.flatnonzero(features.scale == k)
+        idx = idx[arrival_order(features.x[idx], features.y[idx], w, h)]
+        sel = LevelSelector(n, cfg.cell)
+        ops = [sel.offer(int(features.x[i]), int(features.y[i]), bool(features.low[i]), int(features.response[i]))
+               for i in idx]  # fmt: skip
+        keep.append(idx[np.array([op is not None for op in ops], dtype=bool)])
     return features.take(np.concatenate(keep)).sorted()
 
 

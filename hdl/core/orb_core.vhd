@@ -258,9 +258,15 @@ begin
             share := sp_n - sp_sum;
           end if;
         end if;
-        fin              := split_work;
-        fin(sp_k)        := share;
-        split_work(sp_k) <= share;
+        -- constant-index writes under a compare: GHDL 2.0 synthesises a variable-indexed write
+        -- into a small array as a constant (docs/netlist-sim.md)
+        fin := split_work;
+        for k in 0 to SCALES_g - 1 loop
+          if k = sp_k then
+            fin(k)        := share;
+            split_work(k) <= share;
+          end if;
+        end loop;
         sp_sum           <= sp_sum + share;
         if sp_k = SCALES_g - 1 then
           sp_k       <= 0;

@@ -80,13 +80,14 @@ architecture rtl of orb_feat_select is
   constant CT_BITS_c : positive := 1 + RESPONSE_BITS_c + 1 + SEL_SLOT_BITS_c;
 
   type ct_ram_t is array (0 to 2 * 2 ** CBITS_c - 1) of std_logic_vector(CT_BITS_c - 1 downto 0);
-  type touched_t is array (0 to 1) of std_logic_vector(CELLS_c - 1 downto 0);
-  type row_of_t is array (0 to 1) of unsigned(CBITS_c - 1 downto 0);
   type head_ram_t is array (0 to BUCKETS_c - 1) of slot_t;
   type next_ram_t is array (0 to 2 ** NBITS_c - 1) of slot_t;
 
   signal ct      : ct_ram_t := (others => (others => '0'));
-  signal touched : touched_t := (others => (others => '0'));
+  -- the touched bits of the even and the odd cell row (two signals, not a two-entry array: GHDL
+  -- 2.0 synthesises variable-indexed writes into small arrays wrongly, docs/netlist-sim.md)
+  signal touched0 : std_logic_vector(CELLS_c - 1 downto 0) := (others => '0');
+  signal touched1 : std_logic_vector(CELLS_c - 1 downto 0) := (others => '0');
   signal heads   : head_ram_t := (others => (others => '0'));
   signal nexts   : next_ram_t := (others => (others => '0'));
   signal bitmap  : std_logic_vector(BUCKETS_c - 1 downto 0) := (others => '0');
@@ -94,8 +95,10 @@ architecture rtl of orb_feat_select is
   -- frame state
   signal used   : slot_t := (others => '0');
   -- the cell row each parity holds, and whether it holds one
-  signal row_of : row_of_t := (others => (others => '0'));
-  signal row_ok : std_logic_vector(0 to 1) := (others => '0');
+  signal row_of0 : unsigned(CBITS_c - 1 downto 0) := (others => '0');
+  signal row_of1 : unsigned(CBITS_c - 1 downto 0) := (others => '0');
+  signal row_ok0 : std_logic := '0';
+  signal row_ok1 : std_logic := '0';
   -- the rest holds a slot
   signal rest_any : std_logic := '0';
   -- the lowest non-empty bucket
@@ -181,8 +184,8 @@ begin
     report "orb_feat_select: SELECT_LAT_c (orb_util_pkg) must be this pipeline's 5 clocks"
     severity failure;
 
-  assert SLOTS_g <= 4094
-    report "orb_feat_select: SLOTS_g must be at most 4094 (slot 4095 means none)"
+  assert SLOTS_g <= 4095
+    report "orb_feat_select: SLOTS_g must be at most 4095 (slots 0 .. 4094; 4095 means none)"
     severity failure;
 
   pipe : process (clk) is
@@ -213,7 +216,8 @@ begin
     variable n_any   : std_logic;
     variable n_addr  : slot_t;
     variable row_new : std_logic_vector(CELLS_c - 1 downto 0);
-    variable par     : natural range 0 to 1;
+    variable same    : boolean;
+    variable t_bits  : std_logic_vector(CELLS_c - 1 downto 0);
     -- one write port per RAM: (enable, address, data)
     variable n_we : boolean;
     variable n_wa : slot_t;
@@ -254,10 +258,16 @@ begin
       cy      := resize(shift_right(py_m2, 24), CBITS_c);
       cx_d1   <= cx;
       cy_d1   <= cy;
-      par      := to_integer(cy(0 downto 0));
-      same_d1  <= row_ok(par) and bool2sl(cy = row_of(par));
+      if cy(0) = '0' then
+        same   := row_ok0 = '1' and cy = row_of0;
+        t_bits := touched0;
+      else
+        same   := row_ok1 = '1' and cy = row_of1;
+        t_bits := touched1;
+      end if;
+      same_d1  <= bool2sl(same);
       ct_word  := ct(to_integer(cy(0 downto 0) & cx));
-      floor_d1 <= row_ok(par) and bool2sl(cy = row_of(par)) and touched(par)(to_integer(cx));
+      floor_d1 <= bool2sl(same) and t_bits(to_integer(cx));
       rej_d1   <= ct_word(CT_BITS_c - 1);
       frank_d1 <= unsigned(ct_word(CT_BITS_c - 2 downto SEL_SLOT_BITS_c));
       fslot_d1 <= unsigned(ct_word(SEL_SLOT_BITS_c - 1 downto 0));
@@ -370,15 +380,28 @@ begin
 
       -- the cell table row: a new row starts with no cell touched
       if v_d1 = '1' and grid = '1' and (set_fl or set_rej) then
-        par     := to_integer(cy_d1(0 downto 0));
-        row_new := touched(par);
+        if cy_d1(0) = '0' then
+          row_new := touched0;
+        else
+          row_new := touched1;
+        end if;
         if same_d1 = '0' then
-          row_new     := (others => '0');
-          row_of(par) <= cy_d1;
-          row_ok(par) <= '1';
+          row_new := (others => '0');
         end if;
         row_new(to_integer(cx_d1)) := '1';
-        touched(par) <= row_new;
+        if cy_d1(0) = '0' then
+          touched0 <= row_new;
+          if same_d1 = '0' then
+            row_of0 <= cy_d1;
+            row_ok0 <= '1';
+          end if;
+        else
+          touched1 <= row_new;
+          if same_d1 = '0' then
+            row_of1 <= cy_d1;
+            row_ok1 <= '1';
+          end if;
+        end if;
         ct(to_integer(cy_d1(0 downto 0) & cx_d1)) <= bool2sl(set_rej) & std_logic_vector(rank_x) &
                                                      std_logic_vector(slot);
       end if;
@@ -488,10 +511,12 @@ begin
       -- pragma translate_on
       if in_done = '1' or rst = '1' then
         used     <= (others => '0');
-        row_ok   <= (others => '0');
+        row_ok0  <= '0';
+        row_ok1  <= '0';
         rest_any <= '0';
         bitmap   <= (others => '0');
-        touched  <= (others => (others => '0'));
+        touched0 <= (others => '0');
+        touched1 <= (others => '0');
       end if;
       if rst = '1' then
         v_m0  <= '0';

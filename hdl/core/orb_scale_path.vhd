@@ -36,7 +36,7 @@ entity orb_scale_path is
     SECTORS_g      : sectors_t                := 32;   -- orientation sectors in all
     DESC_g         : boolean                  := true;
     ROTATE_g       : boolean                  := true; -- orb_desc_path's ROTATE_g
-    SLOTS_g        : positive range 1 to 4094 := 1023; -- the most slots the level can be given
+    SLOTS_g        : positive range 1 to 4095 := 1023; -- the most slots the level can be given
     BASE_g         : natural range 0 to 8191  := 0     -- the level's first slot in the frame's slots
   );
   port (

@@ -60,12 +60,21 @@ CASES = (
     Case("orb_smooth", "describe/test_orb_smooth.py::test_smooth"),
     Case("orb_fast_score", "detect/test_orb_fast_score.py::test_fast_score"),
     Case("orb_fast_nms", "detect/test_orb_fast_nms.py::test_nms[8-8-all8x8,ties:1]"),
+    Case("orb_harris", "detect/test_orb_harris.py::test_orb_harris"),
+    Case("orb_fast_detect", "detect/test_orb_fast_detect.py::test_fast_detect[8-6-noise@0,dots@0,flat@20/5-0.2]"),
+    Case("orb_feat_select", "core/test_orb_feat_select.py::test_orb_feat_select"),
     Case("orb_orient_moments", "describe/test_orb_orient_moments.py::test_orient_moments"),
     Case("orb_orient_sector", "describe/test_orb_orient_sector.py::test_orient_sector[16]"),
     Case("orb_overlay", "output/test_orb_overlay.py::test_overlay_photos[64-48-1-3-env0]"),
     Case("orb_desc_rotate", "describe/test_orb_desc_rotate.py::test_desc_rotate[32-1]"),
     Case("orb_desc_path", "describe/test_orb_desc_path.py::test_desc_path[16-True-128]", slow=True),
     Case("orb_core", "core/test_orb_core.py::test_orb_small[64-48-1-32-photo:camera-5-none-orb]"),
+    Case(
+        "orb_core",
+        "core/test_orb_core.py::test_grid_selection"
+        "[128-96-2-step1-photo:chelsea,photo:chelsea-20,20-none-orb,orb-all,grid:40:24:7]",
+        slow=True,
+    ),
     Case("orb_accel_top", "top/test_orb_accel_top.py::test_accel_overflow_overrun", slow=True),
 )
 

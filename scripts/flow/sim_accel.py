@@ -12,7 +12,14 @@ clock; the CPU model reads the frame's bank; the image is streamed a second time
 accelerator disabled to capture the HDMI overlay of the first frame's features. Writes to the
 output directory (default build/sim): features.csv (the CLI's format), overlay.png (the
 overlay block's output) and report.json (features, bit_exact against the golden model, dropped,
-latency_cycles, cycles_per_pixel, sim_wall_s and details), and prints a short summary.
+truncated, latency_cycles, cycles_per_pixel, sim_wall_s and details), and prints a short summary.
+
+The selection is the driver's default unless told (docs/selection.md): `grid` with the
+recommended budget of the frame size (at most a bank's 4,095 features), cells of an eighth of the
+width and the low threshold 7; the frame must equal the model's selection with nothing lost.
+`--selection all` stores every feature: a frame with more than a bank holds is truncated, and the
+stored features are checked to be what the memory keeps (golden_model.select.truncation_difference:
+each level's first features in arrival order); the truncation is reported, not an error.
 """
 
 from __future__ import annotations
@@ -28,15 +35,27 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from golden_model import Config, extract, first_difference
-from golden_model.config import RECOMMENDED_SCALES, RECOMMENDED_SECTORS, RECOMMENDED_STEP, ConfigError, parse_step
-from golden_model.features import read_csv
+from golden_model import Config, extract, first_difference, limits
+from golden_model.config import (
+    RECOMMENDED_SCALES,
+    RECOMMENDED_SECTORS,
+    RECOMMENDED_STEP,
+    RECOMMENDED_THRESHOLD_LO,
+    SELECTIONS,
+    ConfigError,
+    parse_step,
+    recommended_budget,
+    recommended_cell,
+)
+from golden_model.features import Features, read_csv
 from golden_model.images import DEFAULT_IMAGE, ImageError
 from golden_model.luma import rgb_to_luma
 from golden_model.overlay import marker_block_log2, render_marker_overlay
+from golden_model.pipeline import candidates
+from golden_model.select import streamed_grid, truncation_difference
 from orb_accel.driver import Frame
 from orb_sim.fast.sim import FastSimError
-from orb_sim.rtl_backend import RtlUnavailable, run_accel_job
+from orb_sim.rtl_backend import ACCEL_MEM_DEPTH, RtlUnavailable, run_accel_job
 from orb_sim.runner import ToolMissing
 from orb_tools.images import load_rgb_or_grey
 
@@ -60,6 +79,35 @@ def progress_loop(path: Path, stop: threading.Event) -> None:
                     last = line
 
 
+def make_config(args: argparse.Namespace, w: int, h: int, num: int, den: int) -> Config:
+    """The model configuration of the run (the driver configures the accelerator from it)."""
+    if not limits.MEM_DEPTH.legal(args.mem_depth):
+        raise ConfigError(f"mem_depth must be {limits.MEM_DEPTH.text}, got {args.mem_depth}")
+    capacity = args.mem_depth - 1
+    budget = min(capacity, recommended_budget(w, h)) if args.budget is None else args.budget
+    if args.selection == "grid" and not 0 <= budget <= capacity:
+        raise ConfigError(f"budget {budget}: a bank of the simulated accelerator holds 0..{capacity} features")
+    cell = recommended_cell(w) if args.cell is None else args.cell
+    return Config(width=w, height=h, scales=args.scales, sectors=args.sectors, threshold=args.threshold, mode="orb",
+                  step_num=num, step_den=den, selection=args.selection, budget=budget, cell=cell,
+                  threshold_lo=args.threshold_lo)  # fmt: skip
+
+
+def selection_text(cfg: Config) -> str:
+    if cfg.selection == "all":
+        return "every feature (selection all)"
+    return f"grid selection: budget {cfg.budget}, cell {cfg.cell}, low threshold {cfg.threshold_lo}"
+
+
+def compare(got: Features, img: np.ndarray, cfg: Config, truncated: int, capacity: int) -> str | None:
+    """None when the frame is what the accelerator must deliver: the model's selection, or in `all`
+    selection with a full bank what the memory keeps of every feature."""
+    expected = extract(img, cfg)
+    if cfg.selection == "all" and truncated:
+        return truncation_difference(got, expected, capacity, cfg)
+    return first_difference(got, expected)
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--image", type=Path, help="image file (default: the bundled 640x480 photograph)")
@@ -73,6 +121,13 @@ def main() -> int:
     ap.add_argument("--step", default=rec, help=f"pyramid step NUM:DEN (default {rec})")
     ap.add_argument("--sectors", type=int, default=RECOMMENDED_SECTORS, help="16, 32 or 64")
     ap.add_argument("--threshold", type=int, default=20)
+    ap.add_argument("--selection", choices=SELECTIONS, default="grid", help="grid (default) or all")
+    ap.add_argument("--budget", type=int, help="grid: features per frame (default: recommended for the size)")
+    ap.add_argument("--cell", type=int, help="grid: cell size in level pixels (default: width / 8)")
+    ap.add_argument("--mem-depth", type=int, default=ACCEL_MEM_DEPTH,
+                    help=f"slots per bank of the simulated accelerator (default {ACCEL_MEM_DEPTH})")  # fmt: skip
+    ap.add_argument("--threshold-lo", type=int, default=RECOMMENDED_THRESHOLD_LO,
+                    help=f"grid: low FAST threshold (default {RECOMMENDED_THRESHOLD_LO})")  # fmt: skip
     ap.add_argument("--out-dir", type=Path, default=ROOT / "build" / "sim")
     ap.add_argument("--fast", action="store_true", help="the netlist in Verilator instead of the RTL in GHDL")
     ap.add_argument("--seed", type=int, default=0, help="--fast: random initial state from this seed (0: zeros)")
@@ -90,8 +145,7 @@ def main() -> int:
         rgb = np.ascontiguousarray(rgb[..., :3], dtype=np.uint8)
         h, w = rgb.shape[:2]
         num, den = parse_step(args.step)
-        cfg = Config(width=w, height=h, scales=args.scales, sectors=args.sectors,
-                     threshold=args.threshold, mode="orb", step_num=num, step_den=den)  # fmt: skip
+        cfg = make_config(args, w, h, num, den)
     except (ImageError, ConfigError, ValueError, OSError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
@@ -103,7 +157,7 @@ def main() -> int:
     engine = "its netlist in Verilator" if args.fast else f"GHDL (log: {log})"
     print(f"make sim: {path.name} {w}x{h}, {cfg.scales} scale(s) of {cfg.step_num}:{cfg.step_den}, "
           f"{cfg.sectors} sectors, "
-          f"threshold {cfg.threshold}: orb_accel_top in {engine}", flush=True)  # fmt: skip
+          f"threshold {cfg.threshold}, {selection_text(cfg)}: orb_accel_top in {engine}", flush=True)  # fmt: skip
     stop = threading.Event()
     watcher = threading.Thread(target=progress_loop, args=(job / "progress.txt", stop), daemon=True)
     watcher.start()
@@ -112,9 +166,9 @@ def main() -> int:
         if args.fast:
             from orb_sim.fast.jobs import run_accel_fast
 
-            result = run_accel_fast(rgb, cfg, job, overlay=True, seed=args.seed)
+            result = run_accel_fast(rgb, cfg, job, overlay=True, seed=args.seed, mem_depth=args.mem_depth)
         else:
-            result = run_accel_job(rgb, cfg, job, log, overlay=True)
+            result = run_accel_job(rgb, cfg, job, log, overlay=True, mem_depth=args.mem_depth)
     except (RtlUnavailable, ToolMissing, FastSimError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 1
@@ -123,16 +177,24 @@ def main() -> int:
     sim_wall = time.perf_counter() - t0
     feats = read_csv(job / "features.csv", sectors_total=cfg.sectors, step=cfg.step)
     shutil.copyfile(job / "features.csv", out / "features.csv")
-    expected = extract(rgb_to_luma(rgb), cfg)
-    diff = first_difference(feats, expected)
+    luma = rgb_to_luma(rgb)
+    diff = compare(feats, luma, cfg, result["truncated"], args.mem_depth - 1)
+    # the overlay marks what the feature stream carried: every feature in `all` (the bank may have
+    # truncated them), in `grid` the selection and the features it replaced
+    cand = candidates(luma, cfg)
+    streamed = streamed_grid(cand, cfg) if cfg.selection == "grid" else cand
     overlay = np.load(job / "overlay.npy")
-    overlay_expected = render_marker_overlay(rgb, expected, scales=cfg.scales, block_log2=marker_block_log2(cfg.scales))
+    overlay_expected = render_marker_overlay(rgb, streamed, scales=cfg.scales, block_log2=marker_block_log2(cfg.scales))
     overlay_exact = bool(np.array_equal(overlay, overlay_expected))
     cv2.imwrite(str(out / "overlay.png"), cv2.cvtColor(overlay, cv2.COLOR_RGB2BGR))
-    dropped = result["dropped_merge"] + result["truncated"] + result["desc_lost"]
+    # lost: dropped in the core, or truncated by a full bank in the grid selection (which must never
+    # happen); the `all` selection's truncation is reported on its own
+    truncated = result["truncated"]
+    dropped = result["dropped_merge"] + result["desc_lost"] + (truncated if cfg.selection == "grid" else 0)
     report = {
         "image": str(path), "width": w, "height": h, "scales": cfg.scales, "step": f"{cfg.step_num}:{cfg.step_den}",
-        "sectors": cfg.sectors,
+        "sectors": cfg.sectors, "selection": cfg.selection, "budget": cfg.budget, "cell": cfg.cell,
+        "threshold_lo": cfg.threshold_lo, "truncated": truncated, "mem_depth": args.mem_depth,
         "threshold": cfg.threshold, "features": result["features"], "bit_exact": diff is None,
         "first_difference": diff, "overlay_bit_exact": overlay_exact, "dropped": dropped,
         "dropped_detail": {"merge": result["dropped_merge"], "feature_memory_truncated": result["truncated"],
@@ -147,8 +209,9 @@ def main() -> int:
         report["seed"] = args.seed
     (out / "report.json").write_text(json.dumps(report, indent=2) + "\n")
     ok = report["bit_exact"] and overlay_exact and dropped == 0
+    trunc = f"; {truncated} truncated by the full bank (selection all)" if truncated and cfg.selection == "all" else ""
     print(f"{result['features']} features, bit-exact with the model: {'yes' if diff is None else 'NO: ' + diff}; "
-          f"overlay bit-exact: {'yes' if overlay_exact else 'NO'}; dropped {dropped}; "
+          f"overlay bit-exact: {'yes' if overlay_exact else 'NO'}; lost {dropped}{trunc}; "
           f"{result['cycles_per_pixel']} clocks per pixel; last pixel to end-of-frame record "
           f"{result['latency_cycles']} clocks; simulation {sim_wall:.0f} s "
           f"(first frame {result['frame_sim_wall_s']} s)")  # fmt: skip
@@ -164,36 +227,41 @@ def main_video(args: argparse.Namespace) -> int:
         frames = load_frames([args.video], max_frames=args.max_frames)
         n, h, w = frames.shape[:3]
         num, den = parse_step(args.step)
-        cfg = Config(width=w, height=h, scales=args.scales, sectors=args.sectors,
-                     threshold=args.threshold, mode="orb", step_num=num, step_den=den)  # fmt: skip
+        cfg = make_config(args, w, h, num, den)
     except (ImageError, ConfigError, ValueError, OSError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
     out = args.out_dir.resolve()
     out.mkdir(parents=True, exist_ok=True)
     print(f"make sim: {args.video.name}, {n} frames of {w}x{h}, {cfg.scales} scale(s) of "
-          f"{cfg.step_num}:{cfg.step_den}, {cfg.sectors} sectors, threshold {cfg.threshold}: orb_accel_top's "
+          f"{cfg.step_num}:{cfg.step_den}, {cfg.sectors} sectors, threshold {cfg.threshold}, {selection_text(cfg)}: "
+          "orb_accel_top's "
           "netlist in Verilator", flush=True)  # fmt: skip
     results: list[dict] = []
 
     def check(i: int, frame: Frame) -> None:
-        expected = extract(rgb_to_luma(frames[i]), cfg)
-        diff = first_difference(frame.features, expected)
+        luma = rgb_to_luma(frames[i]) if frames.ndim == 4 else frames[i]
+        diff = compare(frame.features, luma, cfg, frame.truncated, args.mem_depth - 1)
+        lost = frame.dropped + (frame.truncated if cfg.selection == "grid" else 0)
+        if lost and diff is None:
+            diff = f"{lost} features lost"
         results.append({"frame": i, "number": frame.number, "features": len(frame), "bit_exact": diff is None,
-                        "first_difference": diff, "dropped": frame.dropped + frame.truncated})  # fmt: skip
+                        "first_difference": diff, "dropped": frame.dropped, "truncated": frame.truncated})  # fmt: skip
         if i % 10 == 0 or diff is not None:
             verdict = "yes" if diff is None else "NO: " + diff
             print(f"  frame {i}: {len(frame)} features, bit-exact: {verdict}", flush=True)
 
     try:
-        _, run = run_video_fast(frames, cfg, seed=args.seed, on_frame=check)
+        _, run = run_video_fast(frames, cfg, seed=args.seed, mem_depth=args.mem_depth, on_frame=check)
     except (ToolMissing, FastSimError, TimeoutError, OSError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 1
     exact = sum(r["bit_exact"] for r in results)
     report = {"video": str(args.video), "width": w, "height": h, "scales": cfg.scales,
               "step": f"{cfg.step_num}:{cfg.step_den}", "sectors": cfg.sectors,
-              "threshold": cfg.threshold, "frames": n, "frames_published": len(results), "bit_exact_frames": exact,
+              "threshold": cfg.threshold, "selection": cfg.selection, "budget": cfg.budget, "cell": cfg.cell,
+              "threshold_lo": cfg.threshold_lo, "frames": n, "frames_published": len(results),
+              "bit_exact_frames": exact,
               "features": sum(r["features"] for r in results), "run": run, "per_frame": results,
               "engine": "verilator-netlist"}  # fmt: skip
     (out / "report.json").write_text(json.dumps(report, indent=2) + "\n")

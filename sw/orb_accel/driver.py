@@ -8,7 +8,7 @@ golden_model.regs, the feature-memory layout golden_model.featmem (both generate
 once; docs/registers.md, docs/feature-memory.md). numpy only. docs/driver.md has the API.
 
     accel = OrbAccel(bus)
-    accel.configure(threshold=20, mode="orb")
+    accel.configure(threshold=20, mode="orb")   # grid selection, the recommended budget
     with accel.frame(timeout_s=0.1) as frame:   # the bank is released on leaving the block
         print(frame.number, len(frame), frame.x, frame.descriptors.shape)
 """
@@ -22,7 +22,14 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from golden_model import regs
-from golden_model.config import MODES
+from golden_model.config import (
+    MODES,
+    RECOMMENDED_THRESHOLD_LO,
+    SELECTIONS,
+    Config,
+    recommended_budget,
+    recommended_cell,
+)
 from golden_model.featmem import (
     SLOT_BYTES,
     SLOT_RECORD_WORDS,
@@ -62,6 +69,29 @@ class HwConfig:
     @property
     def step(self) -> tuple[int, int]:
         return self.step_num, self.step_den
+
+    @property
+    def capacity(self) -> int:
+        """Features a bank holds: the largest grid-selection budget (SELECT.budget)."""
+        return self.mem_depth - 1
+
+    def default_budget(self) -> int:
+        """The grid selection's budget configure() sets unless told: the recommended one for the
+        frame size (golden_model.config.recommended_budget), at most what a bank holds."""
+        return min(recommended_budget(self.width, self.height), self.capacity)
+
+
+@dataclass(frozen=True)
+class Selection:
+    """The selection in effect (SELECT and THRESHOLD.low; docs/selection.md): `mode` "grid" (each
+    level keeps its share of `budget` features, the best corner of every `cell` x `cell` cell
+    first, a corner at `threshold_lo` where a cell has none at the threshold) or "all" (every
+    feature at the threshold; the others are ignored)."""
+
+    mode: str
+    budget: int
+    cell: int
+    threshold_lo: int
 
 
 @dataclass(frozen=True)
@@ -123,6 +153,17 @@ class Frame:
         return self.features.score
 
     @property
+    def response(self) -> np.ndarray:
+        """The 6-bit corner response code the grid selection ranks by (docs/spec.md section 15)."""
+        return self.features.response
+
+    @property
+    def low(self) -> np.ndarray:
+        """True for a corner at the low threshold only (a cell's best where it has no corner at
+        the threshold; grid selection)."""
+        return self.features.low
+
+    @property
     def angle(self) -> np.ndarray:
         """Orientation in degrees (sector * 360 / sectors); NaN in fast mode."""
         return self.features.angle_deg()
@@ -182,7 +223,14 @@ class OrbAccel:
         self.mode = MODES[regs.CTRL.field("mode").get(ctrl)]
         self.enabled = bool(regs.CTRL.field("enable").get(ctrl))
         self._mode_before = self.mode
-        self.threshold = regs.THRESHOLD.field("threshold").get(self.read(regs.THRESHOLD))
+        thr, sel = self.read(regs.THRESHOLD), self.read(regs.SELECT)
+        self.threshold = regs.THRESHOLD.field("threshold").get(thr)
+        self.selection = Selection(
+            mode=SELECTIONS[regs.SELECT.field("mode").get(sel)],  # 0 all, 1 grid (2, 3 are refused)
+            budget=regs.SELECT.field("budget").get(sel),
+            cell=regs.SELECT.field("cell").get(sel),
+            threshold_lo=regs.THRESHOLD.field("low").get(thr),
+        )
 
     # ---- registers -----------------------------------------------------------------------------
     def read(self, reg: regs.Register) -> int:
@@ -198,12 +246,19 @@ class OrbAccel:
             raise ValueError(f"{reg.name} is read-only")
         if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not 0 <= value <= 0xFFFFFFFF:
             raise ValueError(f"{reg.name}: {value!r} is not a 32-bit value")
-        if reg.access != "w1c" and not reg.legal(int(value)):
-            allowed = ", ".join(f"{f.name} 0..{f.max if f.max is not None else (1 << f.width) - 1}" for f in reg.fields)
+        generics = {"MEM_DEPTH_g": self.hw.mem_depth} if hasattr(self, "hw") else None
+        if reg.access != "w1c" and not reg.legal(int(value), generics):
+            allowed = ", ".join(f"{f.name} {f.min or 0}..{self._field_max(f)}" for f in reg.fields)
             raise ValueError(
                 f"{reg.name}: {int(value):#x} sets a reserved bit or a field above its maximum ({allowed})"
             )
         self.bus.write32(reg.offset, int(value))
+
+    def _field_max(self, f: regs.Field) -> int:
+        top = (1 << f.width) - 1 if f.max is None else f.max
+        if f.max_generic == "MEM_DEPTH_g" and hasattr(self, "hw"):
+            top = min(top, self.hw.mem_depth - 1)
+        return top
 
     def read_config(self) -> HwConfig:
         size, orb, mem = self.read(regs.CFG_SIZE), self.read(regs.CFG_ORB), self.read(regs.CFG_MEM)
@@ -222,13 +277,36 @@ class OrbAccel:
         return regs.VERSION.field("major").get(v), regs.VERSION.field("minor").get(v)
 
     def configure(self, threshold: int, mode: str = "orb", enable: bool = True,
-                  irq: tuple[str, ...] = ("frame_done",)) -> None:  # fmt: skip
-        """FAST threshold (0..255, applied from the next frame), mode ("orb" or "fast"), enable,
-        and the interrupt sources to enable (of IRQ_SOURCES). Raises ValueError on a bad value,
-        before anything is written."""
-        hi = (1 << regs.THRESHOLD.field("threshold").width) - 1
-        if isinstance(threshold, bool) or not isinstance(threshold, (int, np.integer)) or not 0 <= threshold <= hi:
-            raise ValueError(f"threshold {threshold!r} outside 0..{hi}")
+                  irq: tuple[str, ...] = ("frame_done",), selection: str = "grid", budget: int | None = None,
+                  cell: int | None = None, threshold_lo: int | None = None) -> None:  # fmt: skip
+        """FAST threshold (0..255), mode ("orb" or "fast"), enable, the interrupt sources to
+        enable (of IRQ_SOURCES) and the selection (docs/selection.md): "grid" keeps at most
+        `budget` features a frame (default HwConfig.default_budget(): the recommended one, at most
+        a bank's capacity), the best of every `cell` x `cell` cell of each level first (default an
+        eighth of the width), with corners at `threshold_lo` (default 7; at or above the
+        threshold: none) where a cell has none at the threshold; "all" reports every feature at
+        the threshold (a dense frame fills its bank and loses the rest: Frame.truncated). Applied
+        from the next frame on. Raises ValueError on a bad value, before anything is written."""
+        fields = {"threshold": threshold}
+        if threshold_lo is not None:
+            fields["threshold_lo"] = threshold_lo
+        for name, value in fields.items():
+            hi = (1 << regs.THRESHOLD.field("threshold").width) - 1
+            if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not 0 <= value <= hi:
+                raise ValueError(f"{name} {value!r} outside 0..{hi}")
+        if selection not in SELECTIONS:
+            raise ValueError(f"selection {selection!r} not one of {SELECTIONS}")
+        budget = self.hw.default_budget() if budget is None else budget
+        cell = recommended_cell(self.hw.width) if cell is None else cell
+        threshold_lo = RECOMMENDED_THRESHOLD_LO if threshold_lo is None else threshold_lo
+        for name, value, f in (
+            ("budget", budget, regs.SELECT.field("budget")),
+            ("cell", cell, regs.SELECT.field("cell")),
+        ):
+            lo, hi = f.min or 0, self._field_max(f)
+            if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not lo <= value <= hi:
+                why = f" (a bank holds {self.hw.capacity} features)" if name == "budget" else ""
+                raise ValueError(f"{name} {value!r} outside {lo}..{hi}{why}")
         if mode not in MODES:
             raise ValueError(f"mode {mode!r} not one of {MODES}")
         bad = [s for s in irq if s not in IRQ_SOURCES]
@@ -237,16 +315,28 @@ class OrbAccel:
         irq_word = 0
         for s in irq:
             irq_word = regs.IRQ_ENABLE.field(s).put(1, irq_word)
-        self.write(regs.THRESHOLD, int(threshold))
+        sel = regs.SELECT.field("mode").put(SELECTIONS.index(selection))
+        sel = regs.SELECT.field("cell").put(int(cell), sel)
+        self.write(regs.SELECT, regs.SELECT.field("budget").put(int(budget), sel))
+        thr = regs.THRESHOLD.field("low").put(int(threshold_lo))
+        self.write(regs.THRESHOLD, regs.THRESHOLD.field("threshold").put(int(threshold), thr))
         self.write(regs.IRQ_ENABLE, irq_word)
         ctrl = regs.CTRL.field("mode").put(MODES.index(mode))
         self.write(regs.CTRL, regs.CTRL.field("enable").put(int(enable), ctrl))
         self._mode_before = self.mode  # the frame in flight keeps it (settle)
         self.mode, self.enabled, self.threshold = mode, bool(enable), int(threshold)
+        self.selection = Selection(selection, int(budget), int(cell), int(threshold_lo))
+
+    def configure_as(self, cfg: Config, enable: bool = True, irq: tuple[str, ...] = ("frame_done",)) -> None:
+        """configure() with a model configuration's threshold, mode and selection (budget, cell
+        and low threshold in `grid`), so that a frame compares with golden_model.extract(img, cfg)."""
+        grid = cfg.selection == "grid"
+        self.configure(cfg.threshold, cfg.mode, enable, irq, cfg.selection, cfg.budget if grid else None,
+                       cfg.cell if grid else None, cfg.threshold_lo if grid else None)  # fmt: skip
 
     def settle(self, timeout_s: float) -> Frame:
-        """Let the frame in flight pass after configure(): the accelerator samples threshold and
-        mode at a frame's first pixel, so the first frame to finish after a change may have
+        """Let the frame in flight pass after configure(): the accelerator samples thresholds,
+        selection and mode at a frame's first pixel, so the first frame to finish after a change may have
         started before it. Acknowledges pending interrupts and releases the banks of frames that
         finished before (discarded), then reads and releases the next frame (returned, in the mode
         of its start); every later frame uses the new values."""

@@ -21,7 +21,7 @@ from types import ModuleType
 import numpy as np
 
 from golden_model import limits, regs
-from golden_model.config import MODES
+from golden_model.config import MODES, ConfigError
 from orb_accel.bus import Bus
 from orb_accel.driver import Frame, OrbAccel
 
@@ -72,6 +72,8 @@ def message_arrays(frame: Frame) -> dict[str, np.ndarray | bytes]:
     arrays["scale_x"] = _wire(frame.scale_x, np.uint16)
     arrays["scale_y"] = _wire(frame.scale_y, np.uint16)
     arrays["descriptors"] = np.ascontiguousarray(frame.descriptors, dtype=np.uint8).tobytes()
+    arrays["corner_response"] = np.ascontiguousarray(frame.response, dtype=np.uint8).tobytes()
+    arrays["low"] = np.ascontiguousarray(frame.low, dtype=np.uint8).tobytes()
     return arrays
 
 
@@ -113,14 +115,19 @@ class FeatureNode:
 
     def __init__(self, rospy: ModuleType, msgs: ModuleType, srvs: ModuleType, accel: OrbAccel, params: Params,
                  frame_id: str, timeout_s: float, diag_period_s: float = 1.0, hardware_id: str = "orb-accel",
-                 service_timeout_s: float = 600.0, budget: int = 0) -> None:  # fmt: skip
+                 service_timeout_s: float = 600.0, budget: int | None = None) -> None:  # fmt: skip
         from diagnostic_msgs.msg import DiagnosticArray  # Debian's python3-diagnostic-msgs
         from rospy.numpy_msg import numpy_msg
         from std_srvs.srv import Trigger, TriggerResponse
 
         self.rospy, self.srvs, self.accel = rospy, srvs, accel
         self.params, self.frame_id, self.timeout_s = params, frame_id, timeout_s
-        self.budget = budget  # 0: every feature; else Frame.best(budget) (docs/spec.md section 14)
+        # the accelerator's selection (docs/selection.md): the grid with this budget (None: the
+        # recommended one of the frame size), 0: every feature (selection all)
+        self.budget = accel.hw.default_budget() if budget is None else int(budget)
+        if not 0 <= self.budget <= accel.hw.capacity:
+            raise ConfigError(f"budget {self.budget}: a bank of this accelerator holds 0..{accel.hw.capacity} features")
+        self.selection = {"selection": "grid" if self.budget else "all", "budget": self.budget or None}
         self.diag_period_s, self.hardware_id, self.service_timeout_s = diag_period_s, hardware_id, service_timeout_s
         self._trigger_response = TriggerResponse
         self._diag_array = DiagnosticArray
@@ -137,7 +144,7 @@ class FeatureNode:
         self._next_diag = time.monotonic() + diag_period_s
         accel.soft_reset()  # a predecessor killed while holding a bank leaves it held: start clean
         accel.write(regs.IRQ_STATUS, 0xFFFFFFFF)
-        accel.configure(params.threshold, params.mode, params.enable)
+        accel.configure(params.threshold, params.mode, params.enable, **self.selection)
         rospy.Service("~set_params", srvs.SetParams, self._on_set_params)
         rospy.Service("~reset", Trigger, self._on_reset)
 
@@ -185,7 +192,7 @@ class FeatureNode:
         new = [r.params for r in requests if r.params is not None]
         if new and new[-1] != self.params:
             p = new[-1]
-            self.accel.configure(p.threshold, p.mode, p.enable)
+            self.accel.configure(p.threshold, p.mode, p.enable, **self.selection)
             self.params = p
         return self.params
 
@@ -227,8 +234,6 @@ class FeatureNode:
             accel.soft_reset()
         self.last_frame = frame.number
         self._finish(requests, frame.number)
-        if self.budget:
-            frame = frame.best(self.budget)
         self.pub.publish(build_message(self.msg_cls, frame, frame_params.threshold, stamp, self.frame_id, self.budget))
         self.published += 1
         self._stats["published"] += 1
@@ -284,13 +289,14 @@ class FeatureNode:
 @dataclass(frozen=True)
 class Settings:
     """The node's start-up parameters (private: ~threshold, ~mode, ~enable, ~frame_id, ~timeout,
-    ~diagnostics_period, ~budget); timeout_s None: the caller's default for its bus."""
+    ~diagnostics_period, ~budget); timeout_s None: the caller's default for its bus; budget None:
+    the recommended one (HwConfig.default_budget), 0: every feature."""
 
     params: Params
     frame_id: str = "orb_accel"
     timeout_s: float | None = None
     diag_period_s: float = 1.0
-    budget: int = 0
+    budget: int | None = None
 
 
 def init_node(rospy: ModuleType, defaults: Params, argv: list[str] | None = None) -> Settings:
@@ -306,8 +312,8 @@ def init_node(rospy: ModuleType, defaults: Params, argv: list[str] | None = None
     for name, value in (("timeout", timeout), ("diagnostics_period", period)):
         if value is not None and (isinstance(value, bool) or not isinstance(value, (int, float)) or not value > 0):
             error = error or f"{name} must be a positive number of seconds, got {value!r}"
-    budget = rospy.get_param("~budget", 0)
-    if isinstance(budget, bool) or not isinstance(budget, int) or budget < 0:
+    budget = rospy.get_param("~budget", None)
+    if budget is not None and (isinstance(budget, bool) or not isinstance(budget, int) or budget < 0):
         error = error or f"budget must be a non-negative integer (0: every feature), got {budget!r}"
     if error is not None:
         rospy.logfatal(f"illegal start-up parameter: {error}")
@@ -315,7 +321,8 @@ def init_node(rospy: ModuleType, defaults: Params, argv: list[str] | None = None
         raise ValueError(error)
     frame_id = str(rospy.get_param("~frame_id", "orb_accel"))
     return Settings(Params(int(threshold), mode, bool(enable)), frame_id,
-                    None if timeout is None else float(timeout), float(period), int(budget))  # fmt: skip
+                    None if timeout is None else float(timeout), float(period),
+                    None if budget is None else int(budget))  # fmt: skip
 
 
 def run_node(rospy: ModuleType, msgs: ModuleType, srvs: ModuleType, bus: Bus, settings: Settings,

@@ -115,9 +115,21 @@ class AccelBench:
     async def write_reg(self, reg: regs.Register, value: int) -> None:
         await self.cpu(self.accel.write, reg, value)
 
-    async def configure(self, threshold: int, mode: str = "orb", irq: int = 1, enable: int = 1) -> None:
+    async def configure(self, threshold: int, mode: str = "orb", irq: int = 1, enable: int = 1,
+                        selection: str = "all", budget: int | None = None, cell: int | None = None,
+                        threshold_lo: int | None = None) -> None:  # fmt: skip
+        """The driver's configure (selection "all" unless told: the tests of the memory and the
+        overlay count every feature; the driver's own default is "grid")."""
         sources = tuple(s for i, s in enumerate(IRQ_SOURCES) if irq >> i & 1)
-        await self.cpu(self.accel.configure, threshold, mode, bool(enable), sources)
+        await self.cpu(self.accel.configure, threshold, mode, bool(enable), sources, selection, budget, cell,
+                       threshold_lo)  # fmt: skip
+
+    @property
+    def selection(self) -> str:
+        """The selection last configured, as orbtb's scoreboard spells it ("all" or
+        "grid:BUDGET:CELL:LOW")."""
+        sel = self.accel.selection
+        return "all" if sel.mode == "all" else f"grid:{sel.budget}:{sel.cell}:{sel.threshold_lo}"
 
     async def wait_irq(self, timeout_clocks: int) -> None:
         """Wait for the interrupt line (not acknowledged)."""

@@ -24,6 +24,7 @@ from golden_model.config import Config
 from golden_model.features import Features, read_csv
 from golden_model.overlay import marker_block_log2
 
+from .core_inputs import selection_text
 from .hdl import HDL, MANIFEST, ROOT
 from .runner import ToolMissing, run
 
@@ -48,7 +49,8 @@ def _simulate(toplevel: str, module: str, generics: dict, env: dict[str, str], l
         raise RtlUnavailable(f"the simulation failed ({exc}); see {log}") from None
 
 
-def run_accel_job(img: np.ndarray, cfg: Config, job: Path, log: Path, overlay: bool) -> dict:
+def run_accel_job(img: np.ndarray, cfg: Config, job: Path, log: Path, overlay: bool,
+                  mem_depth: int = ACCEL_MEM_DEPTH) -> dict:  # fmt: skip
     """orb_accel_top driven as a CPU drives it (orb_sim.jobs.accel_job): the frame (H, W) luma or
     (H, W, 3) RGB streams in, the features are read back into job/features.csv; with `overlay`, a
     second pass captures job/overlay.npy. Returns job.json (frame_cycles, pixels, cycles_per_pixel,
@@ -57,10 +59,12 @@ def run_accel_job(img: np.ndarray, cfg: Config, job: Path, log: Path, overlay: b
     np.save(job / "input.npy", np.ascontiguousarray(img, dtype=np.uint8))
     generics = {"WIDTH_g": cfg.width, "HEIGHT_g": cfg.height, "SCALES_g": cfg.scales,
                 "STEP_NUM_g": cfg.step_num, "STEP_DEN_g": cfg.step_den,
-                "SECTORS_g": cfg.sectors, "MEM_DEPTH_g": ACCEL_MEM_DEPTH, "BLOCK_LOG2_g": marker_block_log2(cfg.scales),
+                "SECTORS_g": cfg.sectors, "MEM_DEPTH_g": mem_depth, "BLOCK_LOG2_g": marker_block_log2(cfg.scales),
                 "INPUT_g": "LUMA" if img.ndim == 2 else "RGB"}  # fmt: skip
     env = {"ORB_JOB_DIR": str(job), "ORB_JOB_THRESHOLD": str(cfg.threshold), "ORB_JOB_MODE": cfg.mode,
-           "ORB_JOB_OVERLAY": "1" if overlay else "0"}  # fmt: skip
+           "ORB_JOB_OVERLAY": "1" if overlay else "0", "ORB_JOB_SELECTION": cfg.selection,
+           "ORB_JOB_BUDGET": str(cfg.budget), "ORB_JOB_CELL": str(cfg.cell),
+           "ORB_JOB_THRESHOLD_LO": str(cfg.threshold_lo)}  # fmt: skip
     _simulate("orb_accel_top", "orb_sim.jobs.accel_job", generics, env, log)
     if not (job / "job.json").exists():
         raise RtlUnavailable(f"the simulation wrote no result; see {log}")
@@ -70,13 +74,14 @@ def run_accel_job(img: np.ndarray, cfg: Config, job: Path, log: Path, overlay: b
 def run_core_job(frames: list[np.ndarray], cfg: Config, thresholds: list[int], modes: list[str], job: Path,
                  log: Path) -> tuple[list[Features], dict]:  # fmt: skip
     """Frames (each (H, W) luma) back to back through orb_core (orb_sim.jobs.core_job) with one
-    threshold and mode per frame; returns each frame's features and the job's report."""
+    threshold and mode per frame and cfg's selection; returns each frame's features (a grid
+    frame's stream resolved as the feature memory keeps it) and the job's report."""
     job.mkdir(parents=True, exist_ok=True)
     np.save(job / "frames.npy", np.stack([np.ascontiguousarray(f, dtype=np.uint8) for f in frames]))
     generics = {"WIDTH_g": cfg.width, "HEIGHT_g": cfg.height, "SCALES_g": cfg.scales,
                 "STEP_NUM_g": cfg.step_num, "STEP_DEN_g": cfg.step_den, "SECTORS_g": cfg.sectors}  # fmt: skip
     env = {"ORB_JOB_DIR": str(job), "ORB_JOB_THRESHOLDS": ",".join(map(str, thresholds)),
-           "ORB_JOB_MODES": ",".join(modes)}  # fmt: skip
+           "ORB_JOB_MODES": ",".join(modes), "ORB_JOB_SELECTION": selection_text(cfg)}  # fmt: skip
     _simulate("orb_core", "orb_sim.jobs.core_job", generics, env, log)
     if not (job / "report.json").exists():
         raise RtlUnavailable(f"the simulation wrote no result; see {log}")

@@ -70,6 +70,9 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     stream.add_argument("--csv", type=Path, metavar="DIR", help="write each frame as DIR/frame_NNNNNN.csv")
     stream.add_argument("--threshold", type=int, default=20, help=f"FAST threshold {limits.THRESHOLD.text} (20)")
     stream.add_argument("--mode", choices=MODES, default="orb")
+    stream.add_argument("--budget", type=int, default=None,
+                        help="at most N features a frame, the accelerator's grid selection (default: the recommended "
+                             "one of the frame size, within a bank; 0: every feature)")  # fmt: skip
 
     ros = sub.add_parser("ros", help="the ROS 1 node: /orb_accel/features (docs/ros.md); NAME:=VALUE remaps")
     add_bus_options(ros)
@@ -175,8 +178,11 @@ def cmd_info(args: argparse.Namespace) -> int:
         print(f"configuration: {hw.width}x{hw.height}, {hw.scales} scales of {hw.step_num}:{hw.step_den}, "
               f"{hw.sectors} sectors, "
               f"{hw.mem_depth} slots per bank ({hw.mem_depth - 1} features per frame at most)")  # fmt: skip
-        print(f"control: {'enabled' if accel.enabled else 'disabled'}, mode {accel.mode}, threshold {accel.threshold}; "
-              f"STATUS {status:#x}, IRQ_STATUS {accel.read(regs.IRQ_STATUS):#x}")  # fmt: skip
+        sel = accel.selection
+        how = (f"grid selection, budget {sel.budget}, cell {sel.cell}, low threshold {sel.threshold_lo}"
+               if sel.mode == "grid" else "every feature (selection all)")  # fmt: skip
+        print(f"control: {'enabled' if accel.enabled else 'disabled'}, mode {accel.mode}, threshold {accel.threshold}, "
+              f"{how}; STATUS {status:#x}, IRQ_STATUS {accel.read(regs.IRQ_STATUS):#x}")  # fmt: skip
         print(f"counters: {_counters_line(accel.counters())}")
     return 0
 
@@ -188,7 +194,11 @@ def cmd_stream(args: argparse.Namespace) -> int:
         raise ValueError(f"--frames must be 0 or more, got {args.frames}")
     with open_bus(args) as (bus, what, timeout), ExitStack() as stack:
         accel = OrbAccel(bus)
-        accel.configure(args.threshold, args.mode)
+        if args.budget is not None and not 0 <= args.budget <= accel.hw.capacity:
+            raise ValueError(f"--budget must be 0..{accel.hw.capacity} (a bank's capacity), got {args.budget}")
+        grid = args.budget != 0
+        accel.configure(args.threshold, args.mode, selection="grid" if grid else "all",
+                        budget=args.budget if grid else None)  # fmt: skip
         accel.settle(timeout)  # the frame in flight may have started with the old values
         csv = None
         if args.csv is not None:
@@ -197,6 +207,7 @@ def cmd_stream(args: argparse.Namespace) -> int:
             csv = stack.enter_context(CsvDir(args.csv))
         hw = accel.hw
         print(f"streaming from {what}: {hw.width}x{hw.height}, {hw.scales} scales, threshold {args.threshold}, "
+              f"budget {accel.selection.budget if grid else 'none (every feature)'}, "
               f"mode {args.mode} (frame timeout {timeout:g} s of the bus's time)", flush=True)  # fmt: skip
         t0 = time.monotonic()
         n = total = 0

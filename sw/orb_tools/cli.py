@@ -28,6 +28,7 @@ from golden_model.config import (
     check_step,
     parse_step,
     recommended_budget,
+    recommended_cell,
 )
 from golden_model.features import Features, write_csv
 from golden_model.images import DEFAULT_IMAGE, ImageError, to_luma
@@ -206,8 +207,18 @@ def build_parser() -> argparse.ArgumentParser:
                     help=f"orientation sectors in all, {limits.SECTORS.text} "
                          f"(default {RECOMMENDED_SECTORS})")  # fmt: skip
     ex.add_argument("--budget", type=_budget, default=None,
-                    help=f"keep each level's best of N features in all (docs/spec.md section 14; 0: every feature; "
-                         f"default {RECOMMENDED_BUDGET} per 640x480, in proportion to the image's area)")  # fmt: skip
+                    help=f"at most N features, the accelerator's grid selection (docs/selection.md; opencv: "
+                         f"each level's best, docs/spec.md section 14); 0: every feature (selection all); "
+                         f"default {RECOMMENDED_BUDGET} per 640x480: config.recommended_budget)")  # fmt: skip
+    ex.add_argument(
+        "--cell",
+        type=lambda t: _limited(limits.CELL, t),
+        default=None,
+        help="grid cell in level pixels (default: recommended_cell, an eighth of the width)",
+    )
+    ex.add_argument("--threshold-lo", type=lambda t: _limited(limits.THRESHOLD_LO, t),
+                    default=RECOMMENDED_THRESHOLD_LO,
+                    help=f"the grid selection's low threshold (default {RECOMMENDED_THRESHOLD_LO})")  # fmt: skip
     ex.add_argument("--fast-only", action="store_true", help="detection only (no sectors or descriptors)")
     ex.add_argument("--out", type=Path, required=True, help="features CSV to write")
     ex.add_argument("--overlay", type=Path, help="PNG with the features drawn on the image")
@@ -318,22 +329,29 @@ def cmd_extract(args: argparse.Namespace) -> int:
     img = to_luma(original)
     _check_size(img, path)
     h, w = img.shape
+    budget = recommended_budget(w, h) if args.budget is None else args.budget
+    # the model and the RTL select as the accelerator does (grid; Config checks the budget's limit);
+    # OpenCV's features are ranked on the host (each level's best: Frame.best)
+    grid = bool(budget) and args.backend != "opencv"
     cfg = Config(
         width=w, height=h, scales=args.scales, sectors=args.sectors,
         threshold=args.threshold, mode="fast" if args.fast_only else "orb",
-        step_num=args.step[0], step_den=args.step[1],
+        step_num=args.step[0], step_den=args.step[1], selection="grid" if grid else "all", budget=budget if grid else 0,
+        cell=recommended_cell(w) if args.cell is None else args.cell, threshold_lo=args.threshold_lo,
     )  # fmt: skip
     t0 = time.perf_counter()
     feats = run_backend(args.backend, img, cfg)
     found = len(feats)
-    budget = recommended_budget(w, h) if args.budget is None else args.budget
-    if budget:
+    if budget and not grid:
         feats = best_per_level(feats, budget, cfg.scales)
     elapsed = time.perf_counter() - t0
     args.out.parent.mkdir(parents=True, exist_ok=True)
     write_csv(feats, args.out)
     per_scale = ", ".join(f"scale {s}: {int((feats.scale == s).sum())}" for s in range(cfg.scales))
-    kept = f"{len(feats)} of {found} features (budget {budget})" if budget else f"{found} features"
+    if grid:
+        kept = f"{len(feats)} features (grid selection, budget {budget}, cell {cfg.cell})"
+    else:
+        kept = f"{len(feats)} of {found} features (budget {budget})" if budget else f"{found} features"
     print(f"{path.name} {w}x{h} [{args.backend}, {cfg.mode}, t={cfg.threshold}, {cfg.scales} scales of "
           f"{cfg.step_num}:{cfg.step_den}, {cfg.sectors} sectors]: "
           f"{kept} ({per_scale}) in {elapsed:.3f} s -> {args.out}")  # fmt: skip

@@ -89,6 +89,11 @@ def features_from_msg(msg: Any) -> Features:
     if len(set(lengths.values())) != 1:
         raise ValueError(f"feature arrays of different lengths: {lengths}")
     desc = _array(msg.descriptors, np.uint8)
+    code, low = _array(msg.corner_response, np.uint8), _array(msg.low, np.uint8)
+    if len(code) != n or len(low) != n:
+        raise ValueError(f"{len(code)} corner responses and {len(low)} low flags for {n} features")
+    if n and (code.max() >= 64 or low.max() > 1):
+        raise ValueError("a corner response above 63 or a low flag other than 0 and 1")
     want = n * DESCRIPTOR_BYTES if mode == "orb" else 0
     if len(desc) != want:
         raise ValueError(f"{len(desc)} descriptor bytes for {n} features in {mode} mode (expected {want})")
@@ -124,7 +129,8 @@ def features_from_msg(msg: Any) -> Features:
         sector = exact.astype(np.int64)
     return Features(
         octave.astype(np.int64), sx.astype(np.int64), sy.astype(np.int64), score.astype(np.int64), sector,
-        desc.reshape(n, DESCRIPTOR_BYTES if mode == "orb" else 0), sectors, (num, den),
+        desc.reshape(n, DESCRIPTOR_BYTES if mode == "orb" else 0), sectors, (num, den), code.astype(np.int64),
+        low.astype(bool),
     )  # fmt: skip
 
 

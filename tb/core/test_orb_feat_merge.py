@@ -77,8 +77,22 @@ class MergeBench:
     async def start(self) -> None:
         await reset(
             self.dut,
-            dict.fromkeys(("in_valid", "in_x", "in_y", "in_score", "in_sector", "in_desc", "in_done", "in_low",
-                           "in_code", "in_slot", "in_replace"), 0)
+            dict.fromkeys(
+                (
+                    "in_valid",
+                    "in_x",
+                    "in_y",
+                    "in_score",
+                    "in_sector",
+                    "in_desc",
+                    "in_done",
+                    "in_low",
+                    "in_code",
+                    "in_slot",
+                    "in_replace",
+                ),
+                0,
+            )
             | {"m_axis_feat_tready": 0},
         )
 

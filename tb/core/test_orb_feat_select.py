@@ -70,7 +70,10 @@ class CaseCounter(LevelSelector):
 
     def _push(self, code: int, slot: int) -> None:
         low = min(self.buckets) if self.buckets else None
-        key = "push to an empty rest" if low is None else "push below" if code < low else "push onto" if code == low else "push above"
+        if low is None:
+            key = "push to an empty rest"
+        else:
+            key = "push below" if code < low else "push onto" if code == low else "push above"
         self.cases[key] += 1
         super()._push(code, slot)
 
@@ -101,10 +104,12 @@ def expected_ops(f: Frame, cases: Counter) -> list[tuple[int, int, int]]:
 
 def photo_frames(width: int, height: int) -> list[Frame]:
     out = []
-    for name, t, tl, budget, cell in (("astronaut", 20, 7, 60, 16), ("camera", 20, 7, 25, 40), ("coffee", 30, 5, 200, 24),
-                                      ("chelsea", 20, 20, 12, 255), ("rocket", 15, 3, 1000, 80)):  # fmt: skip
+    for name, t, tl, budget, cell in (("astronaut", 20, 7, 60, 16), ("camera", 20, 7, 25, 40),
+                                      ("coffee", 30, 5, 200, 24), ("chelsea", 20, 20, 12, 255),
+                                      ("rocket", 15, 3, 1000, 80)):  # fmt: skip
         img = images.photo(name, width, height)
-        cfg = Config(width, height, threshold=t, threshold_lo=tl, selection="grid", budget=budget, cell=cell, mode="fast")
+        cfg = Config(width, height, threshold=t, threshold_lo=tl, selection="grid", budget=budget, cell=cell,
+                     mode="fast")  # fmt: skip
         c = candidates(img, cfg)
         c = c.take(arrival_order(c.x, c.y, width, height))  # fast mode: the last row with the one above
         out.append(Frame(f"{name} t={t}/{tl} n={budget} cell={cell}", c.x, c.y, c.low, c.response, budget, cell))

@@ -146,9 +146,8 @@ def queue_depth(w: int) -> int:
 def check_cands(bench: Bench) -> None:
     """Every feature shown on cand_* exactly CAND_LEAD clocks before it leaves, and nothing else."""
     want = [(e - CAND_LEAD, (f[0], f[1], f[3], f[4])) for e, f in zip(bench.out_edges, bench.out, strict=True)]
-    assert bench.cands == want, (
-        f"{len(bench.cands)} candidates for {len(want)} features; first difference: "
-        + str(next(((a, b) for a, b in zip(bench.cands, want, strict=False) if a != b), "in the counts"))
+    assert bench.cands == want, f"{len(bench.cands)} candidates for {len(want)} features; first difference: " + str(
+        next(((a, b) for a, b in zip(bench.cands, want, strict=False) if a != b), "in the counts")
     )
 
 

@@ -94,7 +94,8 @@ async def detect_frames(dut) -> None:
         got = sorted((xyz for e, xyz in feats if lo < e <= dones[f]), key=lambda v: (v[1], v[0]))
         xs, ys, score, low = detect(img, t, tl)
         codes = response_map(img)
-        exp = [(int(x), int(y), int(s), int(lw), int(codes[y, x])) for x, y, s, lw in zip(xs, ys, score, low, strict=True)]
+        exp = [(int(x), int(y), int(s), int(lw), int(codes[y, x]))
+               for x, y, s, lw in zip(xs, ys, score, low, strict=True)]  # fmt: skip
         diff = first_difference(got, exp)
         assert diff is None, f"{where}: {diff}"
         total += len(exp)

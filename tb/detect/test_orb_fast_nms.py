@@ -139,7 +139,7 @@ async def nms_frames(dut) -> None:
                 maps.append((f"8x8 case {i}", (m, main, rng.integers(0, 64, m.shape))))
         else:
             maps.append((kind, score_map(kind, w, h)))
-    for label, (s, main, code) in maps:
+    for label, (s, main, _code) in maps:
         assert s.shape == (h, w) and s.max() < 4096, label
         assert not s[:3].any() and not s[:, :3].any() and not s[h - 3 :].any() and not s[:, w - 3 :].any(), label
         assert not (main & (s == 0)).any(), f"{label}: a main corner without a score"

@@ -87,7 +87,8 @@ async def photo_windows(dut) -> None:
     items: list[Item] = []
     expected: list[tuple[int, int]] = []
     labels: list[str] = []
-    for name, t, tl in (("camera", 8, 8), ("astronaut", 20, 7), ("coffee", 0, 9), ("rocket", 45, 12), ("chelsea", 8, 0)):
+    cases = (("camera", 8, 8), ("astronaut", 20, 7), ("coffee", 0, 9), ("rocket", 45, 12), ("chelsea", 8, 0))
+    for name, t, tl in cases:
         img = images.photo(name, w, h)
         score = fast_score(img, t)
         low = fast_score(img, min(t, tl))

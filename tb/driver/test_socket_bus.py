@@ -30,10 +30,12 @@ import numpy as np
 import pytest
 
 from golden_model import regs
+from golden_model.config import RECOMMENDED_THRESHOLD_LO, recommended_cell
 from golden_model.features import Features, first_difference
 from golden_model.luma import rgb_to_luma
 from orb_accel import BusError, OrbAccel
 from orb_accel.csvdir import read_csv_dir
+from orb_accel.driver import HwConfig
 from orb_accel.opencv import to_cv2
 from orb_accel.socket_bus import REQUEST, RESPONSE, SocketBus, recv_exact
 from orb_sim.sim_server import SimServer
@@ -57,8 +59,13 @@ def server(frames: np.ndarray, tmp_path_factory: pytest.TempPathFactory) -> Iter
         yield s
 
 
+# the driver's default selection on this accelerator: the grid, the recommended budget within a bank
+HW = HwConfig(W, H, SCALES, SECTORS, DEPTH)
+SELECTION = f"grid:{HW.default_budget()}:{recommended_cell(W)}:{RECOMMENDED_THRESHOLD_LO}"
+
+
 def model(frames: np.ndarray, k: int, threshold: int, mode: str = "orb") -> Features:
-    return expected_features(rgb_to_luma(frames[k]), SCALES, threshold, mode, SECTORS)
+    return expected_features(rgb_to_luma(frames[k]), SCALES, threshold, mode, SECTORS, (2, 1), SELECTION)
 
 
 def which_photo(frames: np.ndarray, feats: Features, threshold: int, mode: str = "orb") -> int:

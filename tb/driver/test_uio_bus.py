@@ -90,7 +90,8 @@ def device_words(feats: Features) -> np.ndarray:
     for s in range(n):
         beat = encode_feature(scale=int(feats.scale[s]), x=int(feats.x[s]), y=int(feats.y[s]),
                               score=int(feats.score[s]), sector=int(feats.sector[s]),
-                              descriptor=bytes(feats.descriptor[s]))  # fmt: skip
+                              descriptor=bytes(feats.descriptor[s]), response=int(feats.response[s]),
+                              low=int(feats.low[s]))  # fmt: skip
         words[base + s * SLOT_WORDS : base + (s + 1) * SLOT_WORDS] = feature_slot(beat)
     words[base + n * SLOT_WORDS : base + (n + 1) * SLOT_WORDS] = record_slot(encode_eof(FRAME), n, 0)
     return words

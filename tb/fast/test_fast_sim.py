@@ -28,20 +28,35 @@ import cv2
 import numpy as np
 import pytest
 
-from golden_model.config import RECOMMENDED_SCALES, RECOMMENDED_SECTORS, RECOMMENDED_STEP, Config
+from golden_model.config import (
+    RECOMMENDED_SCALES,
+    RECOMMENDED_SECTORS,
+    RECOMMENDED_STEP,
+    RECOMMENDED_THRESHOLD_LO,
+    Config,
+    recommended_budget,
+    recommended_cell,
+)
 from golden_model.features import first_difference, read_csv
 from golden_model.luma import rgb_to_luma
 from golden_model.overlay import render_marker_overlay
+from orb_accel.driver import HwConfig
 from orb_sim.fast.jobs import FastAccel, generics_for, pack, run_accel_fast
 from orb_sim.rtl_backend import run_accel_job
 from orbtb.campaign import run_campaign
 from orbtb.images import colour_photo
-from orbtb.scoreboard import expected_features
+from orbtb.scoreboard import expected_features, expected_streamed
 
 W, H, SCALES, SECTORS, DEPTH = 128, 96, 2, 32, 512
 PHOTOS = ("astronaut", "coffee", "chelsea", "rocket")
 ROOT = Path(__file__).resolve().parents[2]
-CFG = Config(W, H, scales=SCALES, sectors=SECTORS, threshold=20, mode="orb")
+# the driver's default selection on this accelerator (the grid, the recommended budget), and a
+# tighter one that makes the netlist replace and evict
+HW = HwConfig(W, H, SCALES, SECTORS, DEPTH)
+DEFAULT = f"grid:{HW.default_budget()}:{recommended_cell(W)}:{RECOMMENDED_THRESHOLD_LO}"
+TIGHT = (60, 16, 5)
+CFG = Config(W, H, scales=SCALES, sectors=SECTORS, threshold=20, mode="orb", selection="grid", budget=TIGHT[0],
+             cell=TIGHT[1], threshold_lo=TIGHT[2])  # fmt: skip
 GENERICS = generics_for(CFG, colour=True, mem_depth=DEPTH)
 
 
@@ -50,14 +65,20 @@ def photos() -> list[np.ndarray]:
     return [colour_photo(name, W, H) for name in PHOTOS]
 
 
-def model(rgb: np.ndarray, threshold: int = 20):
-    return expected_features(rgb_to_luma(rgb), SCALES, threshold, "orb", SECTORS)
+def model(rgb: np.ndarray, selection: str = DEFAULT):
+    return expected_features(rgb_to_luma(rgb), SCALES, 20, "orb", SECTORS, (2, 1), selection)
+
+
+def marked(rgb: np.ndarray, selection: str = DEFAULT):
+    """What the overlay of the next frame marks: the features the stream carried."""
+    return expected_streamed(rgb_to_luma(rgb), SCALES, 20, "orb", SECTORS, (2, 1), selection)
 
 
 def test_photo_stream(photos: list[np.ndarray]) -> None:
     fa = FastAccel.start(GENERICS)
     sim, accel = fa.sim, fa.accel
-    accel.configure(threshold=20)
+    tight = "grid:{}:{}:{}".format(*TIGHT)
+    accel.configure(threshold=20, budget=TIGHT[0], cell=TIGHT[1], threshold_lo=TIGHT[2])
     sim.set_out_ready(0.8, seed=5)
     sim.capture(True)
     for rgb in photos:
@@ -65,7 +86,7 @@ def test_photo_stream(photos: list[np.ndarray]) -> None:
     frames = list(accel.frames(len(photos), timeout_s=fa.s(40 * fa.frame_clocks)))
     assert [f.number for f in frames] == [0, 1, 2, 3]
     for k, (f, rgb) in enumerate(zip(frames, photos, strict=True)):
-        diff = first_difference(f.features, model(rgb))
+        diff = first_difference(f.features, model(rgb, tight))
         assert diff is None, f"frame {k}: netlist (first) and model (second) differ: {diff}"
         assert f.dropped == 0 and f.truncated == 0
     assert sim.stats()["longest_stall"] > 0, "the overlay back-pressure never reached the input"
@@ -77,7 +98,7 @@ def test_photo_stream(photos: list[np.ndarray]) -> None:
     for k in range(1, len(photos)):
         shown = np.stack(((data[k * n : (k + 1) * n] >> 16) & 255, (data[k * n : (k + 1) * n] >> 8) & 255,
                           data[k * n : (k + 1) * n] & 255), axis=-1).astype(np.uint8).reshape(H, W, 3)  # fmt: skip
-        want = render_marker_overlay(photos[k], frames[k - 1].features, scales=SCALES)
+        want = render_marker_overlay(photos[k], marked(photos[k - 1], tight), scales=SCALES)
         bad = np.argwhere(np.any(shown != want, axis=-1))
         assert len(bad) == 0, f"overlay of frame {k}: {len(bad)} pixels differ, the first at (y, x) {bad[0]}"
     sim.close()
@@ -90,7 +111,7 @@ def test_against_ghdl(photos: list[np.ndarray], tmp_path: Path) -> None:
     a = read_csv(tmp_path / "ghdl" / "features.csv", SECTORS)
     b = read_csv(tmp_path / "fast" / "features.csv", SECTORS)
     assert first_difference(a, b) is None, f"GHDL (first) and the netlist (second) differ: {first_difference(a, b)}"
-    assert first_difference(b, model(rgb)) is None
+    assert first_difference(b, model(rgb, "grid:{}:{}:{}".format(*TIGHT))) is None
     assert np.array_equal(np.load(tmp_path / "ghdl" / "overlay.npy"), np.load(tmp_path / "fast" / "overlay.npy"))
     same = ("features", "frame_cycles", "pixels", "cycles_per_pixel", "dropped_merge", "truncated", "desc_lost",
             "proto_errors")  # fmt: skip
@@ -124,11 +145,11 @@ def test_initial_state(photos: list[np.ndarray]) -> None:
         fa.sim.run(2000)
         shown[seed] = _overlay_frames(fa.sim.captured()[0])
         assert len(shown[seed]) == 3
-        want = render_marker_overlay(photos[2], frames[1].features, scales=SCALES)
+        want = render_marker_overlay(photos[2], marked(photos[1]), scales=SCALES)
         assert np.array_equal(shown[seed][2], want), f"seed {seed}: overlay of frame 2"
         if seed == 0:
             assert np.array_equal(shown[0][0], photos[0]), "zero RAMs: frame 0 passes unmarked"
-            want1 = render_marker_overlay(photos[1], frames[0].features, scales=SCALES)
+            want1 = render_marker_overlay(photos[1], marked(photos[0]), scales=SCALES)
             assert np.array_equal(shown[0][1], want1), "zero RAMs: frame 1 shows frame 0's features"
         fa.sim.close()
     assert not np.array_equal(shown[5][0], photos[0]) and not np.array_equal(shown[9][0], photos[0]), (
@@ -152,9 +173,11 @@ def test_make_sim_fast_and_cli(tmp_path: Path, photos: list[np.ndarray]) -> None
     assert r.returncode == 0, r.stdout + r.stderr
     report = json.loads((tmp_path / "sim" / "report.json").read_text())
     assert report["bit_exact"] and report["overlay_bit_exact"] and report["engine"] == "verilator-netlist"
-    # make sim's default is the recommended configuration (golden_model.config.RECOMMENDED_*)
+    # make sim's default is the recommended configuration (golden_model.config.RECOMMENDED_*) with
+    # the recommended grid selection
     luma = rgb_to_luma(photos[3])
-    want = expected_features(luma, RECOMMENDED_SCALES, 20, "orb", RECOMMENDED_SECTORS, RECOMMENDED_STEP)
+    grid = f"grid:{recommended_budget(W, H)}:{recommended_cell(W)}:{RECOMMENDED_THRESHOLD_LO}"
+    want = expected_features(luma, RECOMMENDED_SCALES, 20, "orb", RECOMMENDED_SECTORS, RECOMMENDED_STEP, grid)
     assert report["features"] == len(want) and report["dropped"] == 0
     out = tmp_path / "cli.csv"
     r = subprocess.run([sys.executable, "-m", "orb_tools.cli", "extract", str(img), "--backend", "rtl-fast", "--budget",

@@ -6,6 +6,7 @@ from __future__ import annotations
 import csv
 import subprocess
 import sys
+from dataclasses import replace
 from pathlib import Path
 
 import cv2
@@ -13,9 +14,15 @@ import numpy as np
 import pytest
 
 from golden_model import Config, extract, read_csv
-from golden_model.config import RECOMMENDED_BUDGET, RECOMMENDED_SCALES, RECOMMENDED_SECTORS, RECOMMENDED_STEP
+from golden_model.config import (
+    RECOMMENDED_BUDGET,
+    RECOMMENDED_SCALES,
+    RECOMMENDED_SECTORS,
+    RECOMMENDED_STEP,
+    RECOMMENDED_THRESHOLD_LO,
+    recommended_cell,
+)
 from golden_model.images import DEFAULT_IMAGE
-from golden_model.select import best_per_level
 from orb_tools.cli import main
 from orb_tools.images import load_luma
 
@@ -62,7 +69,10 @@ def test_extract_defaults_are_the_recommended_configuration(tmp_path: Path) -> N
                  step_num=RECOMMENDED_STEP[0], step_den=RECOMMENDED_STEP[1])  # fmt: skip
     got = read_csv(out, sectors_total=cfg.sectors, step=cfg.step)
     full = extract(img, cfg)
-    assert got == best_per_level(full, RECOMMENDED_BUDGET, cfg.scales) and len(got) == RECOMMENDED_BUDGET < len(full)
+    # the accelerator's grid selection at the recommended budget, cell and low threshold
+    grid = extract(img, replace(cfg, selection="grid", budget=RECOMMENDED_BUDGET, cell=recommended_cell(img.shape[1]),
+                                threshold_lo=RECOMMENDED_THRESHOLD_LO))  # fmt: skip
+    assert got == grid and len(got) == RECOMMENDED_BUDGET < len(full)
     assert int(got.scale.max()) == RECOMMENDED_SCALES - 1, "every level of the recommended pyramid has features"
     with open(out, newline="") as fh:
         rows = list(csv.DictReader(fh))
@@ -98,6 +108,9 @@ def _run_cli(*args: str) -> subprocess.CompletedProcess[str]:
         (lambda d: [str(d / "ok.png"), "--scales", "9"], "scales must be 1..8"),
         (lambda d: [str(d / "ok.png"), "--sectors", "24"], "sectors must be 16, 32 or 64"),
         (lambda d: [str(d / "ok.png"), "--backend", "fpga"], "invalid choice"),
+        (lambda d: [str(d / "ok.png"), "--budget", "5000"], "budget must be 0..4095"),
+        (lambda d: [str(d / "ok.png"), "--cell", "8"], "cell must be 16..255"),
+        (lambda d: [str(d / "ok.png"), "--threshold-lo", "300"], "threshold_lo must be 0..255"),
     ],
 )
 def test_extract_bad_input_is_one_line_error(tmp_path: Path, make_args, message: str) -> None:

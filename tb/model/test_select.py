@@ -10,7 +10,17 @@ import pytest
 from golden_model import Config, extract
 from golden_model.features import NO_SECTOR, Features
 from golden_model.pipeline import candidates
-from golden_model.select import LevelSelector, best_per_level, level_budgets, level_slots, select_grid, select_level
+from golden_model.select import (
+    LevelSelector,
+    arrival_order,
+    best_per_level,
+    level_budgets,
+    level_slots,
+    select_grid,
+    select_level,
+    streamed_grid,
+    truncation_difference,
+)
 
 
 @pytest.mark.parametrize(
@@ -182,6 +192,43 @@ def test_grid_selection_on_photographs(photographs) -> None:
                 assert max(left) <= min(rest), f"{name} level {k}: a code above the rest was left out"
 
 
+def test_streamed_grid_holds_the_selection_and_what_it_replaced(photographs) -> None:
+    """The stream of the grid selection (what the overlay marks): a superset of the kept features,
+    within the candidates, and equal to them when the budget holds every candidate."""
+    img = photographs["astronaut"][:240, :320]
+    for budget in (60, 300, 4000):
+        cfg = Config(320, 240, scales=3, step_num=5, step_den=4, threshold=20, threshold_lo=7, selection="grid",
+                     budget=budget, cell=40)  # fmt: skip
+        cand = candidates(img, cfg)
+        kept, streamed = extract(img, cfg), streamed_grid(cand, cfg)
+        keys, every, kept_keys = (set(zip(f.scale.tolist(), f.x.tolist(), f.y.tolist(), strict=True))
+                                  for f in (streamed, cand, kept))  # fmt: skip
+        assert kept_keys <= keys <= every, f"budget {budget}"
+        if budget == 60:
+            assert len(streamed) > len(kept), "a small budget replaces some streamed features"
+        if budget == 4000:  # every level's budget above its candidates: a main corner is never replaced
+            assert streamed.take(np.flatnonzero(~streamed.low)) == kept.take(np.flatnonzero(~kept.low))
+
+
+def test_truncation_difference_accepts_level_prefixes_only(photographs) -> None:
+    img = photographs["coffee"][:200, :260]
+    cfg = Config(260, 200, scales=3, step_num=5, step_den=4, threshold=15)
+    every = extract(img, cfg)
+    parts = []
+    for k, keep in enumerate((30, 0, 7)):  # each level's first features in arrival order
+        w, h = cfg.scale_size(k)
+        idx = np.flatnonzero(every.scale == k)
+        parts.append(idx[arrival_order(every.x[idx], every.y[idx], w, h)][:keep])
+    stored = every.take(np.concatenate(parts)).sorted()
+    assert truncation_difference(stored, every, 37, cfg) is None
+    assert truncation_difference(stored, every, 38, cfg) is not None  # one too few for the capacity
+    assert truncation_difference(every, every, len(every) + 5, cfg) is None  # nothing truncated
+    last = np.flatnonzero(every.scale == 0)[-1]  # level 0's last feature: not among its first 30
+    assert last not in parts[0]
+    hole = every.take(np.concatenate([parts[0][:-1], parts[2], [last]])).sorted()
+    assert "missing" in (truncation_difference(hole, every, 37, cfg) or ""), "a feature out of arrival order"
+
+
 def test_all_selection_reports_the_main_corners_only(photographs) -> None:
     img = photographs["camera"][:200, :260]
     a = extract(img, Config(260, 200, scales=2, threshold=25))
@@ -193,7 +240,8 @@ def test_all_selection_reports_the_main_corners_only(photographs) -> None:
 
 
 @pytest.mark.parametrize(("step", "levels", "cap"), [((5, 4), 5, 1023), ((2, 1), 2, 2047), ((5, 4), 8, 4095),
-                                                     ((9, 8), 8, 1023), ((16, 8), 1, 15), ((3, 2), 4, 511)])  # fmt: skip
+                                                     ((9, 8), 8, 1023), ((16, 8), 1, 15),
+                                                     ((3, 2), 4, 511)])  # fmt: skip
 def test_level_slots_bound_every_budget(step: tuple[int, int], levels: int, cap: int) -> None:
     """The slots the hardware reserves per level hold every budget up to the capacity."""
     slots = level_slots(cap, step, levels)

@@ -5,12 +5,13 @@ shipped driver as it would run on the board, and every outcome checked against t
 the beats go through orbtb.video_check.VideoCheckModel (which frames the protocol checker closes
 good, with which pixels: a frame with lines missing may be completed by the next frame's pixels
 when that one has no start of frame, exactly as the hardware must do) and each good frame through
-the golden model at the threshold and mode in force at its first pixel.
+the golden model at the threshold, mode and selection in force at its first pixel.
 
 Events (one per step, drawn from a seeded generator; the seed replays the campaign exactly):
 good (random blanking), short_line, long_line, few_lines, many_lines, no_sof, early_sof (a start
 of frame in mid-frame), reset (rst in mid-frame), soft_reset (CTRL.soft_reset in mid-frame),
-threshold and mode (changed between frames, then a good frame), backpressure (random tready on the
+threshold, mode and selection (changed between frames, then a good frame: the selection `all`
+or `grid` with a random budget, cell and low threshold), backpressure (random tready on the
 overlay output during a good frame).
 
 Checked: the frames published are exactly the frames the reference closes good, in order, each
@@ -38,9 +39,9 @@ from orb_sim.fast.sim import FLAG_LAST, FLAG_USER, FastSimError, frame_program
 from .video_check import Beat, VideoCheckModel
 
 FAULTS = ("short_line", "long_line", "few_lines", "many_lines", "no_sof", "early_sof", "reset", "soft_reset")
-CHANGES = ("threshold", "mode", "backpressure")
+CHANGES = ("threshold", "mode", "selection", "backpressure")
 KINDS = ("good", *FAULTS, *CHANGES)
-WEIGHTS = {"good": 6, **{k: 1 for k in FAULTS}, "threshold": 1, "mode": 1, "backpressure": 1}
+WEIGHTS = {"good": 6, **{k: 1 for k in FAULTS}, "threshold": 1, "mode": 1, "selection": 2, "backpressure": 1}
 IRQ_WAIT_CLOCKS = 20_000  # after the last beat: the pipeline's latency is tens of clocks
 
 
@@ -51,6 +52,7 @@ class Event:
     photo: int
     threshold: int
     mode: str
+    selection: tuple[str, int, int, int] = ("all", 0, 16, 0)
     detail: str = ""
     published: int = 0
     expected: bool = False
@@ -170,9 +172,12 @@ def run_campaign(photos: Sequence[np.ndarray], steps: int, seed: int, generics: 
     frame_bound = 40 * ((w + 24) * (h + 16) + 300)
     res = CampaignResult(seed)
     ref = VideoCheckModel(w, h)
-    frame_params: list[tuple[int, str]] = []  # threshold and mode of each frame the reference opened
+    # threshold, mode and selection (mode, budget, cell, low threshold) of each frame the reference opened
+    frame_params: list[tuple[int, str, tuple[str, int, int, int]]] = []
     ends_seen = 0
     threshold, mode = 20, "orb"
+    capacity = int(generics["MEM_DEPTH_g"]) - 1
+    selection: tuple[str, int, int, int] = ("grid", min(capacity, 1000), 80, 7)
     irq_all = ("frame_done", "error")
 
     def feed(data: np.ndarray, flags: np.ndarray) -> None:
@@ -182,9 +187,9 @@ def run_campaign(photos: Sequence[np.ndarray], steps: int, seed: int, generics: 
             ref.beat(Beat(d, f & FLAG_USER, (f & FLAG_LAST) >> 1))
             for o in ref.out[n:]:
                 if o.user:
-                    frame_params.append((threshold, mode))
+                    frame_params.append((threshold, mode, selection))
 
-    def expected_frames() -> list[tuple[Features, tuple[int, str]]]:
+    def expected_frames() -> list[tuple[Features, tuple[int, str, tuple[str, int, int, int]]]]:
         """The frames the reference closed good since the last call, with their expected features."""
         nonlocal ends_seen
         out = []
@@ -192,15 +197,16 @@ def run_campaign(photos: Sequence[np.ndarray], steps: int, seed: int, generics: 
             index = ref.ends.index(end)
             if not end.bad:
                 pixels = np.array([b.data for b in ref.out[end.beat - w * h + 1 : end.beat + 1]], dtype=np.uint8)
-                t, m = frame_params[index]
-                cfg = Config(w, h, scales=scales, sectors=sectors, threshold=t, mode=m)
-                out.append((extract(pixels.reshape(h, w), cfg), (t, m)))
+                t, m, (sel, budget, cell, lo) = frame_params[index]
+                cfg = Config(w, h, scales=scales, sectors=sectors, threshold=t, mode=m, selection=sel, budget=budget,
+                             cell=cell, threshold_lo=lo)  # fmt: skip
+                out.append((extract(pixels.reshape(h, w), cfg), frame_params[index]))
         ends_seen = len(ref.ends)
         return out
 
     def fresh_driver() -> OrbAccel:
         accel = OrbAccel(bus, bank_read="slot")
-        accel.configure(threshold, mode, True, irq_all)
+        accel.configure(threshold, mode, True, irq_all, *selection)
         return accel
 
     accel = fresh_driver()
@@ -212,12 +218,18 @@ def run_campaign(photos: Sequence[np.ndarray], steps: int, seed: int, generics: 
         photo = int(rng.integers(0, len(photos)))
         if kind == "threshold":
             threshold = int(rng.integers(8, 45))
-            accel.configure(threshold, mode, True, irq_all)
+            accel.configure(threshold, mode, True, irq_all, *selection)
         elif kind == "mode":
             mode = "fast" if mode == "orb" else "orb"
-            accel.configure(threshold, mode, True, irq_all)
+            accel.configure(threshold, mode, True, irq_all, *selection)
+        elif kind == "selection":
+            # grid from tiny to full budgets, cells of 16 pixels up to the frame, any low threshold
+            budget = int(rng.choice([0, 1, int(rng.integers(2, capacity + 1)), capacity]))
+            selection = (str(rng.choice(["all", "grid", "grid"])), budget, int(rng.integers(16, 256)),
+                         int(rng.integers(0, 30)))  # fmt: skip
+            accel.configure(threshold, mode, True, irq_all, *selection)
         sim.set_out_ready(float(rng.uniform(0.3, 0.95)) if kind == "backpressure" else 1.0, seed * 1000 + step + 1)
-        ev = Event(step, kind, photo, threshold, mode)
+        ev = Event(step, kind, photo, threshold, mode, selection)
         data, flags, gaps, ev.detail = fault_program(kind if kind in FAULTS else "good", pack(photos[photo]), rng)
         got: list[tuple[Features, int, int]] = []
         try:
@@ -268,13 +280,17 @@ def run_campaign(photos: Sequence[np.ndarray], steps: int, seed: int, generics: 
         if len(got) != len(want):
             res.mismatches.append(f"step {step} ({kind} {ev.detail}, photo {photo}): {len(got)} frames published, "
                                   f"the reference closed {len(want)} good")  # fmt: skip
-        for (feats, number, lost), (exp, (t, m)) in zip(got, want, strict=False):
+        for (feats, number, lost), (exp, (t, m, sel)) in zip(got, want, strict=False):
             if m == "fast":  # read as orb: a fast frame carries sector 0 and no descriptor
                 feats = Features(feats.scale, feats.x, feats.y, feats.score, np.full(len(feats), -1),
-                                 np.zeros((len(feats), 0), np.uint8), feats.sectors_total)  # fmt: skip
-            diff = first_difference(feats, exp) if lost == 0 else subset_difference(feats, exp, lost)
+                                 np.zeros((len(feats), 0), np.uint8), feats.sectors_total, feats.step,
+                                 feats.response, feats.low)  # fmt: skip
+            if sel[0] == "grid" and lost:  # the grid selection never loses a feature of a legal frame
+                diff = f"{lost} features lost in grid selection"
+            else:
+                diff = first_difference(feats, exp) if lost == 0 else subset_difference(feats, exp, lost)
             if diff is not None:
-                res.mismatches.append(f"step {step} ({kind}, photo {photo}, frame {number}, t={t}, {m}, "
+                res.mismatches.append(f"step {step} ({kind}, photo {photo}, frame {number}, t={t}, {m}, {sel}, "
                                       f"{lost} lost): {diff}")  # fmt: skip
             res.features_checked += len(feats)
         ev.outcome = f"{len(got)} published" if got else "not published"

@@ -7,18 +7,35 @@ import numpy as np
 
 from golden_model import Config, extract, first_difference
 from golden_model.features import Features
+from golden_model.pipeline import candidates
+from golden_model.select import streamed_grid
 
 
-def expected_features(img: np.ndarray, scales: int, threshold: int, mode: str = "fast", sectors: int = 32,
-                      step: tuple[int, int] = (2, 1), selection: str = "all") -> Features:  # fmt: skip
-    """The model's features; `selection` is `all` or `grid:BUDGET:CELL:LOW` (docs/spec.md section 14)."""
+def model_config(img: np.ndarray, scales: int, threshold: int, mode: str = "fast", sectors: int = 32,
+                 step: tuple[int, int] = (2, 1), selection: str = "all") -> Config:  # fmt: skip
+    """The model's configuration; `selection` is `all` or `grid:BUDGET:CELL:LOW` (docs/spec.md
+    section 14)."""
     h, w = img.shape
     kind, *arg = selection.split(":")
     sel = {}
     if kind == "grid":
         sel = {"selection": "grid", "budget": int(arg[0]), "cell": int(arg[1]), "threshold_lo": int(arg[2])}
-    return extract(img, Config(w, h, scales=scales, sectors=sectors, threshold=threshold, mode=mode,
-                               step_num=step[0], step_den=step[1], **sel))  # fmt: skip
+    return Config(w, h, scales=scales, sectors=sectors, threshold=threshold, mode=mode, step_num=step[0],
+                  step_den=step[1], **sel)  # fmt: skip
+
+
+def expected_features(img: np.ndarray, scales: int, threshold: int, mode: str = "fast", sectors: int = 32,
+                      step: tuple[int, int] = (2, 1), selection: str = "all") -> Features:  # fmt: skip
+    """The model's features of a frame (what its bank holds)."""
+    return extract(img, model_config(img, scales, threshold, mode, sectors, step, selection))
+
+
+def expected_streamed(img: np.ndarray, scales: int, threshold: int, mode: str = "fast", sectors: int = 32,
+                      step: tuple[int, int] = (2, 1), selection: str = "all") -> Features:  # fmt: skip
+    """The features the feature stream carries (what the overlay marks): the bank's in `all`
+    selection, in `grid` also those a later candidate replaced (golden_model.select.streamed_grid)."""
+    cfg = model_config(img, scales, threshold, mode, sectors, step, selection)
+    return streamed_grid(candidates(img, cfg), cfg) if cfg.selection == "grid" else extract(img, cfg)
 
 
 def check_frame(got: Features, expected: Features, what: str) -> None:

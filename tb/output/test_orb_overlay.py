@@ -122,8 +122,9 @@ def eof_word(number: int) -> int:
 
 
 def decode(words: list[int], step: tuple[int, int]) -> Features:
-    """The features of a frame's words (fast mode; the random bits above the flag are not checked)."""
-    f = decode_stream_features(words, check=False)
+    """The features of a frame's words (fast mode; the random bits above the flag, the selection's
+    fields among them, are not checked: the overlay marks every word)."""
+    f = decode_stream_features(words, check=False, resolve=False)
     f.step = step
     return f
 

@@ -24,7 +24,7 @@ def _features(m) -> dict:
     out = {name: getattr(m, name) for name in ("width", "height", "frame", "threshold", "mode", "scales", "sectors",
                                                "step_num", "step_den", "budget", "dropped", "truncated",
                                                "frames_total", "overrun_total")}  # fmt: skip
-    for name in ("x", "y", "size", "angle", "response", "octave", "scale_x", "scale_y"):
+    for name in ("x", "y", "size", "angle", "response", "octave", "scale_x", "scale_y", "corner_response", "low"):
         out[name] = list(getattr(m, name))
     out["descriptors"] = bytes(m.descriptors).hex()
     out["frame_id"] = m.header.frame_id

@@ -36,7 +36,8 @@ from orb_tools.rosbag_convert import (
 from orbtb.images import flat, photo
 
 ORB = Config(128, 96, scales=2, sectors=32, threshold=20, mode="orb")
-ARRAYS = ("x", "y", "size", "angle", "response", "octave", "scale_x", "scale_y")
+# the per-feature arrays but the descriptors (uint8[] arrays, genpy's bytes, read as ints here)
+ARRAYS = ("x", "y", "size", "angle", "response", "octave", "scale_x", "scale_y", "corner_response", "low")
 COUNTERS = ("frames_total", "dropped_total", "overflow_total", "overrun_total", "protocol_errors_total",
             "desc_lost_total", "discarded_total")  # fmt: skip
 T0 = 1_700_000_000_123_456_789  # ns
@@ -87,6 +88,7 @@ def make_msg(fr: Frame) -> object:
         response=f.score.astype(np.float32), octave=f.scale.astype(np.int32),
         scale_x=f.x.astype(np.uint16), scale_y=f.y.astype(np.uint16),
         descriptors=np.ascontiguousarray(f.descriptor, dtype=np.uint8).reshape(-1),
+        corner_response=f.response.astype(np.uint8), low=f.low.astype(np.uint8),
         dropped=fr.dropped, truncated=fr.truncated,
         **{name: 100 + k for k, name in enumerate(COUNTERS)},
     )  # fmt: skip
@@ -201,6 +203,10 @@ def _set(name: str, i: int, value: float):
         (_cut("octave"), "different lengths"),
         (_cut("descriptors"), "descriptor bytes"),
         (_cut("descriptors", 32), "descriptor bytes"),
+        (_cut("corner_response"), "corner responses"),
+        (_cut("low"), "low flags"),
+        (_set("corner_response", 0, 64), "above 63"),
+        (_set("low", 0, 2), "low flag other than"),
         (_set("x", 3, 10.25), "x = 10.25 is not"),
         (_set("y", 0, -3.0), "y = -3 is not"),
         (_set("angle", 2, 5.0), "not on a sector"),

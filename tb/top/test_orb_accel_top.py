@@ -29,6 +29,7 @@ import pytest
 from cocotb.triggers import ClockCycles, RisingEdge
 
 from golden_model import regs
+from golden_model.config import recommended_budget
 from golden_model.features import Features
 from golden_model.luma import rgb_to_luma
 from golden_model.overlay import render_marker_overlay
@@ -37,7 +38,7 @@ from orb_sim.accel_bench import OKAY, SLVERR, AccelBench
 from orb_sim.video import Gaps
 from orbtb.images import colour_photo
 from orbtb.runner import run
-from orbtb.scoreboard import check_frame, expected_features
+from orbtb.scoreboard import check_frame, expected_features, expected_streamed
 from orbtb.unit import SIM_ENV
 
 warnings.filterwarnings("ignore", category=DeprecationWarning)
@@ -46,7 +47,14 @@ PHOTOS = ("astronaut", "coffee", "chelsea", "rocket")
 
 
 def expected(b: AccelBench, rgb: np.ndarray, threshold: int, mode: str = "orb") -> Features:
-    return expected_features(rgb_to_luma(rgb), b.scales, threshold, mode, b.sectors, b.step)
+    """The model's features of a frame in the selection last configured (b.selection)."""
+    return expected_features(rgb_to_luma(rgb), b.scales, threshold, mode, b.sectors, b.step, b.selection)
+
+
+def grid_budget(b: AccelBench, frames: list[np.ndarray], threshold: int) -> int:
+    """A grid budget that bites: below the features of every frame in `all` selection, within a bank."""
+    counts = [len(expected_features(rgb_to_luma(f), b.scales, threshold, "orb", b.sectors, b.step)) for f in frames]
+    return max(1, min(b.depth - 1, min(counts) * 2 // 3))
 
 
 @cocotb.test()
@@ -54,11 +62,13 @@ async def photo_stream(dut) -> None:
     b = AccelBench(dut)
     await b.start(pause_prob=0.3, seed=3)
     t = 20
-    await b.configure(threshold=t)
     # ORB_PHOTOS: the stream's photographs; a configuration with many features per pixel streams sparser
     # ones, since the CPU must read a frame within the next frame for every frame to be published
     photos = os.environ.get("ORB_PHOTOS", ",".join(PHOTOS)).split(",")
     frames = [colour_photo(photos[i % len(photos)], b.width, b.height) for i in range(4)]
+    # the grid selection (the driver's default) with a budget below every frame's feature count
+    await b.configure(threshold=t, selection="grid", budget=grid_budget(b, frames, t))
+    budget = b.accel.selection.budget
     b.start_capture()
 
     async def video() -> None:
@@ -70,8 +80,8 @@ async def photo_stream(dut) -> None:
     for k, f in enumerate(frames):
         feats, record = await b.read_newest()
         exp = expected(b, f, t)
-        check_frame(feats, exp, f"frame {k}")
-        assert len(exp) > 0, f"frame {k}: no feature to compare"
+        check_frame(feats, exp, f"frame {k} ({b.selection})")
+        assert 0 < len(exp) <= budget, f"frame {k}: {len(exp)} features for a budget of {budget}"
         assert (record.frame, record.dropped, record.truncated, record.truncated_flag) == (k, 0, 0, False), record
         if k > 0:
             # video frame k showed the features of frame k - 1 (its end-of-frame beat came in blanking)
@@ -81,7 +91,9 @@ async def photo_stream(dut) -> None:
             got = b.captured[k]
             bad = np.argwhere(np.any(got != want, axis=-1))
             assert len(bad) == 0, f"overlay of frame {k}: first differing pixel (y, x) = {tuple(bad[0])}"
-        prev = exp
+        # the overlay marks what the stream carried: in grid selection also the features a later
+        # candidate replaced in the bank (docs/overlay.md)
+        prev = expected_streamed(rgb_to_luma(f), b.scales, t, "orb", b.sectors, b.step, b.selection)
     assert not np.any(b.captured[0] != b.shown(frames[0])), "frame 0 has no earlier features: it must pass unchanged"
     counters = ((regs.FRAME_COUNT, len(frames)), (regs.DROPPED, 0), (regs.PROTO_ERRORS, 0), (regs.OVERRUN, 0),
                 (regs.OVERFLOW_COUNT, 0), (regs.DESC_LOST, 0), (regs.DISCARDED, 0))  # fmt: skip
@@ -275,19 +287,28 @@ async def driver_errors(dut) -> None:
     b = AccelBench(dut)
     await b.start()
     accel = b.accel
-    await b.cpu(accel.configure, 20)
+    await b.cpu(accel.configure, 20)  # the driver's defaults: grid selection, the recommended budget
+    cap = b.depth - 1
+    assert accel.selection.mode == "grid" and accel.selection.budget == min(cap, recommended_budget(b.width, b.height))
     for bad, words in (({"threshold": 300}, "0..255"), ({"threshold": -1}, "0..255"), ({"mode": "brief"}, "mode"),
-                       ({"irq": ("vsync",)}, "interrupt")):  # fmt: skip
+                       ({"irq": ("vsync",)}, "interrupt"), ({"budget": cap + 1}, f"a bank holds {cap}"),
+                       ({"cell": 15}, "cell 15 outside 16..255"), ({"threshold_lo": 256}, "threshold_lo"),
+                       ({"selection": "best"}, "selection")):  # fmt: skip
         try:
             await b.cpu(accel.configure, **{"threshold": 20, **bad})
         except ValueError as exc:
             assert words in str(exc), f"{bad}: message {exc!s} does not name {words}"
         else:
             raise AssertionError(f"configure({bad}) did not raise ValueError")
-    assert await b.read_reg(regs.THRESHOLD) == 20, "a refused configure wrote THRESHOLD"
+    assert await b.read_reg(regs.THRESHOLD) == regs.THRESHOLD.field("low").put(7, 20), "a refused configure wrote"
+    select = await b.read_reg(regs.SELECT)
+    assert regs.SELECT.field("budget").get(select) == accel.selection.budget, "a refused configure wrote SELECT"
     for op, args in ((b.bus.read32, (0x5C,)), (b.bus.write32, (regs.ID.offset, 0)),
                      (b.bus.write32, (regs.CTRL.offset, regs.CTRL.field("mode").put(3))),
-                     (b.bus.write32, (regs.BANK_RELEASE.offset, 2)), (accel.release, (5,))):  # fmt: skip
+                     (b.bus.write32, (regs.BANK_RELEASE.offset, 2)), (accel.release, (5,)),
+                     (b.bus.write32, (regs.SELECT.offset, regs.SELECT.field("budget").put(cap + 1, 0x1001))),
+                     (b.bus.write32, (regs.SELECT.offset, regs.SELECT.field("mode").put(2, 0x1000))),
+                     (b.bus.write32, (regs.SELECT.offset, regs.SELECT.field("cell").put(15, 1)))):  # fmt: skip
         try:
             await b.cpu(op, *args)
         except BusError as exc:
@@ -318,15 +339,14 @@ async def driver_errors(dut) -> None:
         raise AssertionError("the caller's exception was swallowed")
     status = await b.read_reg(regs.STATUS)
     assert regs.STATUS.field("bank_ready").get(status) == 0, f"the bank was not released: STATUS = {status:#x}"
-    # both banks free again: the next two frames are published (truncated to a bank's capacity in
-    # arrival order, which is the canonical order with one scale)
-    assert b.scales == 1, "driver_errors runs in a one-scale configuration"
-    exp = expected(b, img, 20)
-    want = exp.take(np.arange(min(len(exp), b.depth - 1)))
+    # both banks free again: the next two frames are published, each the grid selection of at most
+    # a bank's capacity (no frame is truncated)
+    want = expected(b, img, 20)
+    assert 0 < len(want) <= cap
     for k in (1, 2):
         await b.send(img)
         feats, record = await b.read_newest()
-        assert record.frame == k, record
+        assert (record.frame, record.truncated) == (k, 0), record
         check_frame(feats, want, f"frame {k} after the released bank")
 
 

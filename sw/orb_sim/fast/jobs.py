@@ -23,10 +23,10 @@ from golden_model.features import Features, write_csv
 from golden_model.overlay import marker_block_log2
 from orb_accel.driver import Frame, OrbAccel
 
+from ..rtl_backend import ACCEL_MEM_DEPTH  # the GHDL job's: the same simulated accelerator
 from .build import build_fast
 from .sim import FastBus, FastSim, FastSimError
 
-ACCEL_MEM_DEPTH = 4096  # as orb_sim.rtl_backend's GHDL job
 # From orb_feat_mem's frame_done pulse to the irq output: IRQ_STATUS is set at the next edge and
 # the registered irq follows one edge later (docs/registers.md, Interrupts). The GHDL job measures
 # the pulse itself (an internal signal, which a netlist does not have): latency = irq - 2.
@@ -104,17 +104,18 @@ class FastAccel:
         return unpack(data[:n], self.colour).reshape(self.height, self.width, 3)
 
 
-def run_accel_fast(img: np.ndarray, cfg: Config, job: Path, overlay: bool, seed: int = 0) -> dict:
+def run_accel_fast(img: np.ndarray, cfg: Config, job: Path, overlay: bool, seed: int = 0,
+                   mem_depth: int = ACCEL_MEM_DEPTH) -> dict:  # fmt: skip
     """orb_accel_top's netlist in Verilator on one image, as orb_sim.rtl_backend.run_accel_job
     runs it in GHDL: writes job/features.csv (and job/overlay.npy) and returns the same report
     fields (frame_cycles, pixels, cycles_per_pixel, latency_cycles, dropped_merge, truncated,
     desc_lost, proto_errors, frame_sim_wall_s, features, bus_reads, bus_writes), plus build_s."""
     job.mkdir(parents=True, exist_ok=True)
     t_build = time.perf_counter()
-    fa = FastAccel.start(generics_for(cfg, img.ndim == 3), seed)
+    fa = FastAccel.start(generics_for(cfg, img.ndim == 3, mem_depth), seed)
     build_s = time.perf_counter() - t_build
     accel, sim = fa.accel, fa.sim
-    accel.configure(cfg.threshold, cfg.mode)
+    accel.configure_as(cfg)
     wall = time.perf_counter()
     sim.push_frame(pack(img), 0, 0)  # as the GHDL job: one pixel per clock, no blanking
     bank = accel.wait_frame(fa.s(40 * fa.frame_clocks))
@@ -123,7 +124,7 @@ def run_accel_fast(img: np.ndarray, cfg: Config, job: Path, overlay: bool, seed:
     start_cycle = sim.frame_starts()[-1][1]
     ovl = None
     if overlay:
-        accel.configure(cfg.threshold, cfg.mode, enable=False)
+        accel.configure_as(cfg, enable=False)
     frame = accel.read_bank(bank)
     accel.release(bank)
     write_csv(frame.features, job / "features.csv")
@@ -164,7 +165,7 @@ def run_video_fast(frames: np.ndarray, cfg: Config, seed: int = 0, mem_depth: in
     colour = frames.ndim == 4
     fa = FastAccel.start(generics_for(cfg, colour, mem_depth), seed)
     accel, sim = fa.accel, fa.sim
-    accel.configure(cfg.threshold, cfg.mode)
+    accel.configure_as(cfg)
     t0, c0 = time.perf_counter(), sim.cycle
     for img in frames:
         sim.push_frame(pack(img), H_BLANK, V_BLANK)

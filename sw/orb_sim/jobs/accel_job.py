@@ -7,7 +7,8 @@ streams in; the driver waits for the frame-done interrupt, reads the newest bank
 Unless ORB_JOB_OVERLAY is 0, the image is streamed once more with the accelerator disabled to
 capture the overlay of its features. Inputs and outputs are files in ORB_JOB_DIR: input.npy in;
 features.csv, overlay.npy, job.json and progress.txt out. ORB_JOB_THRESHOLD, ORB_JOB_MODE (orb or
-fast). It checks nothing against the model: its caller does.
+fast), ORB_JOB_SELECTION (all or grid), ORB_JOB_BUDGET, ORB_JOB_CELL, ORB_JOB_THRESHOLD_LO. It checks
+nothing against the model: its caller does.
 """
 
 from __future__ import annotations
@@ -21,7 +22,7 @@ import cocotb
 import numpy as np
 from cocotb.triggers import ClockCycles, RisingEdge
 
-from golden_model import write_csv
+from golden_model import Config, write_csv
 from orb_sim.accel_bench import AccelBench
 from orb_sim.video import Gaps
 
@@ -31,13 +32,17 @@ async def accel_job(dut) -> None:
     out = Path(os.environ["ORB_JOB_DIR"])
     progress = out / "progress.txt"
     rgb = np.load(out / "input.npy")
-    t = int(os.environ["ORB_JOB_THRESHOLD"])
-    mode = os.environ.get("ORB_JOB_MODE", "orb")
     with_overlay = os.environ.get("ORB_JOB_OVERLAY", "1") != "0"
     b = AccelBench(dut)
     await b.start()
     accel = b.accel
-    await b.cpu(accel.configure, t, mode)
+    env = os.environ
+    cfg = Config(b.width, b.height, scales=b.scales, sectors=b.sectors, threshold=int(env["ORB_JOB_THRESHOLD"]),
+                 mode=env.get("ORB_JOB_MODE", "orb"), step_num=b.step[0], step_den=b.step[1],
+                 threshold_lo=int(env.get("ORB_JOB_THRESHOLD_LO", "255")),
+                 selection=env.get("ORB_JOB_SELECTION", "all"), budget=int(env.get("ORB_JOB_BUDGET", "0")),
+                 cell=int(env.get("ORB_JOB_CELL", "80")))  # fmt: skip
+    await b.cpu(accel.configure_as, cfg)
     wall = time.perf_counter()
     pixels = b.width * b.height
     edge = {"n": 0, "done": -1}
@@ -70,7 +75,7 @@ async def accel_job(dut) -> None:
     progress.write_text(f"readback 0 {pixels} {sim_frame_s:.1f}\n")
     second = None
     if with_overlay:
-        await b.cpu(accel.configure, t, mode, False)
+        await b.cpu(accel.configure_as, cfg, False)
         b.start_capture()
         second = cocotb.start_soon(b.send(rgb))
     frame = await b.cpu(accel.read_bank, bank)

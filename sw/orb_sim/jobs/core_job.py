@@ -5,8 +5,10 @@ benchmark and the threshold sweep (orb_sim.rtl_backend.run_core_job starts it).
 
 ORB_JOB_DIR holds frames.npy ((F, H, W) uint8) and job.json's input fields; the job writes
 features_<i>.csv per frame and report.json (cycles, pixels, latency, wall time, per-frame drops,
-the core's counters). ORB_JOB_THRESHOLDS and ORB_JOB_MODES are comma lists, one per frame. It
-checks nothing against the model: its caller does.
+the core's counters). ORB_JOB_THRESHOLDS and ORB_JOB_MODES are comma lists, one per frame;
+ORB_JOB_SELECTION the selection of every frame (orb_sim.core_inputs: "all" or
+"grid:BUDGET:CELL:LOW"). The stream of a grid frame is resolved as the feature memory does
+(golden_model.featcodec.resolve_selection). It checks nothing against the model: its caller does.
 """
 
 from __future__ import annotations
@@ -23,6 +25,7 @@ from cocotb.triggers import ClockCycles, RisingEdge
 
 from golden_model import write_csv
 from orb_sim.cocotb_bus import PERIOD_NS
+from orb_sim.core_inputs import SELECT_SETTLE, drive_selection
 from orb_sim.feature_stream import FeatureMonitor
 from orb_sim.video import Gaps, VideoSource
 
@@ -35,24 +38,27 @@ async def core_job(dut) -> None:
     frames = np.load(out / "frames.npy")
     thresholds = [int(v) for v in os.environ["ORB_JOB_THRESHOLDS"].split(",")]
     modes = os.environ["ORB_JOB_MODES"].split(",")
+    selection = os.environ.get("ORB_JOB_SELECTION", "all")
     sectors_total = int(os.environ["ORB_SECTORS"])
     clk = dut.clk
     dut.rst.value = 1
     dut.threshold.value = thresholds[0]
     dut.mode_orb.value = int(modes[0] == "orb")
+    drive_selection(dut, selection, thresholds[0])
     dut.m_axis_feat_tready.value = 1
     source = VideoSource(dut, clk)
     source.idle()
     cocotb.start_soon(Clock(clk, PERIOD_NS, unit="ns").start(start_high=False))
     await ClockCycles(clk, 4)
     dut.rst.value = 0
-    await RisingEdge(clk)
+    await ClockCycles(clk, SELECT_SETTLE)
     monitor = FeatureMonitor(dut, clk)
     cocotb.start_soon(monitor.run())
     wall = time.perf_counter()
     for frame, t, mode in zip(frames, thresholds, modes, strict=True):
         dut.threshold.value = t
         dut.mode_orb.value = int(mode == "orb")
+        drive_selection(dut, selection, t)
         await source.send_frame(frame, Gaps())
     latency = 0
     while len(monitor.frames) < len(frames) and latency <= EOF_TIMEOUT_CYCLES:

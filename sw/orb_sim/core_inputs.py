@@ -1,0 +1,31 @@
+# SPDX-License-Identifier: MIT
+"""orb_core's run-time inputs of the selection (what orb_axil_regs drives in orb_accel_top), as the
+core's tests and jobs set them: `selection` is "all" or "grid:BUDGET:CELL:LOW" (docs/spec.md
+section 14), the spelling of orbtb's scoreboard."""
+
+from __future__ import annotations
+
+from golden_model.config import Config
+
+# idle clocks after a selection change before the next frame's first pixel: orb_core splits a new
+# budget over the levels in 2 clocks a level (SCALES_g <= 8) plus a few of registers
+SELECT_SETTLE = 40
+
+
+def selection_text(cfg: Config) -> str:
+    """A model configuration's selection in this module's spelling."""
+    if cfg.selection == "all":
+        return "all"
+    return f"grid:{cfg.budget}:{cfg.cell}:{cfg.threshold_lo}"
+
+
+def drive_selection(dut, selection: str, threshold: int) -> None:
+    """Set orb_core's select_grid, budget, cell_size and threshold_lo for `selection` (in `all`:
+    budget 0, cell 80 and threshold_lo = threshold, which the core ignores)."""
+    kind, *arg = selection.split(":")
+    if kind not in ("all", "grid") or (kind == "grid" and len(arg) != 3):
+        raise ValueError(f"selection {selection!r}: expected all or grid:BUDGET:CELL:LOW")
+    dut.select_grid.value = int(kind == "grid")
+    dut.budget.value = int(arg[0]) if arg else 0
+    dut.cell_size.value = int(arg[1]) if arg else 80
+    dut.threshold_lo.value = int(arg[2]) if arg else threshold
