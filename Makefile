@@ -23,7 +23,7 @@ help:
 	@echo "             FAST=1: its synthesised netlist in Verilator; VIDEO=file: every frame of a video, fast; docs/fast-sim.md)"
 	@echo "make bench   model speed benchmark (scripts/bench/bench_model.py)"
 	@echo "make bench-sim  RTL simulation speed, one 640x480 frame (scripts/bench/bench_sim.py)"
-	@echo "make bench-driver  per-frame CPU cost of the driver and the ROS message, 5,000 features (docs/ros.md)"
+	@echo "make bench-driver  per-frame CPU cost of the driver and the ROS message, 1,000 and 5,000 features (docs/ros.md)"
 	@echo "make ros-sim the ROS node on the simulated accelerator, publishing /orb_accel/features (IMAGE=; docs/ros.md)"
 	@echo "make eval    compare-fast, rotation-bench and scale-bench against OpenCV on the evaluation photos (STEP=1: ~7 min);"
 	@echo "             then the held-out photographs (apt-get download, no root): scale-, track- and density-bench"

@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: MIT
 """Per-frame CPU cost of the board-side software (`make bench-driver`; docs/ros.md): reading and
-decoding a frame of N features (default 5,000) through the shipped driver, and building and
-serialising its ROS message, on this machine; with the number of 32-bit bus reads per frame.
+decoding a frame of N features (default 1,000, the 640x480 budget, and 5,000) through the shipped
+driver, and building and serialising its ROS message, on this machine; with the number of 32-bit
+bus reads per frame.
 
 The bus is the UIO backend (orb_accel.uio.UioBus) over a file-backed map that holds the registers
 and one bank of N features in the feature memory's layout (random features, encoded with the
@@ -58,6 +59,7 @@ def make_map(path: Path, n: int, depth: int, seed: int = 1) -> int:
     put(regs.VERSION, regs.VERSION.field("major").put(regs.VERSION_MAJOR))
     put(regs.CFG_SIZE, regs.CFG_SIZE.field("height").put(H, regs.CFG_SIZE.field("width").put(W)))
     orb = regs.CFG_ORB.field("sectors").put(SECTORS, regs.CFG_ORB.field("scales").put(SCALES))
+    orb = regs.CFG_ORB.field("step_num").put(2, regs.CFG_ORB.field("step_den").put(1, orb))
     put(regs.CFG_ORB, regs.CFG_ORB.field("banks").put(2, orb))
     put(regs.CFG_MEM, regs.CFG_MEM.field("depth").put(depth))
     put(regs.CTRL, regs.CTRL.field("enable").put(1))
@@ -71,7 +73,8 @@ def make_map(path: Path, n: int, depth: int, seed: int = 1) -> int:
         scale = int(rng.integers(0, SCALES))
         word = encode_feature(scale=scale, x=int(rng.integers(3, (W >> scale) - 3)),
                               y=int(rng.integers(3, (H >> scale) - 3)), score=int(rng.integers(1, 2000)),
-                              sector=int(rng.integers(0, SECTORS)), descriptor=rng.bytes(32))  # fmt: skip
+                              sector=int(rng.integers(0, SECTORS)), descriptor=rng.bytes(32),
+                              response=int(rng.integers(0, 64)), low=bool(rng.integers(0, 2)))  # fmt: skip
         slot = feature_slot(word)
         words[base + s * SLOT_BYTES // 4 : base + s * SLOT_BYTES // 4 + len(slot)] = slot
     rec = record_slot(encode_eof(7), n, 0)
@@ -90,21 +93,13 @@ def median_ms(fn, repeat: int) -> float:
     return statistics.median(times) * 1e3
 
 
-def main() -> int:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--features", type=int, default=5000)
-    ap.add_argument("--repeat", type=int, default=15)
-    ap.add_argument("--out", type=Path, default=Path("build/bench/driver.json"))
-    args = ap.parse_args()
-    depth = 1 << max(11, (args.features + 1).bit_length())
-    rospy = rosmsgs.import_rospy()  # numpy_msg lives in rospy
-    from rospy.numpy_msg import numpy_msg
-
-    msg_mod, _ = rosmsgs.load()
+def measure(n: int, repeat: int, rospy, numpy_msg, msg_mod) -> dict:
+    """One frame size: the read strategies, the interrupt round trip and the message."""
+    depth = 1 << max(11, (n + 1).bit_length())
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / "map"
-        size = make_map(path, args.features, depth)
+        size = make_map(path, n, depth)
         for mode in ("copy", "words"):
             ours, kernel = socket.socketpair()
             with UioBus(path, size, irq_fd=ours.fileno(), block_mode=mode) as bus:
@@ -113,12 +108,12 @@ def main() -> int:
                     r0 = bus.reads
                     frame = accel.read_bank(0)
                     reads = bus.reads - r0
-                    assert len(frame) == args.features
-                    t_read = median_ms(lambda a=accel: a.read_bank(0), args.repeat)
+                    assert len(frame) == n
+                    t_read = median_ms(lambda a=accel: a.read_bank(0), repeat)
                     rows.append({"block_mode": mode, "bank_read": strategy, "read_decode_ms": round(t_read, 2),
                                  "bus_reads": reads})  # fmt: skip
                 t_irq = median_ms(lambda b=bus, k=kernel: (k.sendall(struct.pack("=I", 1)), b.wait_irq(1.0),
-                                                           k.recv(4)), args.repeat)  # fmt: skip
+                                                           k.recv(4)), repeat)  # fmt: skip
             ours.close()
             kernel.close()
     np_cls, plain_cls = numpy_msg(msg_mod.Features), msg_mod.Features
@@ -129,29 +124,50 @@ def main() -> int:
         return buf.tell()
 
     msg_bytes = message(np_cls)
-    t_msg = median_ms(lambda: message(np_cls), args.repeat)
-    t_plain = median_ms(lambda: message(plain_cls), max(3, args.repeat // 3))
+    t_msg = median_ms(lambda: message(np_cls), repeat)
+    t_plain = median_ms(lambda: message(plain_cls), max(3, repeat // 3))
     for r in rows:
         r["host_total_ms"] = round(r["read_decode_ms"] + t_msg, 2)
         cpu = (r["read_decode_ms"] + t_msg) * A9_SLOWDOWN
         r["a9_estimate_ms"] = round(cpu + r["bus_reads"] * AXI_READ_US / 1e3, 1)
+    return {"features": n, "reads": rows, "wait_irq_roundtrip_ms": round(t_irq, 3),
+            "message_numpy_msg_ms": round(t_msg, 2), "message_plain_genpy_ms": round(t_plain, 2),
+            "message_bytes": msg_bytes}  # fmt: skip
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--features", default="1000,5000",
+                    help="features per frame, comma-separated (default 1000,5000: the 640x480 budget and a dense "
+                         "frame of the every-feature mode)")  # fmt: skip
+    ap.add_argument("--repeat", type=int, default=15)
+    ap.add_argument("--out", type=Path, default=Path("build/bench/driver.json"))
+    args = ap.parse_args()
+    sizes = [int(v) for v in args.features.split(",")]
+    rospy = rosmsgs.import_rospy()  # numpy_msg lives in rospy
+    from rospy.numpy_msg import numpy_msg
+
+    msg_mod, _ = rosmsgs.load()
+    runs = [measure(n, args.repeat, rospy, numpy_msg, msg_mod) for n in sizes]
     machine = f"{platform.processor() or platform.machine()} ({os.cpu_count()} cores)"
     report = {
-        "machine": machine, "python": platform.python_version(), "numpy": np.__version__,
-        "features": args.features, "repeat": args.repeat, "reads": rows, "wait_irq_roundtrip_ms": round(t_irq, 3),
-        "message_numpy_msg_ms": round(t_msg, 2), "message_plain_genpy_ms": round(t_plain, 2),
-        "message_bytes": msg_bytes, "a9_slowdown": A9_SLOWDOWN, "a9_axi_read_us": AXI_READ_US,
+        "command": "make bench-driver", "machine": machine, "python": platform.python_version(),
+        "numpy": np.__version__, "repeat": args.repeat, "runs": runs, "a9_slowdown": A9_SLOWDOWN,
+        "a9_axi_read_us": AXI_READ_US,
     }  # fmt: skip
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.write_text(json.dumps(report, indent=2) + "\n")
-    print(f"{args.features} features per frame; {machine}, Python {platform.python_version()}, numpy "
-          f"{np.__version__}; median of {args.repeat}; wait_irq round trip {t_irq:.3f} ms")  # fmt: skip
-    print("| UioBus block mode | bank read | read + decode | bus reads | + message | Cortex-A9 estimate |")
-    print("|---|---|---|---|---|---|")
-    for r in rows:
-        print(f"| {r['block_mode']} | {r['bank_read']} | {r['read_decode_ms']} ms | {r['bus_reads']:,} | "
-              f"{r['host_total_ms']} ms | {r['a9_estimate_ms']} ms |")  # fmt: skip
-    print(f"message build + serialise: {t_msg:.2f} ms with numpy_msg ({t_plain:.2f} ms plain genpy), {msg_bytes:,} B")
+    print(f"{machine}, Python {platform.python_version()}, numpy {np.__version__}; median of {args.repeat}")
+    print("| features | UioBus block mode | bank read | read + decode | bus reads | + message | Cortex-A9 estimate |")
+    print("|---|---|---|---|---|---|---|")
+    for run in runs:
+        for r in run["reads"]:
+            print(f"| {run['features']:,} | {r['block_mode']} | {r['bank_read']} | {r['read_decode_ms']} ms | "
+                  f"{r['bus_reads']:,} | {r['host_total_ms']} ms | {r['a9_estimate_ms']} ms |")  # fmt: skip
+    for run in runs:
+        print(f"{run['features']:,} features: message build + serialise {run['message_numpy_msg_ms']:.2f} ms with "
+              f"numpy_msg ({run['message_plain_genpy_ms']:.2f} ms plain genpy), {run['message_bytes']:,} B; "
+              f"wait_irq round trip {run['wait_irq_roundtrip_ms']:.3f} ms")  # fmt: skip
     print(f"Cortex-A9 estimate (not measured): CPU x {A9_SLOWDOWN:g} + bus reads x {AXI_READ_US} us -> {args.out}")
     return 0
 

@@ -18,6 +18,7 @@ import json
 from pathlib import Path
 from typing import Any
 
+from golden_model.config import recommended_budget
 from golden_model.overlay import check_marker_config
 from orb_tools.codegen import generator_main
 
@@ -39,6 +40,11 @@ def load(path: Path) -> dict[str, Any]:
             raise ValueError(f"{path}: configuration {name!r} must be named WIDTHxHEIGHT")
         if cfg["core_mhz"] < cfg["pixel_mhz"]:
             raise ValueError(f"{path}: {name}: the core clock must be at least the pixel clock (one pixel per clock)")
+        budget = recommended_budget(cfg["width"], cfg["height"])
+        if budget > cfg["mem_depth"] - 1:  # the feature memory is sized to the selection's budget
+            held = cfg["mem_depth"] - 1
+            raise ValueError(f"{path}: {name}: mem_depth {cfg['mem_depth']} holds {held} features, below the "
+                             f"recommended budget {budget} (golden_model.config.recommended_budget)")  # fmt: skip
         try:  # the overlay's rule (orb_overlay refuses the same at elaboration)
             check_marker_config(cfg["scales"], cfg["block_log2"])
         except ValueError as e:

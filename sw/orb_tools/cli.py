@@ -235,6 +235,9 @@ def build_parser() -> argparse.ArgumentParser:
     rb.add_argument("--threshold", type=_threshold, default=20)
     rb.add_argument("--scales", type=_scales, default=1)
     rb.add_argument("--out-dir", type=Path, default=Path("build/rotation-bench"))
+    rb.add_argument("--budget", type=_budget, default=0,
+                    help="the grid selection of N features (docs/selection.md) against OpenCV ORB's own selection "
+                         "at the same count; 0 (default): every feature, as in the thesis")  # fmt: skip
     sb = sub.add_parser("scale-bench", help="matching under rotation x scale x perspective (docs/evaluation.md)")
     sb.add_argument("images", nargs="+", type=Path)
     sb.add_argument("--extractors", nargs="+", default=list(SCALE_BENCH_DEFAULT),
@@ -385,7 +388,7 @@ def cmd_rotation_bench(args: argparse.Namespace) -> int:
     from .evaluate import run_rotation_bench
 
     return run_rotation_bench(
-        _load_images(args.images), args.sectors, args.step, args.threshold, args.scales, args.out_dir
+        _load_images(args.images), args.sectors, args.step, args.threshold, args.scales, args.out_dir, args.budget
     )
 
 

@@ -23,13 +23,13 @@ import cv2
 import numpy as np
 
 from golden_model.brief import DESCRIPTOR_BYTES
-from golden_model.config import Config, sectors_to_per_quadrant
+from golden_model.config import RECOMMENDED_THRESHOLD_LO, Config, recommended_cell, sectors_to_per_quadrant
 from golden_model.fast import fast_score
 from golden_model.features import Features
-from golden_model.pipeline import DESC_BORDER, describe_level, detect, orb_level
+from golden_model.pipeline import DESC_BORDER, describe_level, detect, extract, orb_level
 from golden_model.scaler import pyramid
 
-from .opencv_backend import extract_opencv, fast_keypoints, sad_score_at
+from .opencv_backend import extract_opencv, extract_opencv_selected, fast_keypoints, sad_score_at
 
 Image = tuple[str, np.ndarray]
 Progress = Callable[[str], None]
@@ -279,29 +279,37 @@ class RotationBench:
         ]
 
 
-def _extract_all(img: np.ndarray, sectors: Sequence[int], threshold: int, scales: int) -> list[Features]:
-    """Features per method (model at each sector count, then OpenCV)."""
-    ns = [sectors_to_per_quadrant(s) for s in sectors]
-    model = extract_orb_multi(img, threshold, scales, ns)
+def _extract_all(img: np.ndarray, sectors: Sequence[int], threshold: int, scales: int, budget: int = 0
+                 ) -> list[Features]:  # fmt: skip
+    """Features per method (model at each sector count, then OpenCV). With a budget: the model's
+    grid selection (recommended cell and low threshold) and OpenCV's own selection at the count of
+    the model's first sector count."""
     h, w = img.shape
+    if budget > 0:
+        model = [extract(img, Config(w, h, scales, s, threshold, "orb", threshold_lo=RECOMMENDED_THRESHOLD_LO,
+                                     selection="grid", budget=budget, cell=recommended_cell(w)))
+                 for s in sectors]  # fmt: skip
+        return [*model, extract_opencv_selected(img, Config(w, h, scales, 32, threshold, "orb"), len(model[0]))]
+    ns = [sectors_to_per_quadrant(s) for s in sectors]
+    multi = extract_orb_multi(img, threshold, scales, ns)
     cv_feats = extract_opencv(img, Config(w, h, scales, 32, threshold, "orb"))
-    return [model[n] for n in ns] + [cv_feats]
+    return [multi[n] for n in ns] + [cv_feats]
 
 
 def _bench_image(
     name: str, img: np.ndarray, sectors: Sequence[int], angles: Sequence[float], threshold: int, scales: int,
-    progress: Progress | None,
+    progress: Progress | None, budget: int = 0,
 ) -> np.ndarray:  # fmt: skip
     methods = method_names(sectors)
     counts = np.zeros((len(angles), len(methods), len(COUNTS)), dtype=np.int64)
-    originals = _extract_all(img, sectors, threshold, scales)
+    originals = _extract_all(img, sectors, threshold, scales, budget)
     if progress:
         sizes = ", ".join(f"{m} {len(f)}" for m, f in zip(methods, originals, strict=True))
         progress(f"{name} {img.shape[1]}x{img.shape[0]}: features {sizes}")
     t0, next_report = time.perf_counter(), 30.0
     for a, angle in enumerate(angles):
         matrix = rotation_matrix(img.shape, angle)
-        rotated = _extract_all(rotate(img, matrix), sectors, threshold, scales)
+        rotated = _extract_all(rotate(img, matrix), sectors, threshold, scales, budget)
         for m, (orig, rot) in enumerate(zip(originals, rotated, strict=True)):
             counts[a, m] = match_counts(orig, rot, matrix, img.shape)
         if progress and (angle >= next_report or a == len(angles) - 1):
@@ -314,10 +322,12 @@ def _bench_image(
 
 def rotation_bench(
     images: Sequence[Image], sectors: Sequence[int], angles: Sequence[float], threshold: int, scales: int,
-    progress: Progress | None = None,
+    progress: Progress | None = None, budget: int = 0,
 ) -> RotationBench:  # fmt: skip
-    """The thesis's Fig. 5.8 experiment on every image at every angle (see the module doc)."""
-    counts = np.stack([_bench_image(n, img, sectors, angles, threshold, scales, progress) for n, img in images])
+    """The thesis's Fig. 5.8 experiment on every image at every angle (see the module doc); with a
+    budget, the grid selection against OpenCV's own selection at the same count."""
+    counts = np.stack([_bench_image(n, img, sectors, angles, threshold, scales, progress, budget)
+                       for n, img in images])  # fmt: skip
     return RotationBench([n for n, _ in images], [float(a) for a in angles], method_names(sectors), counts)
 
 
@@ -351,16 +361,24 @@ def plot_rotation_bench(bench: RotationBench, path: Path) -> None:
 
 
 def run_rotation_bench(
-    images: Sequence[Image], sectors: Sequence[int], step: float, threshold: int, scales: int, out_dir: Path
+    images: Sequence[Image],
+    sectors: Sequence[int],
+    step: float,
+    threshold: int,
+    scales: int,
+    out_dir: Path,
+    budget: int = 0,
 ) -> int:
     """Run :func:`rotation_bench` over 0..360 degrees; print a summary, write CSVs and a plot."""
     angles = bench_angles(step)
     sectors = list(dict.fromkeys(sectors))
     listed = ", ".join(map(str, sectors))
     print(f"rotation bench: {len(images)} image(s), {len(angles)} angles (step {step:g}), sectors {listed}"
-          f" + OpenCV ORB, threshold {threshold}, {scales} scale(s)", flush=True)  # fmt: skip
+          f" + OpenCV ORB, threshold {threshold}, {scales} scale(s)"
+          + (f", grid selection of {budget} (OpenCV: its own at our count)" if budget else ""), flush=True)  # fmt: skip
     t0 = time.perf_counter()
-    bench = rotation_bench(images, sectors, angles, threshold, scales, progress=lambda s: print(s, flush=True))
+    bench = rotation_bench(images, sectors, angles, threshold, scales, progress=lambda s: print(s, flush=True),
+                           budget=budget)  # fmt: skip
     summary = bench.summary()
     print(f"done in {time.perf_counter() - t0:.1f} s; pooled over images, mean over angles:")
     print(format_table(summary, SUMMARY_COLUMNS))

@@ -74,8 +74,14 @@ def angle_to_sector(angle_deg: np.ndarray, sectors: int) -> np.ndarray:
     return (np.rint(np.asarray(angle_deg, dtype=np.float64) * sectors / 360.0).astype(np.int64)) % sectors
 
 
-def _extract_orb(img: np.ndarray, cfg: Config) -> Features:
-    kps, desc = orb_detector(cfg).detectAndCompute(img, None)
+def _extract_orb(img: np.ndarray, cfg: Config, nfeatures: int | None = None) -> Features:
+    if nfeatures is None:
+        detector = orb_detector(cfg)
+    else:  # OpenCV's own selection (Harris ranking, its retain-best) at this count
+        detector = cv2.ORB_create(nfeatures=max(1, nfeatures), scaleFactor=cfg.factor, nlevels=cfg.scales,
+                                  edgeThreshold=ORB_EDGE_THRESHOLD, patchSize=ORB_PATCH_SIZE,
+                                  fastThreshold=cfg.threshold)  # fmt: skip
+    kps, desc = detector.detectAndCompute(img, None)
     n = len(kps)
     octave = np.array([kp.octave for kp in kps], dtype=np.int64)
     pt = np.array([kp.pt for kp in kps], dtype=np.float64).reshape(n, 2)
@@ -116,3 +122,9 @@ def extract_opencv(img: np.ndarray, cfg: Config) -> Features:
         raise ValueError(f"expected a 2-D uint8 luma frame, got {img.dtype} with shape {img.shape}")
     feats = _extract_fast(img, cfg) if cfg.mode == "fast" else _extract_orb(img, cfg)
     return feats.sorted()
+
+
+def extract_opencv_selected(img: np.ndarray, cfg: Config, nfeatures: int) -> Features:
+    """OpenCV ORB's features with its own selection at ``nfeatures`` (its default Harris ranking and
+    per-level quotas; pyramid and threshold of ``cfg``), as ``extract_opencv``'s orb mode otherwise."""
+    return _extract_orb(img, cfg, nfeatures).sorted()

@@ -84,6 +84,11 @@ def test_board_json_rules(tmp_path: Path) -> None:
     with pytest.raises(ValueError, match="at least the pixel clock"):
         gen.load(tmp_path / "b.json")
     bad = json.loads(json.dumps(BOARD))
+    bad["configs"]["1920x1080"]["mem_depth"] = 1024  # 1,023 slots for a budget of 2,000
+    (tmp_path / "b.json").write_text(json.dumps(bad))
+    with pytest.raises(ValueError, match="1920x1080: mem_depth 1024 holds 1023 features, below the recommended budget"):
+        gen.load(tmp_path / "b.json")
+    bad = json.loads(json.dumps(BOARD))
     bad["configs"]["640x480"] |= {"scales": 5, "block_log2": 3}  # 8-pixel blocks hold 4 rings
     (tmp_path / "b.json").write_text(json.dumps(bad))
     with pytest.raises(ValueError, match="640x480: block_log2: block size 8 too small for 5"):

@@ -10,7 +10,7 @@ import cv2
 import numpy as np
 import pytest
 
-from golden_model.config import Config
+from golden_model.config import Config, recommended_cell
 from golden_model.fast import fast_score
 from golden_model.features import read_csv
 from golden_model.pipeline import extract
@@ -148,6 +148,20 @@ def test_rotation_bench_model_32_sectors_close_to_opencv(photos: dict[str, np.nd
     assert summary["model-32"]["mean_correct_pct"] >= 0.9 * summary["opencv"]["mean_correct_pct"]
     assert summary["model-32"]["vs_opencv"] >= 0.9
     assert 0 < summary["model-32"]["mean_recall_pct"] <= 100
+
+
+def test_rotation_bench_with_the_grid_selection(photos: dict[str, np.ndarray]) -> None:
+    """--budget: the model's grid selection (at most the budget, the selection's own features at
+    angle 0) against OpenCV's own selection at the model's count."""
+    img = photos["coffee"]
+    bench = rotation_bench([("coffee", img)], [32], [0.0, 90.0], 20, 1, budget=150)
+    original, _, matches, correct, _ = np.moveaxis(bench.counts[0], -1, 0)
+    h, w = img.shape
+    want = extract(img, Config(w, h, 1, 32, 20, "orb", threshold_lo=7, selection="grid", budget=150,
+                               cell=recommended_cell(w)))  # fmt: skip
+    assert original[0, 0] == len(want) <= 150
+    assert abs(int(original[0, 1]) - len(want)) <= 0.05 * len(want), "OpenCV keeps about the model's count"
+    assert matches[0, 0] == correct[0, 0] == original[0, 0], "angle 0: every selected feature matches itself"
 
 
 def test_rotation_bench_rows_pool_over_images(photos: dict[str, np.ndarray]) -> None:

@@ -23,11 +23,11 @@ namespace eval ::orb_board {
     640x480 [dict create \
       width 640 \
       height 480 \
-      scales 5 \
+      scales 4 \
       step_num 5 \
       step_den 4 \
-      sectors 64 \
-      mem_depth 4096 \
+      sectors 32 \
+      mem_depth 1024 \
       block_log2 4 \
       mode {640x480@60 (VESA DMT / CEA-861 VIC 1)} \
       pixel_mhz 25.175 \
@@ -39,12 +39,12 @@ namespace eval ::orb_board {
     1280x720 [dict create \
       width 1280 \
       height 720 \
-      scales 2 \
-      step_num 2 \
-      step_den 1 \
+      scales 4 \
+      step_num 5 \
+      step_den 4 \
       sectors 32 \
       mem_depth 2048 \
-      block_log2 3 \
+      block_log2 4 \
       mode {1280x720@60 (CEA-861 VIC 4)} \
       pixel_mhz 74.25 \
       core_mhz 100 \
@@ -55,12 +55,12 @@ namespace eval ::orb_board {
     1920x1080 [dict create \
       width 1920 \
       height 1080 \
-      scales 2 \
-      step_num 2 \
-      step_den 1 \
+      scales 4 \
+      step_num 5 \
+      step_den 4 \
       sectors 32 \
       mem_depth 2048 \
-      block_log2 3 \
+      block_log2 4 \
       mode {1920x1080@60 (CEA-861 VIC 16)} \
       pixel_mhz 148.5 \
       core_mhz 150 \
