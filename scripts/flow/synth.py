@@ -232,9 +232,31 @@ def job(top: str, config: str) -> Job:
 
 
 def parse_job_name(name: str) -> Job:
-    """'orb_core 640x480x1' -> Job (ValueError/ArgumentTypeError if the top or the config is unknown)."""
-    top, _, config = name.partition(" ")
-    return job(top, config)
+    """'orb_core 640x480x1' or 'orb_accel_zynq 640x480x4 MEM_DEPTH_g=1024 ...' -> Job
+    (ValueError/ArgumentTypeError if the top, the config or a generic is unknown)."""
+    top, _, rest = name.partition(" ")
+    config, *generics = rest.split()
+    j = job(top, config)
+    return Job(j.top, j.cfg, tuple(parse_generic(g) for g in generics))
+
+
+def board_jobs() -> list[Job]:
+    """The board's configurations (vivado/board.json) as scripts/board/estimate.py runs them: the
+    whole accelerator orb_accel_zynq with each configuration's generics, those equal to the top's
+    defaults left out (so the names and the cache keys are estimate.py's)."""
+    board = json.loads((ROOT / "vivado" / "board.json").read_text())
+    out = []
+    for c in board["configs"].values():
+        extra = [("MEM_DEPTH_g", str(c["mem_depth"]))]
+        if c["sectors"] != 32:
+            extra.append(("SECTORS_g", str(c["sectors"])))
+        if (c["step_num"], c["step_den"]) != (2, 1):
+            extra += [("STEP_NUM_g", str(c["step_num"])), ("STEP_DEN_g", str(c["step_den"]))]
+        if c["block_log2"] != 3:
+            extra.append(("BLOCK_LOG2_g", str(c["block_log2"])))
+        out.append(Job(board["accel"]["entity"], parse_config(f"{c['width']}x{c['height']}x{c['scales']}"),
+                       tuple(extra)))  # fmt: skip
+    return out
 
 
 def cache_key(top: str, generics: dict[str, int | str], files: Sequence[Path], tools: dict[str, str]) -> str:

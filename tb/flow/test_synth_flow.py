@@ -95,14 +95,30 @@ def test_check_per_job_tolerance_and_no_expectation() -> None:
 def test_expected_file_parses_and_names_known_jobs() -> None:
     data = synth.load_expected()
     known = {(t, c) for t, c in (*synth.DEFAULT_JOBS, *synth.OTHER_JOBS)}
+    board = {j.name for j in synth.board_jobs()}
     assert 0 < data["tolerance_pct"] <= 10
     for name, entry in data["jobs"].items():
         j = synth.parse_job_name(name)
-        assert (j.top, j.cfg.name) in known, f"{name} is not a job the script knows"
+        assert j.name == name, f"{name} is not in the script's spelling ({j.name})"
+        assert (j.top, j.cfg.name) in known or name in board, f"{name} is not a job the script knows"
         assert {"commit", "date", "command"} <= set(entry["measured"]), name
     for top, cfg in synth.DEFAULT_JOBS:  # the default set is always checked
         entry = data["jobs"][f"{top} {cfg}"]
         assert all(isinstance(entry[k], (int, float)) for k in ("lut", "ff", "bram36", "dsp")), entry
+
+
+def test_board_jobs_are_estimate_pys_runs() -> None:
+    """make board-estimate runs exactly the jobs whose names synth_expected.json holds for the board."""
+    from orbtb.views import load_script
+
+    cmds = load_script(ROOT / "scripts" / "board" / "estimate.py").commands(2, False)
+    names = set()
+    for cmd in cmds:
+        top = cmd[cmd.index("--top") + 1]
+        configs = [cmd[i + 1] for i, a in enumerate(cmd) if a == "--config"]
+        generics = [cmd[i + 1] for i, a in enumerate(cmd) if a == "--generic"]
+        names |= {" ".join([top, c, *generics]) for c in configs}
+    assert names == {j.name for j in synth.board_jobs()}
 
 
 def test_load_expected_rejects_bad_files(tmp_path: Path) -> None:
