@@ -98,6 +98,8 @@ eval: $(STAMP)
 	$(BIN)/orb-accel compare-fast $(EVAL_PHOTOS)/*.png --threshold 15 20 25 30 35 40 --out-dir build/eval/compare-fast
 	$(BIN)/orb-accel rotation-bench $(EVAL_PHOTOS)/*.png --sectors 16 32 64 --step $(STEP) --threshold 20 \
 		--scales 1 --out-dir build/eval/rotation-bench
+	$(BIN)/orb-accel rotation-bench $(EVAL_PHOTOS)/*.png --sectors 32 --step $(STEP) --threshold 20 \
+		--scales 1 --budget 1000 --out-dir build/eval/rotation-bench-grid
 	$(BIN)/orb-accel scale-bench $(EVAL_PHOTOS)/*.png --out-dir build/eval/scale-bench
 	$(BIN)/orb-accel eval-photos $(EVAL_HELD) --cache $(EVAL_DEBS)
 	$(BIN)/orb-accel scale-bench $(EVAL_HELD)/640x480/*.png --out-dir build/eval/scale-bench-held

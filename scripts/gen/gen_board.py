@@ -40,11 +40,12 @@ def load(path: Path) -> dict[str, Any]:
             raise ValueError(f"{path}: configuration {name!r} must be named WIDTHxHEIGHT")
         if cfg["core_mhz"] < cfg["pixel_mhz"]:
             raise ValueError(f"{path}: {name}: the core clock must be at least the pixel clock (one pixel per clock)")
-        budget = recommended_budget(cfg["width"], cfg["height"])
-        if budget > cfg["mem_depth"] - 1:  # the feature memory is sized to the selection's budget
-            held = cfg["mem_depth"] - 1
-            raise ValueError(f"{path}: {name}: mem_depth {cfg['mem_depth']} holds {held} features, below the "
-                             f"recommended budget {budget} (golden_model.config.recommended_budget)")  # fmt: skip
+        # the feature memory is sized to the selection's budget, not to the scene: no larger than the
+        # smallest power of two that holds the recommended budget (smaller where the block RAM runs out)
+        need = 1 << recommended_budget(cfg["width"], cfg["height"]).bit_length()
+        if cfg["mem_depth"] > need:
+            raise ValueError(f"{path}: {name}: mem_depth {cfg['mem_depth']} is more than the recommended budget "
+                             f"needs ({need}; golden_model.config.recommended_budget)")  # fmt: skip
         try:  # the overlay's rule (orb_overlay refuses the same at elaboration)
             check_marker_config(cfg["scales"], cfg["block_log2"])
         except ValueError as e:
@@ -117,14 +118,19 @@ def render_dtso(b: dict[str, Any], name: str) -> str:
 """
 
 
+def default_budget(c: dict[str, Any]) -> int:
+    """The driver's default budget on this configuration (orb_accel.HwConfig.default_budget)."""
+    return min(recommended_budget(c["width"], c["height"]), c["mem_depth"] - 1)
+
+
 def render_doc(b: dict[str, Any]) -> str:
     acc = b["accel"]
     rows = [
         "<!-- " + HEADER + " -->",
         "",
-        "| `CONFIG=` | accelerator | HDMI mode | pixel clock | core clock (AXI4-Lite too) "
-        "| dvi2rgb / rgb2dvi `kClkRange` | EDID |",
-        "|---|---|---|---|---|---|---|",
+        "| `CONFIG=` | accelerator | features per frame (driver's default budget) | HDMI mode | pixel clock "
+        "| core clock (AXI4-Lite too) | dvi2rgb / rgb2dvi `kClkRange` | EDID |",
+        "|---|---|---|---|---|---|---|---|",
     ]
     for name, c in b["configs"].items():
         patched = " (build-time copy, see below)" if c["patched_clk_range"] else ""
@@ -132,7 +138,7 @@ def render_doc(b: dict[str, Any]) -> str:
             f"| `{name}` | {c['width']}x{c['height']}, {c['scales']} scales of {c['step_num']}:{c['step_den']}, "
             f"{c['sectors']} sectors, "
             f"{c['mem_depth']} slots per bank, {1 << c['block_log2']}-pixel overlay blocks "
-            f"| {c['mode']} | {c['pixel_mhz']} MHz | {c['core_mhz']} MHz "
+            f"| {default_budget(c)} | {c['mode']} | {c['pixel_mhz']} MHz | {c['core_mhz']} MHz "
             f"| {c['kClkRange']}{patched} | `{c['edid']}` |"
         )
     rows += [

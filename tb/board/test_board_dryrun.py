@@ -84,9 +84,9 @@ def test_board_json_rules(tmp_path: Path) -> None:
     with pytest.raises(ValueError, match="at least the pixel clock"):
         gen.load(tmp_path / "b.json")
     bad = json.loads(json.dumps(BOARD))
-    bad["configs"]["1920x1080"]["mem_depth"] = 1024  # 1,023 slots for a budget of 2,000
+    bad["configs"]["640x480"]["mem_depth"] = 4096  # the budget of 1,000 needs 1,024 slots
     (tmp_path / "b.json").write_text(json.dumps(bad))
-    with pytest.raises(ValueError, match="1920x1080: mem_depth 1024 holds 1023 features, below the recommended budget"):
+    with pytest.raises(ValueError, match=r"640x480: mem_depth 4096 is more than the recommended budget needs \(1024"):
         gen.load(tmp_path / "b.json")
     bad = json.loads(json.dumps(BOARD))
     bad["configs"]["640x480"] |= {"scales": 5, "block_log2": 3}  # 8-pixel blocks hold 4 rings

@@ -59,7 +59,7 @@ namespace eval ::orb_board {
       step_num 5 \
       step_den 4 \
       sectors 32 \
-      mem_depth 2048 \
+      mem_depth 1024 \
       block_log2 4 \
       mode {1920x1080@60 (CEA-861 VIC 16)} \
       pixel_mhz 148.5 \
