@@ -141,17 +141,22 @@ def arrival_order(x: np.ndarray, y: np.ndarray, width: int, height: int) -> np.n
     return np.lexsort((np.minimum(x + 4, width - 1), np.minimum(y + 4, height - 1)))
 
 
+def _levels_in_arrival_order(features: Features, cfg: Config) -> list[tuple[int, np.ndarray]]:
+    """Per level: its budget (level_budgets of cfg.budget) and the indices of its features in
+    arrival order."""
+    out = []
+    for k, n in enumerate(level_budgets(cfg.budget, features.step, cfg.scales)):
+        w, h = cfg.scale_size(k)
+        idx = np.flatnonzero(features.scale == k)
+        out.append((n, idx[arrival_order(features.x[idx], features.y[idx], w, h)]))
+    return out
+
+
 def select_grid(features: Features, cfg: Config) -> Features:
     """The `grid` selection (cfg.budget, cfg.cell) of a frame's candidates (all levels, any
     order), in canonical order."""
-    budgets = level_budgets(cfg.budget, features.step, cfg.scales)
-    keep: list[np.ndarray] = []
-    for k, n in enumerate(budgets):
-        w, h = cfg.scale_size(k)
-        idx = np.flatnonzero(features.scale == k)
-        idx = idx[arrival_order(features.x[idx], features.y[idx], w, h)]
-        keep.append(idx[select_level(features.x[idx], features.y[idx], features.low[idx], features.response[idx], n,
-                                     cfg.cell)])  # fmt: skip
+    keep = [idx[select_level(features.x[idx], features.y[idx], features.low[idx], features.response[idx], n, cfg.cell)]
+            for n, idx in _levels_in_arrival_order(features, cfg)]  # fmt: skip
     return features.take(np.concatenate(keep)).sorted()
 
 
@@ -176,12 +181,8 @@ def streamed_grid(features: Features, cfg: Config) -> Features:
     """Every candidate the `grid` selection's stream carries (LevelSelector stores it in a slot,
     new or replacing): the kept features and those a later candidate replaced, in canonical order.
     The HDMI overlay marks these (docs/spec.md section 13)."""
-    budgets = level_budgets(cfg.budget, features.step, cfg.scales)
     keep: list[np.ndarray] = []
-    for k, n in enumerate(budgets):
-        w, h = cfg.scale_size(k)
-        idx = np.flatnonzero(features.scale == k)
-        idx = idx[arrival_order(features.x[idx], features.y[idx], w, h)]
+    for n, idx in _levels_in_arrival_order(features, cfg):
         sel = LevelSelector(n, cfg.cell)
         ops = [sel.offer(int(features.x[i]), int(features.y[i]), bool(features.low[i]), int(features.response[i]))
                for i in idx]  # fmt: skip
