@@ -383,7 +383,7 @@ def test_accel_four_scales() -> None:
 def test_accel_finer_pyramid() -> None:
     # 6 levels carry 1.8x the features of one: astronaut's 866 take longer to read than a 192x144 frame lasts
     run_accel("rgb_6levels_5to4", testcase=["photo_stream", "registers"],
-              env={"ORB_PHOTOS": "coffee,rocket"})  # fmt: skip
+              env={"ORB_PHOTOS": "coffee,rocket,chelsea,rocket"})  # fmt: skip
 
 
 def test_accel_overflow_overrun() -> None:
