@@ -29,7 +29,7 @@ from .nms import nms3x3
 from .orientation import PATCH_RADIUS, moments, quantise
 from .response import response_map
 from .scaler import pyramid
-from .select import select_grid
+from .select import select_grid, streamed_grid
 from .smooth import RADIUS as SMOOTH_RADIUS
 from .smooth import smooth
 
@@ -137,3 +137,11 @@ def extract(img: np.ndarray, cfg: Config) -> Features:
     if cfg.selection == "grid":
         return select_grid(feats, cfg)
     return feats
+
+
+def streamed(img: np.ndarray, cfg: Config) -> Features:
+    """The features the feature stream carries, which the HDMI overlay marks (docs/spec.md section
+    14, "What the stream carries"): extract's in `all` selection, in `grid` also those a later
+    candidate replaced in the bank (golden_model.select.streamed_grid); canonical order."""
+    feats = candidates(img, cfg)
+    return streamed_grid(feats, cfg) if cfg.selection == "grid" else feats

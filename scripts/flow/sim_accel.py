@@ -51,8 +51,8 @@ from golden_model.features import Features, read_csv
 from golden_model.images import DEFAULT_IMAGE, ImageError
 from golden_model.luma import rgb_to_luma
 from golden_model.overlay import marker_block_log2, render_marker_overlay
-from golden_model.pipeline import candidates
-from golden_model.select import streamed_grid, truncation_difference
+from golden_model.pipeline import streamed
+from golden_model.select import truncation_difference
 from orb_accel.driver import Frame
 from orb_sim.fast.sim import FastSimError
 from orb_sim.rtl_backend import ACCEL_MEM_DEPTH, RtlUnavailable, run_accel_job
@@ -93,7 +93,7 @@ def make_config(args: argparse.Namespace, w: int, h: int, num: int, den: int) ->
                   threshold_lo=args.threshold_lo)  # fmt: skip
 
 
-def selection_text(cfg: Config) -> str:
+def describe_selection(cfg: Config) -> str:
     if cfg.selection == "all":
         return "every feature (selection all)"
     return f"grid selection: budget {cfg.budget}, cell {cfg.cell}, low threshold {cfg.threshold_lo}"
@@ -157,7 +157,7 @@ def main() -> int:
     engine = "its netlist in Verilator" if args.fast else f"GHDL (log: {log})"
     print(f"make sim: {path.name} {w}x{h}, {cfg.scales} scale(s) of {cfg.step_num}:{cfg.step_den}, "
           f"{cfg.sectors} sectors, "
-          f"threshold {cfg.threshold}, {selection_text(cfg)}: orb_accel_top in {engine}", flush=True)  # fmt: skip
+          f"threshold {cfg.threshold}, {describe_selection(cfg)}: orb_accel_top in {engine}", flush=True)  # fmt: skip
     stop = threading.Event()
     watcher = threading.Thread(target=progress_loop, args=(job / "progress.txt", stop), daemon=True)
     watcher.start()
@@ -181,10 +181,9 @@ def main() -> int:
     diff = compare(feats, luma, cfg, result["truncated"], args.mem_depth - 1)
     # the overlay marks what the feature stream carried: every feature in `all` (the bank may have
     # truncated them), in `grid` the selection and the features it replaced
-    cand = candidates(luma, cfg)
-    streamed = streamed_grid(cand, cfg) if cfg.selection == "grid" else cand
     overlay = np.load(job / "overlay.npy")
-    overlay_expected = render_marker_overlay(rgb, streamed, scales=cfg.scales, block_log2=marker_block_log2(cfg.scales))
+    overlay_expected = render_marker_overlay(rgb, streamed(luma, cfg), scales=cfg.scales,
+                                             block_log2=marker_block_log2(cfg.scales))  # fmt: skip
     overlay_exact = bool(np.array_equal(overlay, overlay_expected))
     cv2.imwrite(str(out / "overlay.png"), cv2.cvtColor(overlay, cv2.COLOR_RGB2BGR))
     # lost: dropped in the core, or truncated by a full bank in the grid selection (which must never
@@ -234,9 +233,8 @@ def main_video(args: argparse.Namespace) -> int:
     out = args.out_dir.resolve()
     out.mkdir(parents=True, exist_ok=True)
     print(f"make sim: {args.video.name}, {n} frames of {w}x{h}, {cfg.scales} scale(s) of "
-          f"{cfg.step_num}:{cfg.step_den}, {cfg.sectors} sectors, threshold {cfg.threshold}, {selection_text(cfg)}: "
-          "orb_accel_top's "
-          "netlist in Verilator", flush=True)  # fmt: skip
+          f"{cfg.step_num}:{cfg.step_den}, {cfg.sectors} sectors, threshold {cfg.threshold}, "
+          f"{describe_selection(cfg)}: orb_accel_top's netlist in Verilator", flush=True)  # fmt: skip
     results: list[dict] = []
 
     def check(i: int, frame: Frame) -> None:

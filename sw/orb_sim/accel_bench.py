@@ -27,6 +27,7 @@ from orb_accel.bus import BusError
 from orb_accel.driver import IRQ_SOURCES, HwConfig, OrbAccel
 
 from .cocotb_bus import OKAY, PERIOD_NS, SLVERR, CocotbBus, set_axil_pauses
+from .core_inputs import selection_text
 from .video import Gaps, VideoSource
 
 __all__ = ["OKAY", "SLVERR", "AccelBench"]
@@ -129,7 +130,7 @@ class AccelBench:
         """The selection last configured, as orbtb's scoreboard spells it ("all" or
         "grid:BUDGET:CELL:LOW")."""
         sel = self.accel.selection
-        return "all" if sel.mode == "all" else f"grid:{sel.budget}:{sel.cell}:{sel.threshold_lo}"
+        return selection_text(sel.mode, sel.budget, sel.cell, sel.threshold_lo)
 
     async def wait_irq(self, timeout_clocks: int) -> None:
         """Wait for the interrupt line (not acknowledged)."""

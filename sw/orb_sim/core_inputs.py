@@ -5,18 +5,15 @@ section 14), the spelling of orbtb's scoreboard."""
 
 from __future__ import annotations
 
-from golden_model.config import Config
-
 # idle clocks after a selection change before the next frame's first pixel: orb_core splits a new
 # budget over the levels in 2 clocks a level (SCALES_g <= 8) plus a few of registers
 SELECT_SETTLE = 40
 
 
-def selection_text(cfg: Config) -> str:
-    """A model configuration's selection in this module's spelling."""
-    if cfg.selection == "all":
-        return "all"
-    return f"grid:{cfg.budget}:{cfg.cell}:{cfg.threshold_lo}"
+def selection_text(mode: str, budget: int, cell: int, threshold_lo: int) -> str:
+    """A selection ("all" or "grid" and its parameters: a model Config's or the driver's
+    Selection's fields) in this module's spelling."""
+    return "all" if mode == "all" else f"grid:{budget}:{cell}:{threshold_lo}"
 
 
 def drive_selection(dut, selection: str, threshold: int) -> None:

@@ -80,8 +80,9 @@ def run_core_job(frames: list[np.ndarray], cfg: Config, thresholds: list[int], m
     np.save(job / "frames.npy", np.stack([np.ascontiguousarray(f, dtype=np.uint8) for f in frames]))
     generics = {"WIDTH_g": cfg.width, "HEIGHT_g": cfg.height, "SCALES_g": cfg.scales,
                 "STEP_NUM_g": cfg.step_num, "STEP_DEN_g": cfg.step_den, "SECTORS_g": cfg.sectors}  # fmt: skip
+    selection = selection_text(cfg.selection, cfg.budget, cfg.cell, cfg.threshold_lo)
     env = {"ORB_JOB_DIR": str(job), "ORB_JOB_THRESHOLDS": ",".join(map(str, thresholds)),
-           "ORB_JOB_MODES": ",".join(modes), "ORB_JOB_SELECTION": selection_text(cfg)}  # fmt: skip
+           "ORB_JOB_MODES": ",".join(modes), "ORB_JOB_SELECTION": selection}  # fmt: skip
     _simulate("orb_core", "orb_sim.jobs.core_job", generics, env, log)
     if not (job / "report.json").exists():
         raise RtlUnavailable(f"the simulation wrote no result; see {log}")

@@ -7,8 +7,7 @@ import numpy as np
 
 from golden_model import Config, extract, first_difference
 from golden_model.features import Features
-from golden_model.pipeline import candidates
-from golden_model.select import streamed_grid
+from golden_model.pipeline import streamed
 
 
 def model_config(img: np.ndarray, scales: int, threshold: int, mode: str = "fast", sectors: int = 32,
@@ -33,9 +32,8 @@ def expected_features(img: np.ndarray, scales: int, threshold: int, mode: str = 
 def expected_streamed(img: np.ndarray, scales: int, threshold: int, mode: str = "fast", sectors: int = 32,
                       step: tuple[int, int] = (2, 1), selection: str = "all") -> Features:  # fmt: skip
     """The features the feature stream carries (what the overlay marks): the bank's in `all`
-    selection, in `grid` also those a later candidate replaced (golden_model.select.streamed_grid)."""
-    cfg = model_config(img, scales, threshold, mode, sectors, step, selection)
-    return streamed_grid(candidates(img, cfg), cfg) if cfg.selection == "grid" else extract(img, cfg)
+    selection, in `grid` also those a later candidate replaced (golden_model.pipeline.streamed)."""
+    return streamed(img, model_config(img, scales, threshold, mode, sectors, step, selection))
 
 
 def check_frame(got: Features, expected: Features, what: str) -> None:
