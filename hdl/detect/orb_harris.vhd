@@ -5,12 +5,15 @@
 -- centre is at least 3 pixels from the left and top borders (the right and bottom ones are implied).
 -- Incremental, the thesis's column-sum idea: each window brings one new gradient column, the
 -- window's column 5 (its columns 4 to 6 give the Sobel derivatives of rows 1 to 5); the products
--- Ix^2 and Ix Iy come out of one multiplier ((Ix 2^16 + Iy) Ix: both gradients are 8-bit, so
--- Ix Iy fits the low 16 bits), Iy^2 out of a second; each column's three sums slide through a
+-- Ix^2 and |Ix Iy| come out of one multiplier ((|Ix| 2^16 + |Iy|) |Ix|: both magnitudes are at most
+-- 128, so |Ix Iy| fits the low 16 bits), Iy^2 out of a second, and Ix Iy takes its sign after
+-- them. Every multiplier is unsigned, one DSP48 each (a signed one comes out of GHDL's Verilog as a
+-- wider unsigned one, several DSP48s in a cascade); each column's three sums slide through a
 -- four-deep delay line that advances with every window, and the 5x5 block sums are the newest
 -- column plus the four before it (consecutive windows of one line are consecutive columns; the
 -- first positions of a line, whose block still holds the previous line's columns, are masked by
--- the border rule). Then a, b, c (>> 3), the three products of R and the floating-point code.
+-- the border rule). Then a, b, c (>> 3), the three products of R (a b, |c|^2, (a + b)^2: unsigned;
+-- a, b and |c| are at most 51200) and the floating-point code.
 -- Pipeline: 17 stages, every one registered; latency HARRIS_LAT_c = 17 clocks (orb_fast_pkg),
 -- whatever the input gaps; the output keeps the input's (x, y) tag. Page: docs/rtl-detection.md.
 
@@ -43,14 +46,17 @@ architecture rtl of orb_harris is
   subtype pix_t is unsigned(7 downto 0);
   subtype diff_t is signed(8 downto 0);      -- a pixel difference
   subtype grad_t is signed(7 downto 0);      -- Ix, Iy: -128 .. 127
-  subtype prod_t is signed(39 downto 0);     -- (Ix 2^16 + Iy) Ix
+  subtype mag_t is unsigned(7 downto 0);     -- |Ix|, |Iy| <= 128
+  subtype opa_t is unsigned(23 downto 0);    -- |Ix| 2^16 + |Iy|
+  subtype prod_t is unsigned(31 downto 0);   -- (|Ix| 2^16 + |Iy|) |Ix|
+  subtype pyy_t is unsigned(15 downto 0);    -- |Iy|^2
   subtype sq_t is unsigned(14 downto 0);     -- Ix^2, Iy^2 <= 16384
   subtype xy_t is signed(15 downto 0);       -- Ix Iy: |.| <= 16384
   subtype col_t is unsigned(17 downto 0);    -- a column's sum of squares <= 81920
   subtype colxy_t is signed(17 downto 0);
   subtype blk_t is unsigned(19 downto 0);    -- a block's sum of squares <= 409600
   subtype blkxy_t is signed(19 downto 0);
-  subtype ab_t is unsigned(16 downto 0);     -- a, b <= 51200; a + b <= 102400
+  subtype ab_t is unsigned(16 downto 0);     -- a, b, |c| <= 51200; a + b <= 102400
   subtype r_t is signed(35 downto 0);
 
   type pix_col_t is array (0 to 6) of pix_t;
@@ -59,7 +65,10 @@ architecture rtl of orb_harris is
   type vdiff_arr_t is array (1 to 5) of diff_t;
   type fdiff_t is array (4 to 6) of vdiff_arr_t;  -- vertical differences of columns 4..6 (rows 1..5)
   type grad_arr_t is array (1 to 5) of grad_t;
+  type mag_arr_t is array (1 to 5) of mag_t;
+  type opa_arr_t is array (1 to 5) of opa_t;
   type prod_arr_t is array (1 to 5) of prod_t;
+  type pyy_arr_t is array (1 to 5) of pyy_t;
   type sq_arr_t is array (1 to 5) of sq_t;
   type xy_arr_t is array (1 to 5) of xy_t;
   type col_dly_t is array (1 to 4) of col_t;
@@ -81,11 +90,13 @@ architecture rtl of orb_harris is
   -- stage 2: gradients of the new column
   signal ix2,  iy2 : grad_arr_t := (others => (others => '0'));
   -- stage 3: multiplier operands
-  signal opa3      : prod_arr_t := (others => (others => '0'));  -- Ix 2^16 + Iy (25 bits used)
-  signal ix3,  iy3 : grad_arr_t := (others => (others => '0'));
+  signal opa3      : opa_arr_t := (others => (others => '0'));
+  signal ax3,  ay3 : mag_arr_t := (others => (others => '0'));
+  -- Ix Iy < 0, beside stages 3 to 5
+  signal neg3, neg4, neg5 : std_logic_vector(1 to 5) := (others => '0');
   -- stages 4, 5: products (DSP48 M and P registers)
   signal pxx4, pxx5 : prod_arr_t := (others => (others => '0'));
-  signal pyy4, pyy5 : prod_arr_t := (others => (others => '0'));
+  signal pyy4, pyy5 : pyy_arr_t := (others => (others => '0'));
   -- stage 6: the column's products unpacked, stage 7: the column's sums
   signal sxx6, syy6 : sq_arr_t := (others => (others => '0'));
   signal sxy6       : xy_arr_t := (others => (others => '0'));
@@ -102,9 +113,9 @@ architecture rtl of orb_harris is
   signal c9         : signed(17 downto 0) := (others => '0');
   -- stage 10: operands, stages 11, 12: products
   signal a10, b10, s10 : ab_t := (others => '0');
-  signal c10           : signed(17 downto 0) := (others => '0');
+  signal c10           : ab_t := (others => '0');  -- |c|
   signal ab11, ab12    : unsigned(33 downto 0) := (others => '0');
-  signal cc11, cc12    : unsigned(35 downto 0) := (others => '0');
+  signal cc11, cc12    : unsigned(33 downto 0) := (others => '0');
   signal ss11, ss12    : unsigned(33 downto 0) := (others => '0');
   -- stages 13, 14: R
   signal t13 : r_t := (others => '0');
@@ -139,6 +150,7 @@ begin
     variable sx, sy : signed(10 downto 0);
     variable s3     : unsigned(16 downto 0);
     variable s3xy   : signed(16 downto 0);
+    variable mx, my : mag_t;
     variable e      : natural;
     variable m      : std_logic;
     variable byte   : natural;
@@ -188,34 +200,42 @@ begin
         end loop;
       end if;
 
-      -- stage 3: the operands (Ix 2^16 + Iy, as an addition: Iy is signed)
+      -- stage 3: the magnitudes, the operand |Ix| 2^16 + |Iy| and the sign of Ix Iy
       if v(2) = '1' then
         for r in 1 to 5 loop
-          opa3(r) <= shift_left(resize(ix2(r), 40), 16) + resize(iy2(r), 40);
-          ix3(r)  <= ix2(r);
-          iy3(r)  <= iy2(r);
+          mx      := resize(unsigned(abs (resize(ix2(r), 9))), 8);
+          my      := resize(unsigned(abs (resize(iy2(r), 9))), 8);
+          opa3(r) <= shift_left(resize(mx, 24), 16) or resize(my, 24);
+          ax3(r)  <= mx;
+          ay3(r)  <= my;
+          neg3(r) <= ix2(r)(7) xor iy2(r)(7);
         end loop;
       end if;
 
-      -- stages 4, 5: (Ix 2^16 + Iy) Ix = Ix^2 2^16 + Ix Iy and Iy^2, registered twice
+      -- stages 4, 5: (|Ix| 2^16 + |Iy|) |Ix| = Ix^2 2^16 + |Ix Iy| and Iy^2, registered twice
       if v(3) = '1' then
         for r in 1 to 5 loop
-          pxx4(r) <= resize(resize(opa3(r), 25) * ix3(r), 40);
-          pyy4(r) <= resize(iy3(r) * iy3(r), 40);
+          pxx4(r) <= opa3(r) * ax3(r);
+          pyy4(r) <= ay3(r) * ay3(r);
         end loop;
+        neg4 <= neg3;
       end if;
       if v(4) = '1' then
         pxx5 <= pxx4;
         pyy5 <= pyy4;
+        neg5 <= neg4;
       end if;
 
-      -- stage 6: unpacked: Ix Iy is the low 16 bits (signed), Ix^2 what lies above them
+      -- stage 6: unpacked: |Ix Iy| is the low 16 bits, Ix^2 what lies above them; Ix Iy signed
       if v(5) = '1' then
         for r in 1 to 5 loop
-          sxy6(r) <= pxx5(r)(15 downto 0);
-          -- (16 bits first: a signed resize to 15 would drop 16384 = (-128)^2's bit 14 for the sign)
-          sxx6(r) <= resize(unsigned(resize(shift_right(pxx5(r) - resize(pxx5(r)(15 downto 0), 40), 16), 16)), 15);
-          syy6(r) <= unsigned(pyy5(r)(14 downto 0));
+          if neg5(r) = '1' then
+            sxy6(r) <= -signed(pxx5(r)(15 downto 0));
+          else
+            sxy6(r) <= signed(pxx5(r)(15 downto 0));
+          end if;
+          sxx6(r) <= pxx5(r)(30 downto 16);
+          syy6(r) <= pyy5(r)(14 downto 0);
         end loop;
       end if;
 
@@ -252,15 +272,15 @@ begin
       if v(9) = '1' then
         a10 <= a9;
         b10 <= b9;
-        c10 <= c9;
+        c10 <= resize(unsigned(abs (c9)), 17);
         s10 <= a9 + b9;
       end if;
 
-      -- stages 11, 12: a b, c^2, (a + b)^2, registered twice
+      -- stages 11, 12: a b, |c|^2, (a + b)^2, registered twice
       if v(10) = '1' then
-        ab11 <= resize(a10 * b10, 34);
-        cc11 <= unsigned(resize(c10 * c10, 36));
-        ss11 <= resize(s10 * s10, 34);
+        ab11 <= a10 * b10;
+        cc11 <= c10 * c10;
+        ss11 <= s10 * s10;
       end if;
       if v(11) = '1' then
         ab12 <= ab11;
@@ -270,7 +290,7 @@ begin
 
       -- stages 13, 14: R = a b - c^2 - ((a + b)^2 >> 5)
       if v(12) = '1' then
-        t13 <= signed(resize(ab12, 36)) - signed(cc12);
+        t13 <= signed(resize(ab12, 36)) - signed(resize(cc12, 36));
         q13 <= signed(resize(shift_right(ss12, 5), 36));
       end if;
       if v(13) = '1' then
