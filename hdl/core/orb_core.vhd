@@ -135,9 +135,10 @@ architecture rtl of orb_core is
   signal split_work : split_t := (others => (others => '0'));
   signal split_frm  : split_t := (others => (others => '0'));
   signal sp_k       : natural range 0 to SCALES_g - 1 := 0;
-  signal sp_phase   : std_logic := '0';
+  signal sp_phase   : natural range 0 to 2 := 0;
   signal sp_n       : unsigned(SEL_SLOT_BITS_c - 1 downto 0) := (others => '0');  -- the budget being split
-  signal sp_sum     : unsigned(SEL_SLOT_BITS_c - 1 downto 0) := (others => '0');  -- the levels before
+  signal sp_rem     : unsigned(SEL_SLOT_BITS_c - 1 downto 0) := (others => '0');  -- N - the levels before
+  signal sp_round   : unsigned(SEL_SLOT_BITS_c + 1 downto 0) := (others => '0');   -- (N F_k + 2^15) >> 16
   signal sp_prod    : unsigned(SEL_SLOT_BITS_c + 16 downto 0) := (others => '0');
   signal recip_live : unsigned(RECIP_BITS_c - 1 downto 0) := (others => '0');
   signal recip_frm  : std_logic_vector(RECIP_BITS_c - 1 downto 0) := (others => '0');
@@ -225,7 +226,8 @@ begin
     end if;
   end process input;
 
-  -- The budget's split (docs/spec.md section 14), level after level, two clocks each, over and
+  -- The budget's split (docs/spec.md section 14), level after level, three clocks each (the
+  -- product, its rounding, the minimum and the remainder: one carry chain per clock), over and
   -- over: n_k = min((N F_k + 2^15) >> 16, N - the levels before), the last level the rest; a whole
   -- new split replaces split_live at once. N is the budget input, at most BUDGET_MAX_g.
   split : process (clk) is
@@ -235,28 +237,28 @@ begin
   begin
     if rising_edge(clk) then
       recip_live <= RECIP_ROM_c(to_integer(unsigned(cell_size)));
-      if sp_phase = '0' then
+      if sp_phase = 0 then
         if sp_k = 0 then
           n := unsigned(budget);
           if n > BUDGET_MAX_g then
             n := to_unsigned(BUDGET_MAX_g, SEL_SLOT_BITS_c);
           end if;
           sp_n   <= n;
-          sp_sum <= (others => '0');
+          sp_rem <= n;
         else
           n := sp_n;
         end if;
         sp_prod  <= resize(n * FRACTIONS_c(sp_k), sp_prod'length);
-        sp_phase <= '1';
+        sp_phase <= 1;
+      elsif sp_phase = 1 then
+        sp_round <= resize(shift_right(sp_prod + 2 ** 15, 16), sp_round'length);
+        sp_phase <= 2;
       else
-        sp_phase <= '0';
-        if sp_k = SCALES_g - 1 then
-          share := sp_n - sp_sum;
+        sp_phase <= 0;
+        if sp_k = SCALES_g - 1 or sp_round > sp_rem then
+          share := sp_rem;
         else
-          share := resize(shift_right(sp_prod + 2 ** 15, 16), SEL_SLOT_BITS_c);
-          if share > sp_n - sp_sum then
-            share := sp_n - sp_sum;
-          end if;
+          share := resize(sp_round, SEL_SLOT_BITS_c);
         end if;
         -- constant-index writes under a compare: GHDL 2.0 synthesises a variable-indexed write
         -- into a small array as a constant (docs/netlist-sim.md)
@@ -267,7 +269,7 @@ begin
             split_work(k) <= share;
           end if;
         end loop;
-        sp_sum           <= sp_sum + share;
+        sp_rem           <= sp_rem - share;
         if sp_k = SCALES_g - 1 then
           sp_k       <= 0;
           split_live <= fin;

@@ -14,12 +14,15 @@
 -- above the last), so the cell table holds two rows, one per parity of the cell row: per cell its
 -- floor's rank (main flag and code), slot and a `rejected` flag, valid where its `touched` bit is
 -- set; a parity's bits clear when a new row takes it. The rest R is a store of buckets, one per response
--- code, each a LIFO list of slots through the next-pointer RAM; a bitmap marks the non-empty
--- buckets. The lowest bucket, the one evictions take from, is kept in registers (its code, its
--- top slot and the slot below it, prefetched from the next-pointer RAM): a pop needs no table
--- write, so no operation writes the bucket heads twice. Pipeline: two clocks for the cell
--- (multipliers, DSP48), then D1 (reads: cell table, bucket heads, the next non-empty bucket) and
--- D2 (decision, writes); a decision leaves SELECT_LAT_c = 5 clocks after its candidate. In `all`
+-- code, each a LIFO list of slots through the next-pointer RAM (each entry flags NIL_c beside
+-- the pointer). The lowest bucket, the one evictions take from, is kept in registers (its code,
+-- its top slot and the slot below it, prefetched from the next-pointer RAM): a pop needs no table
+-- write, so no operation writes the bucket heads twice; `upper` marks the other non-empty buckets,
+-- so the next one up is upper's lowest set bit, with no compare against the lowest. Pipeline: two
+-- clocks for the cell (multipliers, DSP48), then D1 (reads: cell table, bucket heads, the next
+-- non-empty bucket; and the decision's predicates: the rank against the floor's, the codes
+-- against the lowest bucket's) and D2 (decision from those registers, writes); a decision leaves
+-- SELECT_LAT_c = 5 clocks after its candidate. In `all`
 -- mode (grid = 0) every main candidate is kept (new), low ones are dropped, and no state changes.
 -- The parameters (grid, budget, recip) must hold from the frame's first candidate to in_done;
 -- in_done (after the frame's last candidate has left) clears the frame's state.
@@ -81,7 +84,8 @@ architecture rtl of orb_feat_select is
 
   type ct_ram_t is array (0 to 2 * 2 ** CBITS_c - 1) of std_logic_vector(CT_BITS_c - 1 downto 0);
   type head_ram_t is array (0 to BUCKETS_c - 1) of slot_t;
-  type next_ram_t is array (0 to 2 ** NBITS_c - 1) of slot_t;
+  -- a next pointer and whether it is NIL_c (the flag saves a compare after the block RAM's read)
+  type next_ram_t is array (0 to 2 ** NBITS_c - 1) of std_logic_vector(SEL_SLOT_BITS_c downto 0);
 
   signal ct      : ct_ram_t := (others => (others => '0'));
   -- the touched bits of the even and the odd cell row (two signals, not a two-entry array: GHDL
@@ -90,7 +94,8 @@ architecture rtl of orb_feat_select is
   signal touched1 : std_logic_vector(CELLS_c - 1 downto 0) := (others => '0');
   signal heads   : head_ram_t := (others => (others => '0'));
   signal nexts   : next_ram_t := (others => (others => '0'));
-  signal bitmap  : std_logic_vector(BUCKETS_c - 1 downto 0) := (others => '0');
+  -- the non-empty buckets but the lowest (whose top is c0, in registers)
+  signal upper   : std_logic_vector(BUCKETS_c - 1 downto 0) := (others => '0');
 
   -- frame state
   signal used   : slot_t := (others => '0');
@@ -105,12 +110,13 @@ architecture rtl of orb_feat_select is
   signal mb : code_t := (others => '0');
   -- its top slot (the next victim)
   signal c0 : slot_t := (others => '0');
-  -- the slot below it (NIL_c: none)
-  signal c1 : slot_t := (others => '0');
+  -- the slot below it (NIL_c: none), and c1 = NIL_c
+  signal c1     : slot_t := (others => '0');
+  signal c1_nil : std_logic := '0';
   -- c1 comes from the next-pointer RAM this clock
   signal c1_load : std_logic := '0';
   -- the next-pointer RAM's read register
-  signal n_rd : slot_t := (others => '0');
+  signal n_rd : std_logic_vector(SEL_SLOT_BITS_c downto 0) := (others => '0');
 
   -- stage m0: the candidate; m1, m2: the cell products
   signal v_m0, v_m1, v_m2          : std_logic := '0';
@@ -134,8 +140,15 @@ architecture rtl of orb_feat_select is
   -- the cell has a floor (or is rejected)
   signal floor_d1 : std_logic := '0';
   signal rej_d1   : std_logic := '0';
-  signal frank_d1 : rank_t := (others => '0');
+  signal fmain_d1 : std_logic := '0';
+  signal fcode_d1 : code_t := (others => '0');
   signal fslot_d1 : slot_t := (others => '0');
+  -- the candidate's rank above the floor's; the floor's code and the candidate's against mb
+  signal gt_d1  : std_logic := '0';
+  signal fgt_d1 : std_logic := '0';
+  signal feq_d1 : std_logic := '0';
+  signal xgt_d1 : std_logic := '0';
+  signal xeq_d1 : std_logic := '0';
   -- the top of the candidate's bucket
   signal hx_d1 : slot_t := (others => '0');
   -- the top of the floor's bucket
@@ -143,13 +156,13 @@ architecture rtl of orb_feat_select is
   -- the candidate's bucket is not empty
   signal bx_d1 : std_logic := '0';
   signal bf_d1 : std_logic := '0';
-  -- the lowest non-empty bucket above mb
+  -- the lowest bucket of upper: the lowest non-empty one above mb
   signal mb2_d1    : code_t := (others => '0');
   signal mb2_ok_d1 : std_logic := '0';
-  -- its top
-  signal h2_d1 : slot_t := (others => '0');
   -- used >= budget
   signal full_d1 : std_logic := '0';
+  -- budget /= 0 (a frame parameter: steady from the frame's first candidate)
+  signal budget_ok : std_logic := '0';
 
   -- stage d2: the decision
   signal v_out    : std_logic := '0';
@@ -157,31 +170,38 @@ architecture rtl of orb_feat_select is
   signal slot_out : slot_t := (others => '0');
   signal new_out  : std_logic := '0';
 
-  -- the lowest set bit of v strictly above bit `above` (above = -1: the lowest), and whether any
-  function lowest_above (v : std_logic_vector; above : integer) return natural is
+  -- the index of v's lowest set bit (0 when none), in two levels: the lowest bit of each group of
+  -- eight, and the lowest group holding one (v'length a multiple of 8, v'low = 0)
+  function lowest_set (v : std_logic_vector) return natural is
+    constant G_c : positive := v'length / 8;
+    variable idx : natural;
+    variable grp : natural;
+    variable lo  : natural;
   begin
-    for i in v'low to v'high loop
-      if i > above and v(i) = '1' then
-        return i;
+    grp := 0;
+    for g in G_c - 1 downto 0 loop
+      if v(8 * g + 7 downto 8 * g) /= x"00" then
+        grp := g;
       end if;
     end loop;
-    return 0;
-  end function lowest_above;
-
-  function any_above (v : std_logic_vector; above : integer) return boolean is
-  begin
-    for i in v'low to v'high loop
-      if i > above and v(i) = '1' then
-        return true;
+    lo := 0;
+    for i in 7 downto 0 loop
+      if v(8 * grp + i) = '1' then
+        lo := i;
       end if;
     end loop;
-    return false;
-  end function any_above;
+    idx := 8 * grp + lo;
+    return idx;
+  end function lowest_set;
 
 begin
 
   assert SELECT_LAT_c = 5
     report "orb_feat_select: SELECT_LAT_c (orb_util_pkg) must be this pipeline's 5 clocks"
+    severity failure;
+
+  assert BUCKETS_c mod 8 = 0
+    report "orb_feat_select: lowest_set takes groups of eight buckets (2 ** RESPONSE_BITS_c)"
     severity failure;
 
   assert SLOTS_g <= 4095
@@ -193,8 +213,13 @@ begin
     variable cx, cy  : cell_t;
     -- decision
     variable rank_x   : rank_t;
-    variable fmain    : std_logic;
-    variable fcode    : code_t;
+    variable rank_r   : rank_t; -- the floor's rank, read
+    variable fcode_r  : code_t;
+    variable from_fl  : boolean; -- the pushed one is the old floor (else the candidate)
+    variable emptied  : boolean; -- the pop empties the lowest bucket
+    variable p_lt     : boolean; -- the pushed code below the lowest bucket after the pop
+    variable p_eq     : boolean; -- ... equal to it
+    variable clr2     : boolean; -- the next bucket up becomes the lowest: its upper bit clears
     variable keep     : std_logic;
     variable new_slot : std_logic;
     variable slot     : slot_t;
@@ -208,10 +233,11 @@ begin
     -- the pushed bucket's top before the push
     variable ph      : slot_t;
     variable pb      : std_logic;
-    variable bm      : std_logic_vector(BUCKETS_c - 1 downto 0);
+    variable up      : std_logic_vector(BUCKETS_c - 1 downto 0);
     variable n_mb    : code_t;
     variable n_c0    : slot_t;
     variable n_c1    : slot_t;
+    variable n_c1nil : std_logic;
     variable n_load  : std_logic;
     variable n_any   : std_logic;
     variable n_addr  : slot_t;
@@ -222,6 +248,7 @@ begin
     variable n_we : boolean;
     variable n_wa : slot_t;
     variable n_wd : slot_t;
+    variable n_wn : std_logic; -- n_wd = NIL_c
     variable h_we : boolean;
     variable h_wa : code_t;
     variable h_wd : slot_t;
@@ -250,7 +277,8 @@ begin
 
       c1_load <= '0';
 
-      -- stage d1: reads
+      -- stage d1: reads, and the decision's predicates (the state they read is the one the
+      -- candidate's D2 sees: only a D2 changes it, and the one before was at least a clock earlier)
       v_d1    <= v_m2;
       low_d1  <= low_m2;
       code_d1 <= code_m2;
@@ -267,18 +295,26 @@ begin
       end if;
       same_d1  <= bool2sl(same);
       ct_word  := ct(to_integer(cy(0 downto 0) & cx));
+      rank_r   := unsigned(ct_word(CT_BITS_c - 2 downto SEL_SLOT_BITS_c));
+      fcode_r  := rank_r(RESPONSE_BITS_c - 1 downto 0);
       floor_d1 <= bool2sl(same) and t_bits(to_integer(cx));
       rej_d1   <= ct_word(CT_BITS_c - 1);
-      frank_d1 <= unsigned(ct_word(CT_BITS_c - 2 downto SEL_SLOT_BITS_c));
+      fmain_d1 <= rank_r(RESPONSE_BITS_c);
+      fcode_d1 <= fcode_r;
       fslot_d1 <= unsigned(ct_word(SEL_SLOT_BITS_c - 1 downto 0));
+      gt_d1    <= bool2sl(((not low_m2) & code_m2) > rank_r);
+      fgt_d1   <= bool2sl(fcode_r > mb);
+      feq_d1   <= bool2sl(fcode_r = mb);
+      xgt_d1   <= bool2sl(code_m2 > mb);
+      xeq_d1   <= bool2sl(code_m2 = mb);
       hx_d1    <= heads(to_integer(code_m2));
-      bx_d1    <= bitmap(to_integer(code_m2));
-      hf_d1    <= heads(to_integer(unsigned(ct_word(CT_BITS_c - 3 downto SEL_SLOT_BITS_c))));
-      bf_d1    <= bitmap(to_integer(unsigned(ct_word(CT_BITS_c - 3 downto SEL_SLOT_BITS_c))));
-      mb2_d1    <= to_unsigned(lowest_above(bitmap, to_integer(mb)), RESPONSE_BITS_c);
-      mb2_ok_d1 <= bool2sl(any_above(bitmap, to_integer(mb)));
-      h2_d1     <= heads(lowest_above(bitmap, to_integer(mb)));
+      bx_d1    <= upper(to_integer(code_m2));
+      hf_d1    <= heads(to_integer(fcode_r));
+      bf_d1    <= upper(to_integer(fcode_r));
+      mb2_d1    <= to_unsigned(lowest_set(upper), RESPONSE_BITS_c);
+      mb2_ok_d1 <= bool2sl(upper /= (upper'range => '0'));
       full_d1   <= bool2sl(used >= unsigned(budget));
+      budget_ok <= bool2sl(unsigned(budget) /= 0);
 
       -- stage d2: the decision and its writes
       v_out    <= v_d1;
@@ -289,17 +325,12 @@ begin
       set_rej  := false;
       do_pop   := false;
       do_push  := false;
-      pq       := (others => '0');
-      ps       := (others => '0');
-      ph       := NIL_c;
-      pb       := '0';
+      from_fl  := false;
       rank_x   := (not low_d1) & code_d1;
-      fmain    := frank_d1(RESPONSE_BITS_c);
-      fcode    := frank_d1(RESPONSE_BITS_c - 1 downto 0);
       if v_d1 = '1' and grid = '0' then
         keep     := not low_d1;
         new_slot := '1';
-      elsif v_d1 = '1' and unsigned(budget) /= 0 then
+      elsif v_d1 = '1' and budget_ok = '1' then
         if floor_d1 = '0' then
           -- (a) the cell's first candidate: its floor
           if full_d1 = '0' then
@@ -319,31 +350,24 @@ begin
         elsif rej_d1 = '1' then
           -- a cell that found no place stays without one
           null;
-        elsif rank_x > frank_d1 then
+        elsif gt_d1 = '1' then
           -- (b) a record: the new floor
           keep := '1';
           set_fl := true;
+          from_fl := true;
           -- (d) a low floor goes, its slot serves the new one
-          if fmain = '0' then
+          if fmain_d1 = '0' then
             slot := fslot_d1;
           -- the old floor joins the rest
           elsif full_d1 = '0' then
             new_slot := '1';
             slot := used;
             do_push := true;
-            pq := fcode;
-            ps := fslot_d1;
-            ph := hf_d1;
-            pb := bf_d1;
           -- the rest's lowest goes, the old floor stays
-          elsif rest_any = '1' and fcode > mb then
+          elsif rest_any = '1' and fgt_d1 = '1' then
             slot := c0;
             do_pop := true;
             do_push := true;
-            pq := fcode;
-            ps := fslot_d1;
-            ph := hf_d1;
-            pb := bf_d1;
           -- the old floor is the lowest: it goes
           else
             slot := fslot_d1;
@@ -355,19 +379,11 @@ begin
             new_slot := '1';
             slot := used;
             do_push := true;
-            pq := code_d1;
-            ps := used;
-            ph := hx_d1;
-            pb := bx_d1;
-          elsif rest_any = '1' and code_d1 > mb then
+          elsif rest_any = '1' and xgt_d1 = '1' then
             keep := '1';
             slot := c0;
             do_pop := true;
             do_push := true;
-            pq := code_d1;
-            ps := c0;
-            ph := hx_d1;
-            pb := bx_d1;
           end if;
         end if;
       end if;
@@ -406,38 +422,68 @@ begin
                                                      std_logic_vector(slot);
       end if;
 
-      -- the rest: pop the lowest bucket's top, push (pq, ps); the lowest bucket stays in registers
-      bm     := bitmap;
+      -- the pushed code and slot, the top of its bucket before the push, and how the code compares
+      -- with the lowest bucket after the pop: mb, or the next one up when the pop empties mb
+      emptied := do_pop and c1_nil = '1';
+      if from_fl then
+        pq  := fcode_d1;
+        ps  := fslot_d1;
+        ph  := hf_d1;
+        pb  := bf_d1;
+        if emptied then
+          p_lt := fcode_d1 < mb2_d1;
+          p_eq := fcode_d1 = mb2_d1;
+        else
+          p_lt := fgt_d1 = '0' and feq_d1 = '0';
+          p_eq := feq_d1 = '1';
+        end if;
+      else
+        pq  := code_d1;
+        ps  := slot;
+        ph  := hx_d1;
+        pb  := bx_d1;
+        if emptied then
+          p_lt := code_d1 < mb2_d1;
+          p_eq := code_d1 = mb2_d1;
+        else
+          p_lt := xgt_d1 = '0' and xeq_d1 = '0';
+          p_eq := xeq_d1 = '1';
+        end if;
+      end if;
+
+      -- the rest: pop the lowest bucket's top, push (pq, ps); the lowest bucket stays in registers,
+      -- `upper` marks the other non-empty buckets (their tops are in the heads RAM)
+      up     := upper;
+      clr2   := false;
       n_mb   := mb;
       n_c0   := c0;
       n_c1   := c1;
+      n_c1nil := c1_nil;
       n_load := '0';
       n_any  := rest_any;
       n_addr := c1;
       n_we   := false;
       n_wa   := ps;
       n_wd   := NIL_c;
+      n_wn   := '1';
       h_we   := false;
       h_wa   := pq;
       h_wd   := ps;
       if do_pop then
         -- the bucket goes on: its next slot, and the one below it fetched
-        if c1 /= NIL_c then
+        if not emptied then
           n_c0   := c1;
           n_load := '1';
           n_addr := c1;
-        -- the bucket empties
+        -- the bucket empties: the next bucket up becomes the lowest
+        elsif mb2_ok_d1 = '1' then
+          clr2   := true;
+          n_mb   := mb2_d1;
+          n_c0   := heads(to_integer(mb2_d1));
+          n_load := '1';
+          n_addr := heads(to_integer(mb2_d1));
         else
-          bm(to_integer(mb)) := '0';
-          -- the next bucket up becomes the lowest
-          if mb2_ok_d1 = '1' then
-            n_mb   := mb2_d1;
-            n_c0   := h2_d1;
-            n_load := '1';
-            n_addr := h2_d1;
-          else
-            n_any := '0';
-          end if;
+          n_any := '0';
         end if;
       end if;
       if do_push then
@@ -448,60 +494,75 @@ begin
           n_mb := pq;
           n_c0 := ps;
           n_c1 := NIL_c;
+          n_c1nil := '1';
           n_load := '0';
           n_any := '1';
-        -- below the lowest: it becomes the lowest, the old one is written back
-        elsif pq < n_mb then
-          if not do_pop then
+        -- below the lowest: it becomes the lowest, the old one goes to the heads RAM (after a pop
+        -- the old one is the next bucket up, whose top is still there)
+        elsif p_lt then
+          if do_pop then
+            clr2 := false;
+          else
             h_we := true;
-            h_wa := n_mb;
-            h_wd := n_c0;
+            h_wa := mb;
+            h_wd := c0;
+            up(to_integer(mb)) := '1';
           end if;
           n_mb := pq;
           n_c0 := ps;
           n_c1 := NIL_c;
+          n_c1nil := '1';
           n_load := '0';
         -- onto the lowest bucket (LIFO): on top of its cached top
-        elsif pq = n_mb then
+        elsif p_eq then
           n_wd := n_c0;
+          n_wn := '0';
           n_c1 := n_c0;
+          n_c1nil := '0';
           n_c0 := ps;
           n_load := '0';
         -- onto a bucket above: through the heads table
         else
           if pb = '1' then
             n_wd := ph;
+            n_wn := '0';
           end if;
           h_we := true;
           h_wa := pq;
           h_wd := ps;
+          up(to_integer(pq)) := '1';
         end if;
-        bm(to_integer(pq)) := '1';
+      end if;
+      -- (one write at mb2_d1's bit: GHDL 2.0's synthesis fails on two)
+      if clr2 then
+        up(to_integer(mb2_d1)) := '0';
       end if;
       if v_d1 = '1' and grid = '1' then
         if n_we then
-          nexts(to_integer(n_wa(NBITS_c - 1 downto 0))) <= n_wd;
+          nexts(to_integer(n_wa(NBITS_c - 1 downto 0))) <= n_wn & std_logic_vector(n_wd);
         end if;
         if h_we then
           heads(to_integer(h_wa)) <= h_wd;
         end if;
       end if;
       if v_d1 = '1' and grid = '1' then
-        bitmap   <= bm;
+        upper    <= up;
         mb       <= n_mb;
         c0       <= n_c0;
         rest_any <= n_any;
         if n_load = '1' then
           c1_load <= '1';
         else
-          c1 <= n_c1;
+          c1     <= n_c1;
+          c1_nil <= n_c1nil;
         end if;
       end if;
       n_rd <= nexts(to_integer(n_addr(NBITS_c - 1 downto 0)));
       -- the prefetched slot below the lowest bucket's top (read issued at the last D2; no decision
       -- is made in the clock after one)
       if c1_load = '1' then
-        c1 <= n_rd;
+        c1     <= unsigned(n_rd(SEL_SLOT_BITS_c - 1 downto 0));
+        c1_nil <= n_rd(SEL_SLOT_BITS_c);
       end if;
 
       -- pragma translate_off
@@ -514,7 +575,7 @@ begin
         row_ok0  <= '0';
         row_ok1  <= '0';
         rest_any <= '0';
-        bitmap   <= (others => '0');
+        upper    <= (others => '0');
         touched0 <= (others => '0');
         touched1 <= (others => '0');
       end if;

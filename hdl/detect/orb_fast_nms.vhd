@@ -106,6 +106,7 @@ begin
     variable x_ok, y_ok         : boolean;
     constant Z_c                : score_t := (others => '0');
     variable cd                 : code_array_t;
+    variable s0, s1, s2, s3     : boolean;  -- the candidate (1,1), (1,2), (2,1), (2,2) survives
   begin
     if rising_edge(clk) then
       f_valid <= '0';
@@ -125,36 +126,24 @@ begin
         x_ok     := px >= 7;
         y_ok     := py >= 7;
         f_done   <= '1' when at_end_x and at_end_y else '0';
-        -- At most one of the four candidates can survive: they are mutually 8-adjacent.
-        if x_ok and y_ok and survives(w(1)(1), w(0)(0), w(0)(1), w(0)(2), w(1)(0),
-                                      w(1)(2), w(2)(0), w(2)(1), w(2)(2)) then
-          f_valid <= '1';
-          f_x     <= px - 4;
-          f_y     <= py - 4;
-          f_score <= w(1)(1);
-          f_code  <= cd(1)(1);
-        elsif at_end_x and y_ok and survives(w(1)(2), w(0)(1), w(0)(2), Z_c, w(1)(1),
-                                             Z_c, w(2)(1), w(2)(2), Z_c) then
-          f_valid <= '1';
-          f_x     <= px - 3;
-          f_y     <= py - 4;
-          f_score <= w(1)(2);
-          f_code  <= cd(1)(2);
-        elsif at_end_y and x_ok and survives(w(2)(1), w(1)(0), w(1)(1), w(1)(2), w(2)(0),
-                                             w(2)(2), Z_c, Z_c, Z_c) then
-          f_valid <= '1';
-          f_x     <= px - 4;
-          f_y     <= py - 3;
-          f_score <= w(2)(1);
-          f_code  <= cd(2)(1);
-        elsif at_end_x and at_end_y and survives(w(2)(2), w(1)(1), w(1)(2), Z_c, w(2)(1),
-                                                 Z_c, Z_c, Z_c, Z_c) then
-          f_valid <= '1';
-          f_x     <= px - 3;
-          f_y     <= py - 3;
-          f_score <= w(2)(2);
-          f_code  <= cd(2)(2);
-        end if;
+        -- At most one of the four candidates can survive: they are mutually 8-adjacent (of two
+        -- neighbours the earlier must be >= the later and the later > the earlier). So the outputs
+        -- are selected in parallel (an AND-OR of the one that survives), not by a priority chain.
+        s0 := x_ok and y_ok and survives(w(1)(1), w(0)(0), w(0)(1), w(0)(2), w(1)(0),
+                                         w(1)(2), w(2)(0), w(2)(1), w(2)(2));
+        s1 := at_end_x and y_ok and survives(w(1)(2), w(0)(1), w(0)(2), Z_c, w(1)(1),
+                                             Z_c, w(2)(1), w(2)(2), Z_c);
+        s2 := at_end_y and x_ok and survives(w(2)(1), w(1)(0), w(1)(1), w(1)(2), w(2)(0),
+                                             w(2)(2), Z_c, Z_c, Z_c);
+        s3 := at_end_x and at_end_y and survives(w(2)(2), w(1)(1), w(1)(2), Z_c, w(2)(1),
+                                                 Z_c, Z_c, Z_c, Z_c);
+        f_valid <= '1' when s0 or s1 or s2 or s3 else '0';
+        f_x     <= px - 3 when s1 or s3 else px - 4;
+        f_y     <= py - 3 when s2 or s3 else py - 4;
+        f_score <= (w(1)(1) and (score_t'range => bool2sl(s0))) or (w(1)(2) and (score_t'range => bool2sl(s1))) or
+                   (w(2)(1) and (score_t'range => bool2sl(s2))) or (w(2)(2) and (score_t'range => bool2sl(s3)));
+        f_code  <= (cd(1)(1) and (code_t'range => bool2sl(s0))) or (cd(1)(2) and (code_t'range => bool2sl(s1))) or
+                   (cd(2)(1) and (code_t'range => bool2sl(s2))) or (cd(2)(2) and (code_t'range => bool2sl(s3)));
       end if;
       if rst = '1' then
         f_valid <= '0';
