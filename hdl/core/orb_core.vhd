@@ -16,9 +16,10 @@
 -- descriptor paths leave their tests unrotated and one orb_desc_rotate after the merge applies
 -- every feature's orbit rotation. The FAST thresholds, the mode and the selection's parameters
 -- are sampled with each frame's first pixel (tuser) and hold for every scale of that frame; the
--- budget's split and the cell's reciprocal are formed from the inputs continuously, so a budget
--- or cell that changes fewer than 2 * SCALES_g + 4 clocks before a frame's first pixel may apply
--- from the frame after only (the registers change them between frames). Pixels
+-- budget's split is computed from the sampled budget in the 3 SCALES_g + 1 clocks after it and
+-- the scale paths take their share at their pixel (0, 1); the cell's reciprocal is formed from
+-- cell_size one clock ahead, so a cell that changes in the clock before a frame's first pixel
+-- applies from the frame after (the registers change them between frames). Pixels
 -- outside the configured WIDTH_g x HEIGHT_g frame (a long line or extra lines) are ignored and
 -- counted in bad_pixels; features the descriptor path had to discard (only on a malformed frame)
 -- are counted in desc_lost.
@@ -133,7 +134,9 @@ architecture rtl of orb_core is
 
   signal split_live : split_t := (others => (others => '0'));
   signal split_work : split_t := (others => (others => '0'));
-  signal split_frm  : split_t := (others => (others => '0'));
+  -- the budget of the frame (sampled with its start of frame), and the split's restart on it
+  signal budget_frm : std_logic_vector(SEL_SLOT_BITS_c - 1 downto 0) := (others => '0');
+  signal sp_restart : std_logic := '0';
   signal sp_k       : natural range 0 to SCALES_g - 1 := 0;
   signal sp_phase   : natural range 0 to 2 := 0;
   signal sp_n       : unsigned(SEL_SLOT_BITS_c - 1 downto 0) := (others => '0');  -- the budget being split
@@ -166,6 +169,10 @@ begin
            & "STEP_DEN_g < STEP_NUM_g <= 2 * STEP_DEN_g"
     severity failure;
 
+  assert WIDTH_g > 3 * SCALES_g + 1
+    report "orb_core: the budget's split must be ready before level 0's pixel (0, 1)"
+    severity failure;
+
   assert sectors_legal(SECTORS_g)
     report "orb_core: SECTORS_g (sectors in all) must be " & SECTORS_TEXT_c
     severity failure;
@@ -179,8 +186,10 @@ begin
     if rising_edge(clk) then
       ready       <= '1';
       px_valid(0) <= '0';
+      sp_restart  <= '0';
       if s_axis_video_tvalid = '1' and ready = '1' then
         if s_axis_video_tuser = '1' then
+          sp_restart <= '1';
           x := (others => '0');
           y := (others => '0');
         else
@@ -191,7 +200,7 @@ begin
           thr_frm   <= threshold;  -- the whole frame, every scale, uses these values
           mode_frm  <= mode_orb;
           grid_frm  <= select_grid;
-          split_frm <= split_live;
+          budget_frm <= budget;
           recip_frm <= std_logic_vector(recip_live);
           -- all mode reports main corners only: no low threshold
           if select_grid = '1' then
@@ -229,7 +238,10 @@ begin
   -- The budget's split (docs/spec.md section 14), level after level, three clocks each (the
   -- product, its rounding, the minimum and the remainder: one carry chain per clock), over and
   -- over: n_k = min((N F_k + 2^15) >> 16, N - the levels before), the last level the rest; a whole
-  -- new split replaces split_live at once. N is the budget input, at most BUDGET_MAX_g.
+  -- new split replaces split_live at once. N is the frame's budget (sampled with its start of
+  -- frame, at most BUDGET_MAX_g); the split restarts on every start of frame, so split_live holds
+  -- the frame's split 3 SCALES_g + 1 clocks after it, before any level's pixel (0, 1) (the scale
+  -- paths take their budget there: orb_scale_path).
   split : process (clk) is
     variable n     : unsigned(SEL_SLOT_BITS_c - 1 downto 0);
     variable share : unsigned(SEL_SLOT_BITS_c - 1 downto 0);
@@ -237,9 +249,12 @@ begin
   begin
     if rising_edge(clk) then
       recip_live <= RECIP_ROM_c(to_integer(unsigned(cell_size)));
-      if sp_phase = 0 then
+      if sp_restart = '1' then
+        sp_k     <= 0;
+        sp_phase <= 0;
+      elsif sp_phase = 0 then
         if sp_k = 0 then
-          n := unsigned(budget);
+          n := unsigned(budget_frm);
           if n > BUDGET_MAX_g then
             n := to_unsigned(BUDGET_MAX_g, SEL_SLOT_BITS_c);
           end if;
@@ -340,7 +355,7 @@ begin
         threshold => thr_frm,
         threshold_lo => tlo_frm,
         select_grid  => grid_frm,
-        budget       => std_logic_vector(split_frm(s)),
+        budget       => std_logic_vector(split_live(s)),
         recip        => recip_frm,
         mode_orb     => mode_frm,
         in_valid     => px_valid(s),

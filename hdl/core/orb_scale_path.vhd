@@ -6,7 +6,8 @@
 -- section 14, docs/selection.md). The mode (fast: every NMS survivor, no descriptor; orb:
 -- described features only), the thresholds and the selection's parameters (grid, the level's
 -- budget, the cell's reciprocal) are sampled with the frame's first pixel (0, 0) and hold for
--- that frame. Both paths always run; a small per-frame queue of the modes and parameters tells
+-- that frame; the budget is taken again at the pixel (0, 1), when orb_core's split of the frame's
+-- budget is ready. Both paths always run; a small per-frame queue of the modes and parameters tells
 -- each path's output whether its current frame is to be reported and what the selection applies,
 -- so a change never mixes or loses frames (the fast path reports a frame about 4 lines after its
 -- pixels, the descriptor path 18 lines after). The selection decides on each candidate before the
@@ -370,6 +371,16 @@ begin
         budgets(to_integer(mode_wr)) <= budget;
         recips(to_integer(mode_wr))  <= recip;
         mode_wr                      <= mode_wr + 1;
+      end if;
+      -- the budget again at (0, 1): orb_core's split of the frame's budget is ready only after the
+      -- frame's first pixels (no candidate is decided before line 1); constant indices, as GHDL 2.0
+      -- synthesises variable-indexed writes into small arrays wrongly (docs/netlist-sim.md)
+      if in_valid = '1' and unsigned(in_x) = 0 and unsigned(in_y) = 1 then
+        for i in budgets_t'range loop
+          if i = to_integer(mode_wr - 1) then
+            budgets(i) <= budget;
+          end if;
+        end loop;
       end if;
       -- (the fast path's frame ends when its last survivor has left, CAND_LEAD_c clocks late)
       if fd_done(CAND_LEAD_c) = '1' then
