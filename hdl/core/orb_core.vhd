@@ -350,9 +350,9 @@ begin
         BASE_g         => level_base(BUDGET_MAX_g, STEP_NUM_g, STEP_DEN_g, SCALES_g, s)
       )
       port map (
-        clk       => clk,
-        rst       => rst,
-        threshold => thr_frm,
+        clk          => clk,
+        rst          => rst,
+        threshold    => thr_frm,
         threshold_lo => tlo_frm,
         select_grid  => grid_frm,
         budget       => std_logic_vector(split_live(s)),
@@ -365,10 +365,10 @@ begin
         feat_valid   => f_valid(s),
         feat_x       => f_x((s + 1) * COORD_BITS_c - 1 downto s * COORD_BITS_c),
         feat_y       => f_y((s + 1) * COORD_BITS_c - 1 downto s * COORD_BITS_c),
-        feat_score  => f_score((s + 1) * SCORE_BITS_c - 1 downto s * SCORE_BITS_c),
-        feat_low    => f_low(s),
-        feat_code   => f_code((s + 1) * FEAT_RESPONSE_BITS_c - 1 downto s * FEAT_RESPONSE_BITS_c),
-        feat_slot   => f_slot((s + 1) * FEAT_SEL_SLOT_BITS_c - 1 downto s * FEAT_SEL_SLOT_BITS_c),
+        feat_score   => f_score((s + 1) * SCORE_BITS_c - 1 downto s * SCORE_BITS_c),
+        feat_low     => f_low(s),
+        feat_code    => f_code((s + 1) * FEAT_RESPONSE_BITS_c - 1 downto s * FEAT_RESPONSE_BITS_c),
+        feat_slot    => f_slot((s + 1) * FEAT_SEL_SLOT_BITS_c - 1 downto s * FEAT_SEL_SLOT_BITS_c),
         feat_replace => f_repl(s),
         feat_sector  => f_sect((s + 1) * FEAT_SECTOR_BITS_c - 1 downto s * FEAT_SECTOR_BITS_c),
         feat_desc    => f_desc((s + 1) * DESC_BITS_c - 1 downto s * DESC_BITS_c),

@@ -118,7 +118,7 @@ architecture rtl of orb_feat_merge is
   signal o_last    : std_logic := '0';
   signal o_data    : std_logic_vector(FEAT_SECTOR_LO_c - 1 downto 0) := (others => '0');
   -- sector (low bits) and descriptor of the output word
-  signal o_pay     : std_logic_vector(FEAT_SECTOR_BITS_c + DESC_BITS_c - 1 downto 0) := (others => '0');
+  signal o_pay : std_logic_vector(FEAT_SECTOR_BITS_c + DESC_BITS_c - 1 downto 0) := (others => '0');
   -- the selection's fields of the output word: low, code, slot, replace (the FIFO entry's order)
   signal o_sel     : std_logic_vector(SEL_BITS_c - 1 downto 0) := (others => '0');
   signal frame_no  : unsigned(EOF_FRAME_BITS_c - 1 downto 0) := (others => '0');
@@ -153,9 +153,9 @@ begin
     signal level   : std_logic_vector(PTR_BITS_c downto 0);
   begin
 
-    wr_data(BASE_BITS_c - 1 downto 0) <= in_y((k + 1) * COORD_BITS_c - 1 downto k * COORD_BITS_c) &
-                                         in_x((k + 1) * COORD_BITS_c - 1 downto k * COORD_BITS_c) &
-                                         in_score((k + 1) * SCORE_BITS_c - 1 downto k * SCORE_BITS_c);
+    wr_data(BASE_BITS_c - 1 downto 0)           <= in_y((k + 1) * COORD_BITS_c - 1 downto k * COORD_BITS_c) &
+                                                   in_x((k + 1) * COORD_BITS_c - 1 downto k * COORD_BITS_c) &
+                                                   in_score((k + 1) * SCORE_BITS_c - 1 downto k * SCORE_BITS_c);
     wr_data(SECTOR_LO_c - 1 downto BASE_BITS_c) <= in_replace(k) &
                                                    in_slot((k + 1) * FEAT_SEL_SLOT_BITS_c - 1 downto k * FEAT_SEL_SLOT_BITS_c) &
                                                    in_code((k + 1) * FEAT_RESPONSE_BITS_c - 1 downto k * FEAT_RESPONSE_BITS_c) &

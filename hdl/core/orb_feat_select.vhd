@@ -87,18 +87,18 @@ architecture rtl of orb_feat_select is
   -- a next pointer and whether it is NIL_c (the flag saves a compare after the block RAM's read)
   type next_ram_t is array (0 to 2 ** NBITS_c - 1) of std_logic_vector(SEL_SLOT_BITS_c downto 0);
 
-  signal ct      : ct_ram_t := (others => (others => '0'));
+  signal ct : ct_ram_t := (others => (others => '0'));
   -- the touched bits of the even and the odd cell row (two signals, not a two-entry array: GHDL
   -- 2.0 synthesises variable-indexed writes into small arrays wrongly, docs/netlist-sim.md)
   signal touched0 : std_logic_vector(CELLS_c - 1 downto 0) := (others => '0');
   signal touched1 : std_logic_vector(CELLS_c - 1 downto 0) := (others => '0');
-  signal heads   : head_ram_t := (others => (others => '0'));
-  signal nexts   : next_ram_t := (others => (others => '0'));
+  signal heads    : head_ram_t := (others => (others => '0'));
+  signal nexts    : next_ram_t := (others => (others => '0'));
   -- the non-empty buckets but the lowest (whose top is c0, in registers)
-  signal upper   : std_logic_vector(BUCKETS_c - 1 downto 0) := (others => '0');
+  signal upper : std_logic_vector(BUCKETS_c - 1 downto 0) := (others => '0');
 
   -- frame state
-  signal used   : slot_t := (others => '0');
+  signal used : slot_t := (others => '0');
   -- the cell row each parity holds, and whether it holds one
   signal row_of0 : unsigned(CBITS_c - 1 downto 0) := (others => '0');
   signal row_of1 : unsigned(CBITS_c - 1 downto 0) := (others => '0');
@@ -213,7 +213,7 @@ begin
     variable cx, cy  : cell_t;
     -- decision
     variable rank_x   : rank_t;
-    variable rank_r   : rank_t; -- the floor's rank, read
+    variable rank_r   : rank_t;  -- the floor's rank, read
     variable fcode_r  : code_t;
     variable from_fl  : boolean; -- the pushed one is the old floor (else the candidate)
     variable emptied  : boolean; -- the pop empties the lowest bucket
@@ -248,7 +248,7 @@ begin
     variable n_we : boolean;
     variable n_wa : slot_t;
     variable n_wd : slot_t;
-    variable n_wn : std_logic; -- n_wd = NIL_c
+    variable n_wn : std_logic;   -- n_wd = NIL_c
     variable h_we : boolean;
     variable h_wa : code_t;
     variable h_wd : slot_t;

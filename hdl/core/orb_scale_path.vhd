@@ -47,8 +47,8 @@ entity orb_scale_path is
     threshold_lo : in    std_logic_vector(7 downto 0);
     mode_orb     : in    std_logic;
     select_grid  : in    std_logic;
-    budget       : in    std_logic_vector(SEL_SLOT_BITS_c - 1 downto 0);  -- the level's, at most SLOTS_g
-    recip        : in    std_logic_vector(RECIP_BITS_c - 1 downto 0);     -- ceil(2^24 / cell)
+    budget       : in    std_logic_vector(SEL_SLOT_BITS_c - 1 downto 0); -- the level's, at most SLOTS_g
+    recip        : in    std_logic_vector(RECIP_BITS_c - 1 downto 0);    -- ceil(2^24 / cell)
     in_valid     : in    std_logic;
     in_x         : in    std_logic_vector(COORD_BITS_c - 1 downto 0);
     in_y         : in    std_logic_vector(COORD_BITS_c - 1 downto 0);
@@ -130,29 +130,29 @@ architecture rtl of orb_scale_path is
   signal orb_on    : std_logic;
 
   -- the selection: candidates in, decisions out, and the decisions waiting for their features
-  signal p_grid   : std_logic;
-  signal p_budget : std_logic_vector(SEL_SLOT_BITS_c - 1 downto 0);
-  signal p_recip  : std_logic_vector(RECIP_BITS_c - 1 downto 0);
-  signal e_valid  : std_logic;
-  signal e_x, e_y : std_logic_vector(COORD_BITS_c - 1 downto 0);
-  signal e_low    : std_logic;
-  signal e_code   : std_logic_vector(RESPONSE_BITS_c - 1 downto 0);
-  signal s_valid  : std_logic;
-  signal s_keep   : std_logic;
-  signal s_slot   : std_logic_vector(SEL_SLOT_BITS_c - 1 downto 0);
-  signal s_new    : std_logic;
+  signal p_grid       : std_logic;
+  signal p_budget     : std_logic_vector(SEL_SLOT_BITS_c - 1 downto 0);
+  signal p_recip      : std_logic_vector(RECIP_BITS_c - 1 downto 0);
+  signal e_valid      : std_logic;
+  signal e_x,     e_y : std_logic_vector(COORD_BITS_c - 1 downto 0);
+  signal e_low        : std_logic;
+  signal e_code       : std_logic_vector(RESPONSE_BITS_c - 1 downto 0);
+  signal s_valid      : std_logic;
+  signal s_keep       : std_logic;
+  signal s_slot       : std_logic_vector(SEL_SLOT_BITS_c - 1 downto 0);
+  signal s_new        : std_logic;
   -- the candidates' queue (at most one out every second clock) and the selection's inputs
-  signal cq       : cand_q_t := (others => (others => '0'));
-  signal cq_n     : natural range 0 to 2 := 0;
-  signal cq_fed   : std_logic := '0';  -- the selection took a candidate in the last clock
-  signal q_valid  : std_logic;
-  signal q_x, q_y : std_logic_vector(COORD_BITS_c - 1 downto 0);
-  signal q_low    : std_logic;
-  signal q_code   : std_logic_vector(RESPONSE_BITS_c - 1 downto 0);
+  signal cq           : cand_q_t := (others => (others => '0'));
+  signal cq_n         : natural range 0 to 2 := 0;
+  signal cq_fed       : std_logic := '0';  -- the selection took a candidate in the last clock
+  signal q_valid      : std_logic;
+  signal q_x,     q_y : std_logic_vector(COORD_BITS_c - 1 downto 0);
+  signal q_low        : std_logic;
+  signal q_code       : std_logic_vector(RESPONSE_BITS_c - 1 downto 0);
   -- the decisions' FIFO
-  signal dq       : dec_fifo_t := (others => (others => '0'));
-  signal dq_wr    : unsigned(3 downto 0) := (others => '0');
-  signal dq_rd    : unsigned(3 downto 0) := (others => '0');
+  signal dq    : dec_fifo_t := (others => (others => '0'));
+  signal dq_wr : unsigned(3 downto 0) := (others => '0');
+  signal dq_rd : unsigned(3 downto 0) := (others => '0');
 
   signal f_valid      : std_logic := '0';
   signal f_done       : std_logic := '0';
@@ -278,10 +278,14 @@ begin
   -- the candidates of the frame being reported: the descriptor path's (orb) or the survivors
   -- (fast); the two paths never report in one clock
   e_valid <= (c_valid and orb_on) or (d_valid and fast_on);
-  e_x     <= c_x when c_valid = '1' and orb_on = '1' else d_x;
-  e_y     <= c_y when c_valid = '1' and orb_on = '1' else d_y;
-  e_low   <= c_low when c_valid = '1' and orb_on = '1' else d_low;
-  e_code  <= c_code when c_valid = '1' and orb_on = '1' else d_code;
+  e_x     <= c_x when c_valid = '1' and orb_on = '1' else
+             d_x;
+  e_y     <= c_y when c_valid = '1' and orb_on = '1' else
+             d_y;
+  e_low   <= c_low when c_valid = '1' and orb_on = '1' else
+             d_low;
+  e_code  <= c_code when c_valid = '1' and orb_on = '1' else
+             d_code;
 
   selection : entity work.orb_feat_select
     generic map (
@@ -442,17 +446,17 @@ begin
     end if;
   end process select_out;
 
-  feat_valid  <= f_valid;
-  feat_x      <= f_x;
-  feat_y      <= f_y;
-  feat_score  <= f_score;
-  feat_low    <= f_low;
-  feat_code   <= f_code;
-  feat_sector <= f_sector;
-  feat_desc   <= f_desc;
-  feat_slot   <= std_logic_vector(f_slot);
+  feat_valid   <= f_valid;
+  feat_x       <= f_x;
+  feat_y       <= f_y;
+  feat_score   <= f_score;
+  feat_low     <= f_low;
+  feat_code    <= f_code;
+  feat_sector  <= f_sector;
+  feat_desc    <= f_desc;
+  feat_slot    <= std_logic_vector(f_slot);
   feat_replace <= f_repl;
-  frame_done  <= f_done;
-  lost        <= o_lost;
+  frame_done   <= f_done;
+  lost         <= o_lost;
 
 end architecture rtl;

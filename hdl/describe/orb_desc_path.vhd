@@ -93,11 +93,11 @@ architecture rtl of orb_desc_path is
   constant QBITS_c  : positive := clog2(QDEPTH_c);
   -- a queue entry: tag x (11 bits) & tag y mod 64 & score & code & low (36 bits: one RAMB18 per
   -- 512 entries); after the match the info: tag y & tag x (12 bits each) & score & code & low
-  constant QX_c     : positive := 11;
-  constant QY_c     : positive := 6;
-  constant PAY_c    : positive := SCORE_BITS_c + RESPONSE_BITS_c + 1;  -- score & code & low
-  constant ENTRY_c  : positive := QX_c + QY_c + PAY_c;
-  constant INFO_c   : positive := 2 * COORD_BITS_c + PAY_c;
+  constant QX_c    : positive := 11;
+  constant QY_c    : positive := 6;
+  constant PAY_c   : positive := SCORE_BITS_c + RESPONSE_BITS_c + 1;  -- score & code & low
+  constant ENTRY_c : positive := QX_c + QY_c + PAY_c;
+  constant INFO_c  : positive := 2 * COORD_BITS_c + PAY_c;
   -- clocks from the column stage to the sector: orb_orient_moments (9) + orb_orient_sector (5);
   -- the tests are registered 2 clocks after the column stage, so they wait 12 clocks
   constant MOMENTS_LAT_c : positive := 9;

@@ -99,14 +99,18 @@ begin
     );
 
   decide : process (clk) is
-    type win_t is array (0 to 3) of row_t;  -- (r, c) with row/column 3 the zero border
+    type win_t is array (0 to 3) of row_t; -- (r, c) with row/column 3 the zero border
     variable w                  : win_t;
     variable px, py             : unsigned(COORD_BITS_c - 1 downto 0);
     variable at_end_x, at_end_y : boolean;
     variable x_ok, y_ok         : boolean;
     constant Z_c                : score_t := (others => '0');
     variable cd                 : code_array_t;
-    variable s0, s1, s2, s3     : boolean;  -- the candidate (1,1), (1,2), (2,1), (2,2) survives
+    -- the candidate (1,1), (1,2), (2,1), (2,2) survives
+    variable s0 : boolean;
+    variable s1 : boolean;
+    variable s2 : boolean;
+    variable s3 : boolean;
   begin
     if rising_edge(clk) then
       f_valid <= '0';

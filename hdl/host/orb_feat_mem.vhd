@@ -82,7 +82,7 @@ architecture rtl of orb_feat_mem is
   constant BANK_c      : std_logic_vector(0 to 1) := "01";
 
   type mem_t is array (0 to 2 * DEPTH_g - 1) of std_logic_vector(WORD_BITS_c - 1 downto 0);
-  constant MAP_BITS_c  : positive := clog2(SEL_SLOTS_g);  -- (a power of two: no range check)
+  constant MAP_BITS_c : positive := clog2(SEL_SLOTS_g);  -- (a power of two: no range check)
   type map_t is array (0 to 2 ** MAP_BITS_c - 1) of unsigned(SLOT_BITS_c - 1 downto 0);
   type u16_pair_t is array (0 to 1) of unsigned(15 downto 0);
   type u32_pair_t is array (0 to 1) of unsigned(31 downto 0);
@@ -192,7 +192,7 @@ begin
   -- a replacing beat's slot: the map's, or the slot the beat of the clock before took for it
   phys <= cnt when repl = '0' else
           fwd_phys when fwd_ok = '1' and fwd_sel = in_data(FEAT_SEL_SLOT_LO_c + FEAT_SEL_SLOT_BITS_c - 1 downto
-                                                          FEAT_SEL_SLOT_LO_c) else
+                                                            FEAT_SEL_SLOT_LO_c) else
           map_q;
 
   -- the map: the slot each of the frame's sel_slots took

@@ -314,11 +314,11 @@ begin
 
   detect : entity work.orb_core
     generic map (
-      WIDTH_g    => WIDTH_g,
-      HEIGHT_g   => HEIGHT_g,
-      SCALES_g   => SCALES_g,
-      STEP_NUM_g => STEP_NUM_g,
-      STEP_DEN_g => STEP_DEN_g,
+      WIDTH_g      => WIDTH_g,
+      HEIGHT_g     => HEIGHT_g,
+      SCALES_g     => SCALES_g,
+      STEP_NUM_g   => STEP_NUM_g,
+      STEP_DEN_g   => STEP_DEN_g,
       SECTORS_g    => SECTORS_g,
       DESC_g       => true,
       BUDGET_MAX_g => MEM_DEPTH_g - 1
