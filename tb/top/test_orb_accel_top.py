@@ -396,7 +396,8 @@ def test_accel_stream_faults_registers(config: str) -> None:
 
 
 def test_accel_four_scales() -> None:
-    run_accel("rgb_4scales", testcase=["photo_stream"])
+    # two frames: the overlay of the second shows the first's features (test_accel_all streams four)
+    run_accel("rgb_4scales", testcase=["photo_stream"], env={"ORB_FRAMES": "2"})
 
 
 def test_accel_finer_pyramid() -> None:
