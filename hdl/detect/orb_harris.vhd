@@ -5,10 +5,9 @@
 -- centre is at least 3 pixels from the left and top borders (the right and bottom ones are implied).
 -- Incremental, the thesis's column-sum idea: each window brings one new gradient column, the
 -- window's column 5 (its columns 4 to 6 give the Sobel derivatives of rows 1 to 5); the products
--- Ix^2 and |Ix Iy| come out of one multiplier ((|Ix| 2^16 + |Iy|) |Ix|: both magnitudes are at most
--- 128, so |Ix Iy| fits the low 16 bits), Iy^2 out of a second, and Ix Iy takes its sign after
--- them. Every multiplier is unsigned, one DSP48 each (a signed one comes out of GHDL's Verilog as a
--- wider unsigned one, several DSP48s in a cascade); each column's three sums slide through a
+-- Ix^2, Ix Iy and Iy^2 of each row are 8 x 8 signed products into 16 bits, one DSP48 each (GHDL's
+-- Verilog widens a signed product's operands to the result's width, so a wider result would
+-- become a cascade of several DSP48s); each column's three sums slide through a
 -- four-deep delay line that advances with every window, and the 5x5 block sums are the newest
 -- column plus the four before it (consecutive windows of one line are consecutive columns; the
 -- first positions of a line, whose block still holds the previous line's columns, are masked by
@@ -46,10 +45,7 @@ architecture rtl of orb_harris is
   subtype pix_t is unsigned(7 downto 0);
   subtype diff_t is signed(8 downto 0);      -- a pixel difference
   subtype grad_t is signed(7 downto 0);      -- Ix, Iy: -128 .. 127
-  subtype mag_t is unsigned(7 downto 0);     -- |Ix|, |Iy| <= 128
-  subtype opa_t is unsigned(23 downto 0);    -- |Ix| 2^16 + |Iy|
-  subtype prod_t is unsigned(31 downto 0);   -- (|Ix| 2^16 + |Iy|) |Ix|
-  subtype pyy_t is unsigned(15 downto 0);    -- |Iy|^2
+  subtype prod_t is signed(15 downto 0);     -- Ix^2, Ix Iy, Iy^2: |.| <= 16384
   subtype sq_t is unsigned(14 downto 0);     -- Ix^2, Iy^2 <= 16384
   subtype xy_t is signed(15 downto 0);       -- Ix Iy: |.| <= 16384
   subtype col_t is unsigned(17 downto 0);    -- a column's sum of squares <= 81920
@@ -65,10 +61,7 @@ architecture rtl of orb_harris is
   type vdiff_arr_t is array (1 to 5) of diff_t;
   type fdiff_t is array (4 to 6) of vdiff_arr_t;  -- vertical differences of columns 4..6 (rows 1..5)
   type grad_arr_t is array (1 to 5) of grad_t;
-  type mag_arr_t is array (1 to 5) of mag_t;
-  type opa_arr_t is array (1 to 5) of opa_t;
   type prod_arr_t is array (1 to 5) of prod_t;
-  type pyy_arr_t is array (1 to 5) of pyy_t;
   type sq_arr_t is array (1 to 5) of sq_t;
   type xy_arr_t is array (1 to 5) of xy_t;
   type col_dly_t is array (1 to 4) of col_t;
@@ -90,13 +83,11 @@ architecture rtl of orb_harris is
   -- stage 2: gradients of the new column
   signal ix2,  iy2 : grad_arr_t := (others => (others => '0'));
   -- stage 3: multiplier operands
-  signal opa3      : opa_arr_t := (others => (others => '0'));
-  signal ax3,  ay3 : mag_arr_t := (others => (others => '0'));
-  -- Ix Iy < 0, beside stages 3 to 5
-  signal neg3, neg4, neg5 : std_logic_vector(1 to 5) := (others => '0');
+  signal ix3,  iy3 : grad_arr_t := (others => (others => '0'));
   -- stages 4, 5: products (DSP48 M and P registers)
   signal pxx4, pxx5 : prod_arr_t := (others => (others => '0'));
-  signal pyy4, pyy5 : pyy_arr_t := (others => (others => '0'));
+  signal pxy4, pxy5 : prod_arr_t := (others => (others => '0'));
+  signal pyy4, pyy5 : prod_arr_t := (others => (others => '0'));
   -- stage 6: the column's products unpacked, stage 7: the column's sums
   signal sxx6, syy6 : sq_arr_t := (others => (others => '0'));
   signal sxy6       : xy_arr_t := (others => (others => '0'));
@@ -150,7 +141,6 @@ begin
     variable sx, sy : signed(10 downto 0);
     variable s3     : unsigned(16 downto 0);
     variable s3xy   : signed(16 downto 0);
-    variable mx, my : mag_t;
     variable e      : natural;
     variable m      : std_logic;
     variable byte   : natural;
@@ -200,42 +190,34 @@ begin
         end loop;
       end if;
 
-      -- stage 3: the magnitudes, the operand |Ix| 2^16 + |Iy| and the sign of Ix Iy
+      -- stage 3: the operands registered (the DSP48's A and B registers)
       if v(2) = '1' then
-        for r in 1 to 5 loop
-          mx      := resize(unsigned(abs (resize(ix2(r), 9))), 8);
-          my      := resize(unsigned(abs (resize(iy2(r), 9))), 8);
-          opa3(r) <= shift_left(resize(mx, 24), 16) or resize(my, 24);
-          ax3(r)  <= mx;
-          ay3(r)  <= my;
-          neg3(r) <= ix2(r)(7) xor iy2(r)(7);
-        end loop;
+        ix3 <= ix2;
+        iy3 <= iy2;
       end if;
 
-      -- stages 4, 5: (|Ix| 2^16 + |Iy|) |Ix| = Ix^2 2^16 + |Ix Iy| and Iy^2, registered twice
+      -- stages 4, 5: Ix^2, Ix Iy, Iy^2, registered twice; each an 8 x 8 signed product into 16 bits
+      -- (GHDL's Verilog widens a signed product's operands to the result's width: 16 bits keep it in
+      -- one DSP48, where a wider result makes a cascade of several)
       if v(3) = '1' then
         for r in 1 to 5 loop
-          pxx4(r) <= opa3(r) * ax3(r);
-          pyy4(r) <= ay3(r) * ay3(r);
+          pxx4(r) <= ix3(r) * ix3(r);
+          pxy4(r) <= ix3(r) * iy3(r);
+          pyy4(r) <= iy3(r) * iy3(r);
         end loop;
-        neg4 <= neg3;
       end if;
       if v(4) = '1' then
         pxx5 <= pxx4;
+        pxy5 <= pxy4;
         pyy5 <= pyy4;
-        neg5 <= neg4;
       end if;
 
-      -- stage 6: unpacked: |Ix Iy| is the low 16 bits, Ix^2 what lies above them; Ix Iy signed
+      -- stage 6: the products as the column sums take them (squares <= 16384: 15 bits)
       if v(5) = '1' then
         for r in 1 to 5 loop
-          if neg5(r) = '1' then
-            sxy6(r) <= -signed(pxx5(r)(15 downto 0));
-          else
-            sxy6(r) <= signed(pxx5(r)(15 downto 0));
-          end if;
-          sxx6(r) <= pxx5(r)(30 downto 16);
-          syy6(r) <= pyy5(r)(14 downto 0);
+          sxx6(r) <= unsigned(pxx5(r)(14 downto 0));
+          sxy6(r) <= pxy5(r);
+          syy6(r) <= unsigned(pyy5(r)(14 downto 0));
         end loop;
       end if;
 
