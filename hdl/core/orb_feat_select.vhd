@@ -423,7 +423,9 @@ begin
       end if;
 
       -- the pushed code and slot, the top of its bucket before the push, and how the code compares
-      -- with the lowest bucket after the pop: mb, or the next one up when the pop empties mb
+      -- with the lowest bucket after the pop: mb, or the next one up when the pop empties mb (both
+      -- sources compared in parallel and selected after, not one compare of a selected code: the
+      -- decision clock's depth, docs/selection.md "Timing")
       emptied := do_pop and c1_nil = '1';
       if from_fl then
         pq  := fcode_d1;

@@ -212,7 +212,8 @@ begin
         pyy5 <= pyy4;
       end if;
 
-      -- stage 6: the products as the column sums take them (squares <= 16384: 15 bits)
+      -- stage 6: the products as the column sums take them (squares <= 16384: 15 bits); a plain
+      -- register stage now, kept so that HARRIS_LAT_c and its users stay as they are
       if v(5) = '1' then
         for r in 1 to 5 loop
           sxx6(r) <= unsigned(pxx5(r)(14 downto 0));
