@@ -19,14 +19,15 @@ SELECTIONS = ("all", "grid")
 # the scale benchmark within 80% of the device's LUTs and block RAM): what `make sim` and
 # `orb-accel extract` use unless told. The selection (docs/selection.md): the grid mode with a
 # budget of RECOMMENDED_BUDGET features per 640x480 frame (recommended_budget for other sizes),
-# cells of an eighth of the frame's width (recommended_cell) and the low threshold 7 (ORB-SLAM's
+# a grid of 8 x 6 cells over the frame at every level and the low threshold 7 (ORB-SLAM's
 # minThFAST), chosen by measurement (docs/evaluation.md).
 RECOMMENDED_SCALES = 5
 RECOMMENDED_STEP = (5, 4)
 RECOMMENDED_SECTORS = 64
 RECOMMENDED_BUDGET = 1000
 RECOMMENDED_THRESHOLD_LO = 7
-RECOMMENDED_CELL = 80
+RECOMMENDED_COLS = 8
+RECOMMENDED_ROWS = 6
 # the budgets of the board's resolutions (docs/board-configs.md): each fits its bank
 RECOMMENDED_BUDGETS = {(640, 480): 1000, (1280, 720): 1500, (1920, 1080): 2000}
 
@@ -38,12 +39,6 @@ def recommended_budget(width: int, height: int) -> int:
     if (width, height) in RECOMMENDED_BUDGETS:
         return RECOMMENDED_BUDGETS[(width, height)]
     return max(1, min(2000, round(RECOMMENDED_BUDGET * (width * height / (640 * 480)) ** 0.5)))
-
-
-def recommended_cell(width: int) -> int:
-    """The grid selection's cell size for a frame width: an eighth of it (80 pixels at 640), within
-    the legal 16..255 (golden_model.limits.CELL)."""
-    return max(limits.CELL.min, min(limits.CELL.max, round(width / 8)))
 
 
 # The Config fields checked against golden_model.limits, in the order they are checked.
@@ -68,9 +63,9 @@ class Config:
     and the smallest level at least scale_width x scale_height pixels.
 
     ``selection`` is ``all`` (every feature at the threshold, the feature memory stores them in
-    arrival order) or ``grid`` (each level's share of ``budget`` features: every cell of ``cell`` x
-    ``cell`` level pixels keeps its best corner, a corner at ``threshold_lo`` when it has none at
-    ``threshold``, then the strongest of the rest; docs/spec.md section 14). ``threshold_lo``
+    arrival order) or ``grid`` (each level's share of ``budget`` features: every cell of a ``cols`` x
+    ``rows`` grid over the frame keeps its best corner of the level, a corner at ``threshold_lo``
+    when it has none at ``threshold``, then the strongest of the rest; docs/spec.md section 14). ``threshold_lo``
     defaults to ``threshold`` (no low corners); a value above it acts as equal to it.
     """
 
@@ -85,7 +80,8 @@ class Config:
     threshold_lo: int | None = None
     selection: str = "all"
     budget: int = 0
-    cell: int = RECOMMENDED_CELL
+    cols: int = RECOMMENDED_COLS
+    rows: int = RECOMMENDED_ROWS
 
     def __post_init__(self) -> None:
         if self.threshold_lo is None:
@@ -152,6 +148,15 @@ def parse_step(text: str) -> tuple[int, int]:
     if not sep or not num.strip().isdigit() or not den.strip().isdigit():
         raise ConfigError(f"pyramid step {text!r}: expected NUM:DEN, e.g. 5:4 or 2:1")
     return int(num), int(den)
+
+
+def parse_cells(text: str) -> tuple[int, int]:
+    """ "8x6" -> (8, 6): the grid selection's cells across and down, as the CLI and the simulation
+    jobs write them (legality: Config)."""
+    cols, sep, rows = text.lower().partition("x")
+    if not sep or not cols.strip().isdigit() or not rows.strip().isdigit():
+        raise ConfigError(f"cells {text!r}: expected COLSxROWS, e.g. 8x6")
+    return int(cols), int(rows)
 
 
 def level_size(width: int, height: int, scale: int, step: tuple[int, int] = (2, 1)) -> tuple[int, int]:

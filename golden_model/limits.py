@@ -153,15 +153,27 @@ BUDGET = Limit(
     config=True,
 )
 
-CELL_MIN = 16
-CELL_MAX = 255
-CELL = Limit(
-    name="cell",
-    min=CELL_MIN,
-    max=CELL_MAX,
-    text="16..255",
-    description="grid selection: cell size in each level's pixels",
-    register="SELECT.cell",
+COLS_MIN = 1
+COLS_MAX = 15
+COLS = Limit(
+    name="cols",
+    min=COLS_MIN,
+    max=COLS_MAX,
+    text="1..15",
+    description="grid selection: cells across the frame (every level's grid is the frame's)",
+    register="SELECT.cols",
+    config=True,
+)
+
+ROWS_MIN = 1
+ROWS_MAX = 15
+ROWS = Limit(
+    name="rows",
+    min=ROWS_MIN,
+    max=ROWS_MAX,
+    text="1..15",
+    description="grid selection: cells down the frame",
+    register="SELECT.rows",
     config=True,
 )
 
@@ -219,7 +231,8 @@ LIMITS: tuple[Limit, ...] = (
     STEP_DEN,
     THRESHOLD_LO,
     BUDGET,
-    CELL,
+    COLS,
+    ROWS,
     MEM_DEPTH,
     BLOCK_LOG2,
     SCALE_WIDTH,

@@ -13,7 +13,9 @@ so the budgets never sum to more than N.
 Selection (`grid` mode), per level with budget n, over the level's candidates in arrival order
 (the order the NMS decides them: raster order, but for the last row of centres in fast mode,
 arrival_order): every NMS survivor the level reports, each with its response code and a flag `low` (a corner
-at the low threshold only). Cells are C x C squares of the level's pixels, cell (x // C, y // C).
+at the low threshold only). The cells are one grid over the frame, `cols` x `rows` cells, the same at
+every level: a candidate's cell is the one that holds its full-resolution position (x + 0.5) r^k -
+0.5, computed in fixed point (CellGrid: cell (x Kx + Ox) >> 24, with Kx, Ox of the level).
 
 - A candidate is a *record* when its rank (main before low, then the response code) is strictly
   above that of every earlier candidate of its cell. A cell's *floor* is its last record: its best
@@ -35,12 +37,55 @@ features of highest SAD score, equal scores in raster order.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from .config import Config
 from .features import Features, first_difference
 
 FIXED_BITS = 16
+# the cell map's fraction bits (docs/spec.md section 14)
+CELL_SHIFT = 24
+
+
+def cell_axis(cells: int, full: int, level: int, step: tuple[int, int]) -> tuple[int, int]:
+    """(K, O) of one axis of level `level` (docs/spec.md section 14): a level coordinate v lies in
+    cell (v K + O) >> 24 of `cells` cells over the frame's `full` pixels, with a = num^k, b = den^k,
+    K = min(ceil(2^24 cells a / (full b)), 2^24 - 1) and O = floor(2^23 cells (a - b) / (full b)):
+    the cell of the full-resolution position (v + 0.5) a / b - 0.5 (orb_util_pkg.cell_k, cell_o)."""
+    num, den = step
+    a, b = num**level, den**level
+    k = min(-(-(cells * a << CELL_SHIFT) // (full * b)), (1 << CELL_SHIFT) - 1)
+    return k, (cells * (a - b) << (CELL_SHIFT - 1)) // (full * b)
+
+
+@dataclass(frozen=True)
+class CellGrid:
+    """One level's cell map: the cell of (x, y) is ((x kx + ox) >> 24, (y ky + oy) >> 24)."""
+
+    kx: int
+    ox: int
+    ky: int
+    oy: int
+
+    @classmethod
+    def of_level(cls, cfg: Config, level: int) -> CellGrid:
+        """The grid of cfg.cols x cfg.rows cells over the frame, at level `level`."""
+        return cls(*cell_axis(cfg.cols, cfg.width, level, cfg.step), *cell_axis(cfg.rows, cfg.height, level, cfg.step))
+
+    @classmethod
+    def square(cls, size: int) -> CellGrid:
+        """Cells of size x size level pixels (cell (x // size, y // size) for coordinates below 2^12):
+        for directed tests."""
+        k = -(-(1 << CELL_SHIFT) // size)
+        return cls(k, 0, k, 0)
+
+    def of(self, x: np.ndarray | int, y: np.ndarray | int) -> tuple[np.ndarray, np.ndarray]:
+        """The cells (column, row) of level coordinates."""
+        cx = (np.asarray(x, np.int64) * self.kx + self.ox) >> CELL_SHIFT
+        cy = (np.asarray(y, np.int64) * self.ky + self.oy) >> CELL_SHIFT
+        return cx, cy
 
 
 def split_fractions(step: tuple[int, int], levels: int) -> list[int]:
@@ -83,7 +128,7 @@ def best_per_level(features: Features, total: int, levels: int) -> Features:
 
 
 def select_level(x: np.ndarray, y: np.ndarray, low: np.ndarray, response: np.ndarray, n: int,
-                 cell: int) -> np.ndarray:  # fmt: skip
+                 grid: CellGrid) -> np.ndarray:  # fmt: skip
     """Indices of the candidates the `grid` selection keeps of one level (module docstring); the
     arrays hold the level's candidates in arrival (raster) order."""
     count = len(x)
@@ -93,7 +138,8 @@ def select_level(x: np.ndarray, y: np.ndarray, low: np.ndarray, response: np.nda
     resp = np.asarray(response, np.int64)
     main = ~np.asarray(low, bool)
     rank = (main.astype(np.int64) << 16) | resp
-    cid = (y // cell) * (int(x.max()) // cell + 1) + x // cell
+    cx, cy = grid.of(x, y)
+    cid = (cy << 16) | cx
     # group by cell, arrival order inside a group (the arrays are in arrival order: a stable sort)
     order = np.argsort(cid, kind="stable")
     c_o, r_o = cid[order], rank[order]
@@ -141,22 +187,22 @@ def arrival_order(x: np.ndarray, y: np.ndarray, width: int, height: int) -> np.n
     return np.lexsort((np.minimum(x + 4, width - 1), np.minimum(y + 4, height - 1)))
 
 
-def _levels_in_arrival_order(features: Features, cfg: Config) -> list[tuple[int, np.ndarray]]:
-    """Per level: its budget (level_budgets of cfg.budget) and the indices of its features in
-    arrival order."""
+def _levels_in_arrival_order(features: Features, cfg: Config) -> list[tuple[int, CellGrid, np.ndarray]]:
+    """Per level: its budget (level_budgets of cfg.budget), its cell grid and the indices of its
+    features in arrival order."""
     out = []
     for k, n in enumerate(level_budgets(cfg.budget, features.step, cfg.scales)):
         w, h = cfg.scale_size(k)
         idx = np.flatnonzero(features.scale == k)
-        out.append((n, idx[arrival_order(features.x[idx], features.y[idx], w, h)]))
+        out.append((n, CellGrid.of_level(cfg, k), idx[arrival_order(features.x[idx], features.y[idx], w, h)]))
     return out
 
 
 def select_grid(features: Features, cfg: Config) -> Features:
-    """The `grid` selection (cfg.budget, cfg.cell) of a frame's candidates (all levels, any
-    order), in canonical order."""
-    keep = [idx[select_level(features.x[idx], features.y[idx], features.low[idx], features.response[idx], n, cfg.cell)]
-            for n, idx in _levels_in_arrival_order(features, cfg)]  # fmt: skip
+    """The `grid` selection (cfg.budget, cfg.cols x cfg.rows cells) of a frame's candidates (all
+    levels, any order), in canonical order."""
+    keep = [idx[select_level(features.x[idx], features.y[idx], features.low[idx], features.response[idx], n, grid)]
+            for n, grid, idx in _levels_in_arrival_order(features, cfg)]  # fmt: skip
     return features.take(np.concatenate(keep)).sorted()
 
 
@@ -182,8 +228,8 @@ def streamed_grid(features: Features, cfg: Config) -> Features:
     new or replacing): the kept features and those a later candidate replaced, in canonical order.
     The HDMI overlay marks these (docs/spec.md section 13)."""
     keep: list[np.ndarray] = []
-    for n, idx in _levels_in_arrival_order(features, cfg):
-        sel = LevelSelector(n, cfg.cell)
+    for n, grid, idx in _levels_in_arrival_order(features, cfg):
+        sel = LevelSelector(n, grid)
         ops = [sel.offer(int(features.x[i]), int(features.y[i]), bool(features.low[i]), int(features.response[i]))
                for i in idx]  # fmt: skip
         keep.append(idx[np.array([op is not None for op in ops], dtype=bool)])
@@ -198,9 +244,9 @@ class LevelSelector:
     a slot never used before in this frame when `new`, else one whose occupant it replaces. The
     kept set after the last candidate equals `select_level`'s (a test checks it)."""
 
-    def __init__(self, n: int, cell: int) -> None:
+    def __init__(self, n: int, grid: CellGrid) -> None:
         self.n = n
-        self.cell = cell
+        self.grid = grid
         self.used = 0
         self.floors: dict[tuple[int, int], tuple[int, int]] = {}  # cell -> (rank, slot)
         self.buckets: dict[int, list[int]] = {}  # response code -> slots, most recent last
@@ -233,7 +279,8 @@ class LevelSelector:
             return None
         main = not low
         rank = (int(main) << 16) | int(response)
-        c = (x // self.cell, y // self.cell)
+        cx, cy = self.grid.of(x, y)
+        c = (int(cx), int(cy))
         floor = self.floors.get(c)
         full = self.used >= self.n
         if floor is None:  # (a) a cell's first candidate: its floor

@@ -68,11 +68,17 @@ package orb_limits_pkg is
   constant BUDGET_TEXT_c : string := "0..4095";
   function budget_legal (value : integer) return boolean;
 
-  -- cell: grid selection: cell size in each level's pixels; legal: 16..255
-  constant CELL_MIN_c  : integer := 16;
-  constant CELL_MAX_c  : integer := 255;
-  constant CELL_TEXT_c : string := "16..255";
-  function cell_legal (value : integer) return boolean;
+  -- cols: grid selection: cells across the frame (every level's grid is the frame's); legal: 1..15
+  constant COLS_MIN_c  : integer := 1;
+  constant COLS_MAX_c  : integer := 15;
+  constant COLS_TEXT_c : string := "1..15";
+  function cols_legal (value : integer) return boolean;
+
+  -- rows: grid selection: cells down the frame; legal: 1..15
+  constant ROWS_MIN_c  : integer := 1;
+  constant ROWS_MAX_c  : integer := 15;
+  constant ROWS_TEXT_c : string := "1..15";
+  function rows_legal (value : integer) return boolean;
 
   -- mem_depth: feature slots per feature-memory bank; legal: a power of two in 16..4096
   constant MEM_DEPTH_MIN_c  : integer := 16;
@@ -109,7 +115,8 @@ package orb_limits_pkg is
   subtype step_den_t is integer range STEP_DEN_MIN_c to STEP_DEN_MAX_c;
   subtype threshold_lo_t is integer range THRESHOLD_LO_MIN_c to THRESHOLD_LO_MAX_c;
   subtype budget_t is integer range BUDGET_MIN_c to BUDGET_MAX_c;
-  subtype cell_t is integer range CELL_MIN_c to CELL_MAX_c;
+  subtype cols_t is integer range COLS_MIN_c to COLS_MAX_c;
+  subtype rows_t is integer range ROWS_MIN_c to ROWS_MAX_c;
   subtype mem_depth_t is integer range MEM_DEPTH_MIN_c to MEM_DEPTH_MAX_c;
   subtype block_log2_t is integer range BLOCK_LOG2_MIN_c to BLOCK_LOG2_MAX_c;
   subtype scale_width_t is integer range SCALE_WIDTH_MIN_c to SCALE_WIDTH_MAX_c;
@@ -176,10 +183,15 @@ package body orb_limits_pkg is
     return value >= BUDGET_MIN_c and value <= BUDGET_MAX_c;
   end function budget_legal;
 
-  function cell_legal (value : integer) return boolean is
+  function cols_legal (value : integer) return boolean is
   begin
-    return value >= CELL_MIN_c and value <= CELL_MAX_c;
-  end function cell_legal;
+    return value >= COLS_MIN_c and value <= COLS_MAX_c;
+  end function cols_legal;
+
+  function rows_legal (value : integer) return boolean is
+  begin
+    return value >= ROWS_MIN_c and value <= ROWS_MAX_c;
+  end function rows_legal;
 
   function mem_depth_legal (value : integer) return boolean is
     variable p : integer := 1;

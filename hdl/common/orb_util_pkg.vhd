@@ -1,6 +1,6 @@
 -- SPDX-License-Identifier: MIT
 -- orb_util_pkg: shared constants and helpers of the ORB accelerator (coordinate width, log2,
--- pyramid level sizes, the selection's slot and reciprocal widths).
+-- pyramid level sizes, the selection's slot widths and cell map).
 
 library ieee;
 use ieee.std_logic_1164.all;
@@ -15,8 +15,10 @@ package orb_util_pkg is
   constant PIXEL_BITS_c : positive := 8;
   -- A level's selection slot: 0 .. 4094 (a budget is at most 4095; slot 4095 means none).
   constant SEL_SLOT_BITS_c : positive := 12;
-  -- The cell size's reciprocal ceil(2^24 / cell): at most 2^20 for cells of 16 pixels or more.
-  constant RECIP_BITS_c : positive := 21;
+  -- The selection's grid: cells across (down) the frame, 1 .. 15 (SELECT.cols, SELECT.rows), and
+  -- the cell map's fraction bits: a level coordinate v lies in cell (v K + O) >> CELL_SHIFT_c.
+  constant GRID_BITS_c  : positive := 4;
+  constant CELL_SHIFT_c : positive := 24;
   -- orb_desc_path shows a described feature this many clocks before it leaves (its selection's
   -- decision is ready by then)
   constant CAND_LEAD_c : positive := 14;
@@ -34,6 +36,12 @@ package orb_util_pkg is
   -- slots are laid out one after the other (level_base(..., levels) is their total).
   function level_slots (cap, num, den, levels, k : natural) return natural;
   function level_base (cap, num, den, levels, k : natural) return natural;
+  -- The cell map of one axis of level k (docs/spec.md section 14, golden_model.select.cell_axis):
+  -- with a = num^k, b = den^k, K = min(ceil(2^24 cells a / (full b)), 2^24 - 1) and
+  -- O = floor(2^23 cells (a - b) / (full b)), the cell of the full-resolution position
+  -- (v + 0.5) a / b - 0.5 of `cells` cells over the frame's `full` pixels.
+  function cell_k (cells, full, num, den, k : natural) return natural;
+  function cell_o (cells, full, num, den, k : natural) return natural;
 
   function clog2 (n : positive) return natural;
 
@@ -129,5 +137,36 @@ package body orb_util_pkg is
     end loop;
     return b;
   end function level_base;
+
+  function cell_k (cells, full, num, den, k : natural) return natural is
+    variable a, b, q : unsigned(95 downto 0);
+  begin
+    a := to_unsigned(cells, 96);
+    b := to_unsigned(full, 96);
+    for j in 1 to k loop
+      a := resize(a * to_unsigned(num, 8), 96);
+      b := resize(b * to_unsigned(den, 8), 96);
+    end loop;
+    q := (shift_left(a, CELL_SHIFT_c) + b - 1) / b;
+    if q > 2 ** CELL_SHIFT_c - 1 then
+      return 2 ** CELL_SHIFT_c - 1;
+    end if;
+    return to_integer(q);
+  end function cell_k;
+
+  function cell_o (cells, full, num, den, k : natural) return natural is
+    variable a, b, d : unsigned(95 downto 0);
+  begin
+    a := to_unsigned(1, 96);
+    d := to_unsigned(1, 96);
+    for j in 1 to k loop
+      a := resize(a * to_unsigned(num, 8), 96);
+      d := resize(d * to_unsigned(den, 8), 96);
+    end loop;
+    -- cells (a - b) << 23 / (full b)
+    b := resize(to_unsigned(full, 16) * d, 96);
+    a := resize((a - d) * to_unsigned(cells, 8), 96);
+    return to_integer(shift_left(a, CELL_SHIFT_c - 1) / b);
+  end function cell_o;
 
 end package body orb_util_pkg;

@@ -11,15 +11,13 @@
 -- (orb mode, mode_orb = 1; needs DESC_g = true, which builds the descriptor path), each
 -- scale's selection (orb_feat_select: in grid mode, select_grid = 1, every frame keeps at most
 -- `budget` features, split over the scales as docs/spec.md section 14 says, each scale's share
--- spread over cells of `cell_size` pixels; in all mode every feature), merged by orb_feat_merge
+-- spread over a grid of grid_cols x grid_rows cells over the frame; in all mode every feature), merged by orb_feat_merge
 -- into m_axis_feat (layout in orb_feat_pkg) with an end-of-frame beat after each frame; the
 -- descriptor paths leave their tests unrotated and one orb_desc_rotate after the merge applies
 -- every feature's orbit rotation. The FAST thresholds, the mode and the selection's parameters
 -- are sampled with each frame's first pixel (tuser) and hold for every scale of that frame; the
 -- budget's split is computed from the sampled budget in the 3 SCALES_g + 1 clocks after it and
--- the scale paths take their share at their pixel (0, 1); the cell's reciprocal is formed from
--- cell_size one clock ahead, so a cell that changes in the clock before a frame's first pixel
--- applies from the frame after (the registers change them between frames). Pixels
+-- the scale paths take their share at their pixel (0, 1). Pixels
 -- outside the configured WIDTH_g x HEIGHT_g frame (a long line or extra lines) are ignored and
 -- counted in bad_pixels; features the descriptor path had to discard (only on a malformed frame)
 -- are counted in desc_lost.
@@ -58,7 +56,8 @@ entity orb_core is
     mode_orb            : in    std_logic;
     select_grid         : in    std_logic;
     budget              : in    std_logic_vector(SEL_SLOT_BITS_c - 1 downto 0);
-    cell_size           : in    std_logic_vector(7 downto 0);
+    grid_cols           : in    std_logic_vector(GRID_BITS_c - 1 downto 0);
+    grid_rows           : in    std_logic_vector(GRID_BITS_c - 1 downto 0);
     m_axis_feat_tdata   : out   std_logic_vector(FEAT_BITS_c - 1 downto 0);
     m_axis_feat_tvalid  : out   std_logic;
     m_axis_feat_tready  : in    std_logic;
@@ -107,18 +106,7 @@ architecture rtl of orb_core is
 
   -- the selection's parameters: formed from the inputs (live), sampled with tuser (frm)
   type split_t is array (0 to SCALES_g - 1) of unsigned(SEL_SLOT_BITS_c - 1 downto 0);
-  type recip_rom_t is array (0 to 255) of unsigned(RECIP_BITS_c - 1 downto 0);
   type fraction_t is array (0 to SCALES_g - 1) of unsigned(16 downto 0);
-
-  -- ceil(2^24 / c) for the legal cells (0 elsewhere)
-  function recip_rom return recip_rom_t is
-    variable r : recip_rom_t := (others => (others => '0'));
-  begin
-    for c in CELL_MIN_c to CELL_MAX_c loop
-      r(c) := to_unsigned((2 ** 24 + c - 1) / c, RECIP_BITS_c);
-    end loop;
-    return r;
-  end function recip_rom;
 
   function fractions return fraction_t is
     variable f : fraction_t;
@@ -129,7 +117,6 @@ architecture rtl of orb_core is
     return f;
   end function fractions;
 
-  constant RECIP_ROM_c : recip_rom_t := recip_rom;
   constant FRACTIONS_c : fraction_t  := fractions;
 
   signal split_live : split_t := (others => (others => '0'));
@@ -143,8 +130,8 @@ architecture rtl of orb_core is
   signal sp_rem     : unsigned(SEL_SLOT_BITS_c - 1 downto 0) := (others => '0');  -- N - the levels before
   signal sp_round   : unsigned(SEL_SLOT_BITS_c + 1 downto 0) := (others => '0');   -- (N F_k + 2^15) >> 16
   signal sp_prod    : unsigned(SEL_SLOT_BITS_c + 16 downto 0) := (others => '0');
-  signal recip_live : unsigned(RECIP_BITS_c - 1 downto 0) := (others => '0');
-  signal recip_frm  : std_logic_vector(RECIP_BITS_c - 1 downto 0) := (others => '0');
+  signal cols_frm   : std_logic_vector(GRID_BITS_c - 1 downto 0) := (others => '0');
+  signal rows_frm   : std_logic_vector(GRID_BITS_c - 1 downto 0) := (others => '0');
   signal grid_frm   : std_logic := '0';
   signal tlo_frm    : std_logic_vector(7 downto 0) := (others => '0');
 
@@ -201,7 +188,8 @@ begin
           mode_frm  <= mode_orb;
           grid_frm  <= select_grid;
           budget_frm <= budget;
-          recip_frm <= std_logic_vector(recip_live);
+          cols_frm   <= grid_cols;
+          rows_frm   <= grid_rows;
           -- all mode reports main corners only: no low threshold
           if select_grid = '1' then
             tlo_frm <= threshold_lo;
@@ -248,7 +236,6 @@ begin
     variable fin   : split_t;
   begin
     if rising_edge(clk) then
-      recip_live <= RECIP_ROM_c(to_integer(unsigned(cell_size)));
       if sp_restart = '1' then
         sp_k     <= 0;
         sp_phase <= 0;
@@ -347,7 +334,12 @@ begin
         DESC_g         => DESC_g,
         ROTATE_g       => false,
         SLOTS_g        => level_slots(BUDGET_MAX_g, STEP_NUM_g, STEP_DEN_g, SCALES_g, s),
-        BASE_g         => level_base(BUDGET_MAX_g, STEP_NUM_g, STEP_DEN_g, SCALES_g, s)
+        BASE_g         => level_base(BUDGET_MAX_g, STEP_NUM_g, STEP_DEN_g, SCALES_g, s),
+        FULL_WIDTH_g   => WIDTH_g,
+        FULL_HEIGHT_g  => HEIGHT_g,
+        STEP_NUM_g     => STEP_NUM_g,
+        STEP_DEN_g     => STEP_DEN_g,
+        LEVEL_g        => s
       )
       port map (
         clk          => clk,
@@ -356,7 +348,8 @@ begin
         threshold_lo => tlo_frm,
         select_grid  => grid_frm,
         budget       => std_logic_vector(split_live(s)),
-        recip        => recip_frm,
+        grid_cols    => cols_frm,
+        grid_rows    => rows_frm,
         mode_orb     => mode_frm,
         in_valid     => px_valid(s),
         in_x         => px_x(s),

@@ -8,10 +8,12 @@
 -- after the frame's last candidate is golden_model.select.select_level's, and the decisions are
 -- golden_model.select.LevelSelector's, one for one.
 --
--- A cell is a square of `cell` level pixels (the cell of (x, y) is (x div cell, y div cell),
--- formed as (x recip) >> 24 with recip = ceil(2^24 / cell), exact for these widths). Only the
--- current cell row and the one above it can change (a candidate arrives at most one pixel row
--- above the last), so the cell table holds two rows, one per parity of the cell row: per cell its
+-- The cells are a grid of `cols` x `rows` cells over the frame, the same at every level: the cell
+-- of (x, y) is ((x Kx + Ox) >> 24, (y Ky + Oy) >> 24), the constants of the level (orb_util_pkg's
+-- cell_k and cell_o, from the generics) looked up by cols and rows: the cell that holds the
+-- candidate's full-resolution position. Ky < 2^24, so a cell row is at least a pixel row high:
+-- only the current cell row and the one above it can change (a candidate arrives at most one pixel
+-- row above the last), and the cell table holds two rows, one per parity of the cell row: per cell its
 -- floor's rank (main flag and code), slot and a `rejected` flag, valid where its `touched` bit is
 -- set; a parity's bits clear when a new row takes it. The rest R is a store of buckets, one per response
 -- code, each a LIFO list of slots through the next-pointer RAM (each entry flags NIL_c beside
@@ -19,12 +21,12 @@
 -- its top slot and the slot below it, prefetched from the next-pointer RAM): a pop needs no table
 -- write, so no operation writes the bucket heads twice; `upper` marks the other non-empty buckets,
 -- so the next one up is upper's lowest set bit, with no compare against the lowest. Pipeline: two
--- clocks for the cell (multipliers, DSP48), then D1 (reads: cell table, bucket heads, the next
+-- clocks for the cell (multiply and add, DSP48), then D1 (reads: cell table, bucket heads, the next
 -- non-empty bucket; and the decision's predicates: the rank against the floor's, the codes
 -- against the lowest bucket's) and D2 (decision from those registers, writes); a decision leaves
 -- SELECT_LAT_c = 5 clocks after its candidate. In `all`
 -- mode (grid = 0) every main candidate is kept (new), low ones are dropped, and no state changes.
--- The parameters (grid, budget, recip) must hold from the frame's first candidate to in_done;
+-- The parameters (grid, budget, cols, rows) must hold from the frame's first candidate to in_done;
 -- in_done (after the frame's last candidate has left) clears the frame's state.
 
 library ieee;
@@ -37,8 +39,13 @@ use work.orb_limits_pkg.all;
 
 entity orb_feat_select is
   generic (
-    LINE_WIDTH_g : positive range 8 to 4095 := 640; -- the level's width: the cell table's size
-    SLOTS_g      : positive range 1 to 4095 := 1023 -- the largest budget the level can be given
+    SLOTS_g : positive range 1 to 4095 := 1023; -- the largest budget the level can be given
+    -- the cell map: the frame's size, the pyramid step and the level
+    FULL_WIDTH_g  : positive range 8 to 4095 := 640;
+    FULL_HEIGHT_g : positive range 8 to 4095 := 480;
+    STEP_NUM_g    : positive range 2 to 16   := 2;
+    STEP_DEN_g    : positive range 1 to 8    := 1;
+    LEVEL_g       : natural range 0 to 7     := 0
   );
   port (
     clk : in    std_logic;
@@ -46,7 +53,8 @@ entity orb_feat_select is
     -- the frame's parameters
     grid   : in    std_logic;
     budget : in    std_logic_vector(SEL_SLOT_BITS_c - 1 downto 0);
-    recip  : in    std_logic_vector(RECIP_BITS_c - 1 downto 0);
+    cols   : in    std_logic_vector(GRID_BITS_c - 1 downto 0); -- cells across the frame, 1 .. 15
+    rows   : in    std_logic_vector(GRID_BITS_c - 1 downto 0); -- cells down the frame, 1 .. 15
     -- candidates
     in_valid : in    std_logic;
     in_x     : in    std_logic_vector(COORD_BITS_c - 1 downto 0);
@@ -65,9 +73,11 @@ end entity orb_feat_select;
 architecture rtl of orb_feat_select is
 
   -- cells in a row, at most
-  constant CELLS_c   : positive := (LINE_WIDTH_g + CELL_MIN_c - 1) / CELL_MIN_c + 1;
-  constant CBITS_c   : positive := clog2(CELLS_c);
-  constant BUCKETS_c : positive := 2 ** RESPONSE_BITS_c;
+  constant CELLS_c : positive := 2 ** GRID_BITS_c;
+  constant CBITS_c : positive := GRID_BITS_c;
+  -- the cell map's product and sum: (v K + O) < 2^24 (2^GRID_BITS_c + 1)
+  constant MAP_BITS_c : positive := COORD_BITS_c + CELL_SHIFT_c + 1;
+  constant BUCKETS_c  : positive := 2 ** RESPONSE_BITS_c;
   -- next-pointer RAM address bits
   constant NBITS_c : positive := clog2(SLOTS_g + 1);
   -- no slot (budget <= 4095)
@@ -78,6 +88,29 @@ architecture rtl of orb_feat_select is
   -- main & code
   subtype rank_t is unsigned(RESPONSE_BITS_c downto 0);
   subtype cell_t is unsigned(CBITS_c - 1 downto 0);
+
+  -- the cell map's constants of this level, by cols (rows); 0 for the illegal 0
+  subtype map_t is unsigned(CELL_SHIFT_c - 1 downto 0);
+
+  type map_rom_t is array (0 to 2 ** GRID_BITS_c - 1) of map_t;
+
+  function map_rom (full : positive; offset : boolean) return map_rom_t is
+    variable r : map_rom_t := (others => (others => '0'));
+  begin
+    for c in 1 to 2 ** GRID_BITS_c - 1 loop
+      if offset then
+        r(c) := to_unsigned(cell_o(c, full, STEP_NUM_g, STEP_DEN_g, LEVEL_g), CELL_SHIFT_c);
+      else
+        r(c) := to_unsigned(cell_k(c, full, STEP_NUM_g, STEP_DEN_g, LEVEL_g), CELL_SHIFT_c);
+      end if;
+    end loop;
+    return r;
+  end function map_rom;
+
+  constant KX_ROM_c : map_rom_t := map_rom(FULL_WIDTH_g, false);
+  constant OX_ROM_c : map_rom_t := map_rom(FULL_WIDTH_g, true);
+  constant KY_ROM_c : map_rom_t := map_rom(FULL_HEIGHT_g, false);
+  constant OY_ROM_c : map_rom_t := map_rom(FULL_HEIGHT_g, true);
 
   -- cell table entry: rejected & rank & slot
   constant CT_BITS_c : positive := 1 + RESPONSE_BITS_c + 1 + SEL_SLOT_BITS_c;
@@ -122,12 +155,14 @@ architecture rtl of orb_feat_select is
   signal v_m0, v_m1, v_m2          : std_logic := '0';
   signal low_m0, low_m1, low_m2    : std_logic := '0';
   signal code_m0, code_m1, code_m2 : code_t := (others => '0');
-  signal x_m0, y_m0                : unsigned(COORD_BITS_c - 1 downto 0) := (others => '0');
-  signal r_m0                      : unsigned(RECIP_BITS_c - 1 downto 0) := (others => '0');
-  signal px_m1                     : unsigned(COORD_BITS_c + RECIP_BITS_c - 1 downto 0) := (others => '0');
-  signal py_m1                     : unsigned(COORD_BITS_c + RECIP_BITS_c - 1 downto 0) := (others => '0');
-  signal px_m2                     : unsigned(COORD_BITS_c + RECIP_BITS_c - 1 downto 0) := (others => '0');
-  signal py_m2                     : unsigned(COORD_BITS_c + RECIP_BITS_c - 1 downto 0) := (others => '0');
+  signal x_m0,  y_m0               : unsigned(COORD_BITS_c - 1 downto 0) := (others => '0');
+  signal kx_m0, ky_m0              : map_t := (others => '0');
+  signal ox_m0, oy_m0              : map_t := (others => '0');
+  signal ox_m1, oy_m1              : map_t := (others => '0');
+  signal px_m1                     : unsigned(COORD_BITS_c + CELL_SHIFT_c - 1 downto 0) := (others => '0');
+  signal py_m1                     : unsigned(COORD_BITS_c + CELL_SHIFT_c - 1 downto 0) := (others => '0');
+  signal px_m2                     : unsigned(MAP_BITS_c - 1 downto 0) := (others => '0');
+  signal py_m2                     : unsigned(MAP_BITS_c - 1 downto 0) := (others => '0');
 
   -- stage d1: what the decision reads
   signal v_d1    : std_logic := '0';
@@ -200,6 +235,10 @@ begin
     report "orb_feat_select: SELECT_LAT_c (orb_util_pkg) must be this pipeline's 5 clocks"
     severity failure;
 
+  assert COLS_MAX_c < 2 ** GRID_BITS_c and ROWS_MAX_c < 2 ** GRID_BITS_c
+    report "orb_feat_select: cols and rows (orb_limits_pkg) must fit GRID_BITS_c (orb_util_pkg)"
+    severity failure;
+
   assert BUCKETS_c mod 8 = 0
     report "orb_feat_select: lowest_set takes groups of eight buckets (2 ** RESPONSE_BITS_c)"
     severity failure;
@@ -261,19 +300,24 @@ begin
         y_m0    <= unsigned(in_y);
         low_m0  <= in_low;
         code_m0 <= unsigned(in_code);
-        r_m0    <= unsigned(recip);
+        kx_m0   <= KX_ROM_c(to_integer(unsigned(cols)));
+        ox_m0   <= OX_ROM_c(to_integer(unsigned(cols)));
+        ky_m0   <= KY_ROM_c(to_integer(unsigned(rows)));
+        oy_m0   <= OY_ROM_c(to_integer(unsigned(rows)));
       end if;
-      -- stages m1, m2: x recip and y recip (DSP48 M and P registers)
+      -- stages m1, m2: x Kx + Ox and y Ky + Oy (DSP48 M and P registers)
       v_m1    <= v_m0;
       low_m1  <= low_m0;
       code_m1 <= code_m0;
-      px_m1   <= x_m0 * r_m0;
-      py_m1   <= y_m0 * r_m0;
+      px_m1   <= x_m0 * kx_m0;
+      py_m1   <= y_m0 * ky_m0;
+      ox_m1   <= ox_m0;
+      oy_m1   <= oy_m0;
       v_m2    <= v_m1;
       low_m2  <= low_m1;
       code_m2 <= code_m1;
-      px_m2   <= px_m1;
-      py_m2   <= py_m1;
+      px_m2   <= resize(px_m1, MAP_BITS_c) + ox_m1;
+      py_m2   <= resize(py_m1, MAP_BITS_c) + oy_m1;
 
       c1_load <= '0';
 
@@ -282,8 +326,8 @@ begin
       v_d1    <= v_m2;
       low_d1  <= low_m2;
       code_d1 <= code_m2;
-      cx      := resize(shift_right(px_m2, 24), CBITS_c);
-      cy      := resize(shift_right(py_m2, 24), CBITS_c);
+      cx      := resize(shift_right(px_m2, CELL_SHIFT_c), CBITS_c);
+      cy      := resize(shift_right(py_m2, CELL_SHIFT_c), CBITS_c);
       cx_d1   <= cx;
       cy_d1   <= cy;
       if cy(0) = '0' then

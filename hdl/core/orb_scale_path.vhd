@@ -5,7 +5,7 @@
 -- inside the descriptor border), then the level's selection (orb_feat_select: docs/spec.md
 -- section 14, docs/selection.md). The mode (fast: every NMS survivor, no descriptor; orb:
 -- described features only), the thresholds and the selection's parameters (grid, the level's
--- budget, the cell's reciprocal) are sampled with the frame's first pixel (0, 0) and hold for
+-- budget, the grid's cells) are sampled with the frame's first pixel (0, 0) and hold for
 -- that frame; the budget is taken again at the pixel (0, 1), when orb_core's split of the frame's
 -- budget is ready. Both paths always run; a small per-frame queue of the modes and parameters tells
 -- each path's output whether its current frame is to be reported and what the selection applies,
@@ -38,7 +38,13 @@ entity orb_scale_path is
     DESC_g         : boolean                  := true;
     ROTATE_g       : boolean                  := true; -- orb_desc_path's ROTATE_g
     SLOTS_g        : positive range 1 to 4095 := 1023; -- the most slots the level can be given
-    BASE_g         : natural range 0 to 8191  := 0     -- the level's first slot in the frame's slots
+    BASE_g         : natural range 0 to 8191  := 0;    -- the level's first slot in the frame's slots
+    -- the selection's cell map (orb_feat_select): the frame's size, the pyramid step, the level
+    FULL_WIDTH_g  : positive range 8 to 4095 := 640;
+    FULL_HEIGHT_g : positive range 8 to 4095 := 480;
+    STEP_NUM_g    : positive range 2 to 16   := 2;
+    STEP_DEN_g    : positive range 1 to 8    := 1;
+    LEVEL_g       : natural range 0 to 7     := 0
   );
   port (
     clk          : in    std_logic;
@@ -48,7 +54,8 @@ entity orb_scale_path is
     mode_orb     : in    std_logic;
     select_grid  : in    std_logic;
     budget       : in    std_logic_vector(SEL_SLOT_BITS_c - 1 downto 0); -- the level's, at most SLOTS_g
-    recip        : in    std_logic_vector(RECIP_BITS_c - 1 downto 0);    -- ceil(2^24 / cell)
+    grid_cols    : in    std_logic_vector(GRID_BITS_c - 1 downto 0);     -- cells across the frame
+    grid_rows    : in    std_logic_vector(GRID_BITS_c - 1 downto 0);     -- cells down the frame
     in_valid     : in    std_logic;
     in_x         : in    std_logic_vector(COORD_BITS_c - 1 downto 0);
     in_y         : in    std_logic_vector(COORD_BITS_c - 1 downto 0);
@@ -72,7 +79,7 @@ architecture rtl of orb_scale_path is
 
   type modes_t is array (0 to 3) of std_logic;
   type budgets_t is array (0 to 3) of std_logic_vector(SEL_SLOT_BITS_c - 1 downto 0);
-  type recips_t is array (0 to 3) of std_logic_vector(RECIP_BITS_c - 1 downto 0);
+  type cells_t is array (0 to 3) of std_logic_vector(2 * GRID_BITS_c - 1 downto 0);
 
   -- a fast-path survivor (x, y, score, low, code) waiting CAND_LEAD_c clocks
   constant FW_c : positive := 2 * COORD_BITS_c + SCORE_BITS_c + 1 + RESPONSE_BITS_c;
@@ -121,7 +128,7 @@ architecture rtl of orb_scale_path is
   signal modes     : modes_t := (others => '0');
   signal grids     : modes_t := (others => '0');
   signal budgets   : budgets_t := (others => (others => '0'));
-  signal recips    : recips_t := (others => (others => '0'));
+  signal cells     : cells_t := (others => (others => '0'));
   signal mode_wr   : unsigned(1 downto 0) := (others => '0');
   signal mode_rd_d : unsigned(1 downto 0) := (others => '0');
   signal mode_rd_o : unsigned(1 downto 0) := (others => '0');
@@ -132,7 +139,7 @@ architecture rtl of orb_scale_path is
   -- the selection: candidates in, decisions out, and the decisions waiting for their features
   signal p_grid       : std_logic;
   signal p_budget     : std_logic_vector(SEL_SLOT_BITS_c - 1 downto 0);
-  signal p_recip      : std_logic_vector(RECIP_BITS_c - 1 downto 0);
+  signal p_cells      : std_logic_vector(2 * GRID_BITS_c - 1 downto 0);
   signal e_valid      : std_logic;
   signal e_x,     e_y : std_logic_vector(COORD_BITS_c - 1 downto 0);
   signal e_low        : std_logic;
@@ -270,7 +277,7 @@ begin
 
   p_grid   <= grids(to_integer(sel_rd));
   p_budget <= budgets(to_integer(sel_rd));
-  p_recip  <= recips(to_integer(sel_rd));
+  p_cells  <= cells(to_integer(sel_rd));
 
   fast_on <= not modes(to_integer(mode_rd_d));
   orb_on  <= modes(to_integer(mode_rd_o));
@@ -289,15 +296,20 @@ begin
 
   selection : entity work.orb_feat_select
     generic map (
-      LINE_WIDTH_g => LINE_WIDTH_g,
-      SLOTS_g      => SLOTS_g
+      SLOTS_g       => SLOTS_g,
+      FULL_WIDTH_g  => FULL_WIDTH_g,
+      FULL_HEIGHT_g => FULL_HEIGHT_g,
+      STEP_NUM_g    => STEP_NUM_g,
+      STEP_DEN_g    => STEP_DEN_g,
+      LEVEL_g       => LEVEL_g
     )
     port map (
       clk       => clk,
       rst       => rst,
       grid      => p_grid,
       budget    => p_budget,
-      recip     => p_recip,
+      cols      => p_cells(2 * GRID_BITS_c - 1 downto GRID_BITS_c),
+      rows      => p_cells(GRID_BITS_c - 1 downto 0),
       in_valid  => q_valid,
       in_x      => q_x,
       in_y      => q_y,
@@ -373,7 +385,7 @@ begin
         modes(to_integer(mode_wr))   <= mode_orb when DESC_g else '0';
         grids(to_integer(mode_wr))   <= select_grid;
         budgets(to_integer(mode_wr)) <= budget;
-        recips(to_integer(mode_wr))  <= recip;
+        cells(to_integer(mode_wr))   <= grid_cols & grid_rows;
         mode_wr                      <= mode_wr + 1;
       end if;
       -- the budget again at (0, 1): orb_core's split of the frame's budget is ready only after the

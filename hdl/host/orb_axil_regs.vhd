@@ -3,7 +3,7 @@
 -- golden_model/data/regmap.json; table and bus rules in docs/registers.md, design in
 -- docs/axil-regs.md). It reads back the configuration generics, drives the control outputs
 -- (enable, a one-clock soft_reset pulse, mode_orb, the FAST thresholds and the selection
--- (select_grid, cell_size, budget), which the core applies from the next frame on), shows the status inputs of the other blocks, keeps the
+-- (select_grid, grid_cols, grid_rows, budget), which the core applies from the next frame on), shows the status inputs of the other blocks, keeps the
 -- interrupt enable and W1C status bits (set by frame_done_pulse and error_pulse; irq is the
 -- registered OR(status AND enable)) and pulses release_valid with release_bank when the CPU
 -- writes BANK_RELEASE. One transaction per channel at a time: AW and W are each held in a
@@ -19,7 +19,7 @@
 -- SLVERR (no state change) answers misaligned or unknown addresses, writes to ro registers and to
 -- the memory window, reads of the wo BANK_RELEASE, and rw/wo writes that set a reserved bit or
 -- give a field a value outside its minimum and maximum (CTRL.mode 2 or 3, BANK_RELEASE.bank >=
--- BANKS_c, SELECT.cell below 16, SELECT.budget above MEM_DEPTH_g - 1); byte strobes are
+-- BANKS_c, SELECT.cols or SELECT.rows 0, SELECT.budget above MEM_DEPTH_g - 1); byte strobes are
 -- honoured (merged into the current value before that check). rst resets the control state and
 -- every register to its documented reset value.
 -- The decode is data: a register file driven by orb_regs_pkg's tables REGS_c (offset, access,
@@ -78,7 +78,8 @@ entity orb_axil_regs is
     -- low threshold and selection (docs/selection.md); budget is at most MEM_DEPTH_g - 1
     threshold_lo : out   std_logic_vector(7 downto 0);
     select_grid  : out   std_logic;
-    cell_size    : out   std_logic_vector(7 downto 0);
+    grid_cols    : out   std_logic_vector(SELECT_COLS_MSB_c - SELECT_COLS_LSB_c downto 0);
+    grid_rows    : out   std_logic_vector(SELECT_ROWS_MSB_c - SELECT_ROWS_LSB_c downto 0);
     budget       : out   std_logic_vector(SELECT_BUDGET_MSB_c - SELECT_BUDGET_LSB_c downto 0);
     -- status from the other blocks
     frame_count    : in    std_logic_vector(31 downto 0);
@@ -507,7 +508,8 @@ begin
   threshold_lo  <= held(REG_THRESHOLD_IDX_c)(THRESHOLD_LOW_MSB_c downto THRESHOLD_LOW_LSB_c);
   select_grid   <= '1' when unsigned(held(REG_SELECT_IDX_c)(SELECT_MODE_MSB_c downto SELECT_MODE_LSB_c)) = 1 else
                    '0';
-  cell_size     <= held(REG_SELECT_IDX_c)(SELECT_CELL_MSB_c downto SELECT_CELL_LSB_c);
+  grid_cols     <= held(REG_SELECT_IDX_c)(SELECT_COLS_MSB_c downto SELECT_COLS_LSB_c);
+  grid_rows     <= held(REG_SELECT_IDX_c)(SELECT_ROWS_MSB_c downto SELECT_ROWS_LSB_c);
   budget        <= budget_r;
   irq           <= irq_r;
   release_valid <= written(REG_BANK_RELEASE_IDX_c);

@@ -148,15 +148,19 @@ package orb_regs_pkg is
   constant REG_SELECT_c          : natural := 16#02C#;
   constant REG_SELECT_IDX_c      : natural := 11;
   constant REG_SELECT_MASK_c     : std_logic_vector(31 downto 0) := x"0FFFFF03";
-  constant REG_SELECT_RESET_c    : std_logic_vector(31 downto 0) := x"03FF5001";
+  constant REG_SELECT_RESET_c    : std_logic_vector(31 downto 0) := x"03FF6801";
   constant SELECT_MODE_LSB_c     : natural := 0;
   constant SELECT_MODE_MSB_c     : natural := 1;
   constant SELECT_MODE_RESET_c   : natural := 1;
   constant SELECT_MODE_MAX_c     : natural := 1;
-  constant SELECT_CELL_LSB_c     : natural := 8;
-  constant SELECT_CELL_MSB_c     : natural := 15;
-  constant SELECT_CELL_RESET_c   : natural := 80;
-  constant SELECT_CELL_MIN_c     : natural := 16;
+  constant SELECT_COLS_LSB_c     : natural := 8;
+  constant SELECT_COLS_MSB_c     : natural := 11;
+  constant SELECT_COLS_RESET_c   : natural := 8;
+  constant SELECT_COLS_MIN_c     : natural := 1;
+  constant SELECT_ROWS_LSB_c     : natural := 12;
+  constant SELECT_ROWS_MSB_c     : natural := 15;
+  constant SELECT_ROWS_RESET_c   : natural := 6;
+  constant SELECT_ROWS_MIN_c     : natural := 1;
   constant SELECT_BUDGET_LSB_c   : natural := 16;
   constant SELECT_BUDGET_MSB_c   : natural := 27;
   constant SELECT_BUDGET_RESET_c : natural := 1023;
@@ -298,7 +302,7 @@ package orb_regs_pkg is
     REG_FRAME_COUNT_IDX_c    => (REG_FRAME_COUNT_c, access_ro, x"FFFFFFFF", x"00000000", x"FFFFFFFF", x"00000000"),
     REG_DROPPED_IDX_c        => (REG_DROPPED_c, access_ro, x"FFFFFFFF", x"00000000", x"FFFFFFFF", x"00000000"),
     REG_PROTO_ERRORS_IDX_c   => (REG_PROTO_ERRORS_c, access_ro, x"FFFFFFFF", x"00000000", x"FFFFFFFF", x"00000000"),
-    REG_SELECT_IDX_c         => (REG_SELECT_c, access_rw, x"0FFFFF03", x"03FF5001", x"00000000", x"00000000"),
+    REG_SELECT_IDX_c         => (REG_SELECT_c, access_rw, x"0FFFFF03", x"03FF6801", x"00000000", x"00000000"),
     REG_IRQ_ENABLE_IDX_c     => (REG_IRQ_ENABLE_c, access_rw, x"00000003", x"00000000", x"00000000", x"00000000"),
     REG_IRQ_STATUS_IDX_c     => (REG_IRQ_STATUS_c, access_w1c, x"00000003", x"00000000", x"00000000", x"00000000"),
     REG_BANK_RELEASE_IDX_c   => (REG_BANK_RELEASE_c, access_wo, x"0000000F", x"00000000", x"00000000", x"00000000"),
@@ -310,14 +314,15 @@ package orb_regs_pkg is
     REG_DISCARDED_IDX_c      => (REG_DISCARDED_c, access_ro, x"FFFFFFFF", x"00000000", x"FFFFFFFF", x"00000000")
   );
 
-  constant REG_LIMITS_c : reg_limit_array_t(0 to 4) :=
+  constant REG_LIMITS_c : reg_limit_array_t(0 to 5) :=
   (
     -- field => (register, mask, min, max, depth, lsb)
     0 => (REG_CTRL_IDX_c, x"00000030", x"00000000", x"00000010", false, 4),        -- CTRL.mode
     1 => (REG_SELECT_IDX_c, x"00000003", x"00000000", x"00000001", false, 0),      -- SELECT.mode
-    2 => (REG_SELECT_IDX_c, x"0000FF00", x"00001000", x"0000FF00", false, 8),      -- SELECT.cell
-    3 => (REG_SELECT_IDX_c, x"0FFF0000", x"00000000", x"0FFF0000", true, 16),      -- SELECT.budget
-    4 => (REG_BANK_RELEASE_IDX_c, x"0000000F", x"00000000", x"00000001", false, 0) -- BANK_RELEASE.bank
+    2 => (REG_SELECT_IDX_c, x"00000F00", x"00000100", x"00000F00", false, 8),      -- SELECT.cols
+    3 => (REG_SELECT_IDX_c, x"0000F000", x"00001000", x"0000F000", false, 12),     -- SELECT.rows
+    4 => (REG_SELECT_IDX_c, x"0FFF0000", x"00000000", x"0FFF0000", true, 16),      -- SELECT.budget
+    5 => (REG_BANK_RELEASE_IDX_c, x"0000000F", x"00000000", x"00000001", false, 0) -- BANK_RELEASE.bank
   );
 
 end package orb_regs_pkg;

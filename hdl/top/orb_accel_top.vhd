@@ -89,7 +89,8 @@ architecture rtl of orb_accel_top is
   signal mode_orb : std_logic;
   signal thr_lo   : std_logic_vector(7 downto 0);
   signal sel_grid : std_logic;
-  signal sel_cell : std_logic_vector(7 downto 0);
+  signal sel_cols : std_logic_vector(GRID_BITS_c - 1 downto 0);
+  signal sel_rows : std_logic_vector(GRID_BITS_c - 1 downto 0);
   signal budget   : std_logic_vector(SEL_SLOT_BITS_c - 1 downto 0);
   signal thresh   : std_logic_vector(7 downto 0);
 
@@ -209,7 +210,8 @@ begin
       threshold        => thresh,
       threshold_lo     => thr_lo,
       select_grid      => sel_grid,
-      cell_size        => sel_cell,
+      grid_cols        => sel_cols,
+      grid_rows        => sel_rows,
       budget           => budget,
       frame_count      => std_logic_vector(frames),
       dropped          => dropped,
@@ -336,7 +338,8 @@ begin
       mode_orb            => mode_orb,
       select_grid         => sel_grid,
       budget              => budget,
-      cell_size           => sel_cell,
+      grid_cols           => sel_cols,
+      grid_rows           => sel_rows,
       m_axis_feat_tdata   => f_data,
       m_axis_feat_tvalid  => f_valid,
       m_axis_feat_tready  => f_ready,

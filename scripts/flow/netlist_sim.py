@@ -72,7 +72,7 @@ CASES = (
     Case(
         "orb_core",
         "core/test_orb_core.py::test_grid_selection"
-        "[128-96-2-step1-photo:chelsea,photo:chelsea-20,20-none-orb,orb-all,grid:40:24:7]",
+        "[128-96-2-step1-photo:chelsea,photo:chelsea-20,20-none-orb,orb-all,grid:40:5x4:7]",
         slow=True,
     ),
     Case("orb_accel_top", "top/test_orb_accel_top.py::test_accel_overflow_overrun", slow=True),

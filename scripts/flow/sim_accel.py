@@ -15,8 +15,8 @@ overlay block's output) and report.json (features, bit_exact against the golden 
 truncated, latency_cycles, cycles_per_pixel, sim_wall_s and details), and prints a short summary.
 
 The selection is the driver's default unless told (docs/selection.md): `grid` with the
-recommended budget of the frame size (at most a bank's 4,095 features), cells of an eighth of the
-width and the low threshold 7; the frame must equal the model's selection with nothing lost.
+recommended budget of the frame size (at most a bank's 4,095 features), a grid of 8 x 6 cells over
+the frame and the low threshold 7; the frame must equal the model's selection with nothing lost.
 `--selection all` stores every feature: a frame with more than a bank holds is truncated, and the
 stored features are checked to be what the memory keeps (golden_model.select.truncation_difference:
 each level's first features in arrival order); the truncation is reported, not an error.
@@ -37,15 +37,17 @@ import numpy as np
 
 from golden_model import Config, extract, first_difference, limits
 from golden_model.config import (
+    RECOMMENDED_COLS,
+    RECOMMENDED_ROWS,
     RECOMMENDED_SCALES,
     RECOMMENDED_SECTORS,
     RECOMMENDED_STEP,
     RECOMMENDED_THRESHOLD_LO,
     SELECTIONS,
     ConfigError,
+    parse_cells,
     parse_step,
     recommended_budget,
-    recommended_cell,
 )
 from golden_model.features import Features, read_csv
 from golden_model.images import DEFAULT_IMAGE, ImageError
@@ -87,16 +89,16 @@ def make_config(args: argparse.Namespace, w: int, h: int, num: int, den: int) ->
     budget = min(capacity, recommended_budget(w, h)) if args.budget is None else args.budget
     if args.selection == "grid" and not 0 <= budget <= capacity:
         raise ConfigError(f"budget {budget}: a bank of the simulated accelerator holds 0..{capacity} features")
-    cell = recommended_cell(w) if args.cell is None else args.cell
+    cols, rows = (RECOMMENDED_COLS, RECOMMENDED_ROWS) if args.cells is None else parse_cells(args.cells)
     return Config(width=w, height=h, scales=args.scales, sectors=args.sectors, threshold=args.threshold, mode="orb",
-                  step_num=num, step_den=den, selection=args.selection, budget=budget, cell=cell,
-                  threshold_lo=args.threshold_lo)  # fmt: skip
+                  step_num=num, step_den=den, selection=args.selection, budget=budget, cols=cols,
+                  rows=rows, threshold_lo=args.threshold_lo)  # fmt: skip
 
 
 def describe_selection(cfg: Config) -> str:
     if cfg.selection == "all":
         return "every feature (selection all)"
-    return f"grid selection: budget {cfg.budget}, cell {cfg.cell}, low threshold {cfg.threshold_lo}"
+    return f"grid selection: budget {cfg.budget}, {cfg.cols} x {cfg.rows} cells, low threshold {cfg.threshold_lo}"
 
 
 def compare(got: Features, img: np.ndarray, cfg: Config, truncated: int, capacity: int) -> str | None:
@@ -123,7 +125,7 @@ def main() -> int:
     ap.add_argument("--threshold", type=int, default=20)
     ap.add_argument("--selection", choices=SELECTIONS, default="grid", help="grid (default) or all")
     ap.add_argument("--budget", type=int, help="grid: features per frame (default: recommended for the size)")
-    ap.add_argument("--cell", type=int, help="grid: cell size in level pixels (default: width / 8)")
+    ap.add_argument("--cells", help="grid: COLSxROWS cells over the frame (default 8x6)")
     ap.add_argument("--mem-depth", type=int, default=ACCEL_MEM_DEPTH,
                     help=f"slots per bank of the simulated accelerator (default {ACCEL_MEM_DEPTH})")  # fmt: skip
     ap.add_argument("--threshold-lo", type=int, default=RECOMMENDED_THRESHOLD_LO,
@@ -192,7 +194,7 @@ def main() -> int:
     dropped = result["dropped_merge"] + result["desc_lost"] + (truncated if cfg.selection == "grid" else 0)
     report = {
         "image": str(path), "width": w, "height": h, "scales": cfg.scales, "step": f"{cfg.step_num}:{cfg.step_den}",
-        "sectors": cfg.sectors, "selection": cfg.selection, "budget": cfg.budget, "cell": cfg.cell,
+        "sectors": cfg.sectors, "selection": cfg.selection, "budget": cfg.budget, "cells": [cfg.cols, cfg.rows],
         "threshold_lo": cfg.threshold_lo, "truncated": truncated, "mem_depth": args.mem_depth,
         "threshold": cfg.threshold, "features": result["features"], "bit_exact": diff is None,
         "first_difference": diff, "overlay_bit_exact": overlay_exact, "dropped": dropped,
@@ -257,8 +259,9 @@ def main_video(args: argparse.Namespace) -> int:
     exact = sum(r["bit_exact"] for r in results)
     report = {"video": str(args.video), "width": w, "height": h, "scales": cfg.scales,
               "step": f"{cfg.step_num}:{cfg.step_den}", "sectors": cfg.sectors,
-              "threshold": cfg.threshold, "selection": cfg.selection, "budget": cfg.budget, "cell": cfg.cell,
-              "threshold_lo": cfg.threshold_lo, "frames": n, "frames_published": len(results),
+              "threshold": cfg.threshold, "selection": cfg.selection, "budget": cfg.budget,
+              "cells": [cfg.cols, cfg.rows], "threshold_lo": cfg.threshold_lo, "frames": n,
+              "frames_published": len(results),
               "bit_exact_frames": exact,
               "features": sum(r["features"] for r in results), "run": run, "per_frame": results,
               "engine": "verilator-netlist"}  # fmt: skip

@@ -24,11 +24,12 @@ import numpy as np
 from golden_model import regs
 from golden_model.config import (
     MODES,
+    RECOMMENDED_COLS,
+    RECOMMENDED_ROWS,
     RECOMMENDED_THRESHOLD_LO,
     SELECTIONS,
     Config,
     recommended_budget,
-    recommended_cell,
 )
 from golden_model.featmem import (
     SLOT_BYTES,
@@ -84,13 +85,13 @@ class HwConfig:
 @dataclass(frozen=True)
 class Selection:
     """The selection in effect (SELECT and THRESHOLD.low; docs/selection.md): `mode` "grid" (each
-    level keeps its share of `budget` features, the best corner of every `cell` x `cell` cell
-    first, a corner at `threshold_lo` where a cell has none at the threshold) or "all" (every
-    feature at the threshold; the others are ignored)."""
+    level keeps its share of `budget` features, the best corner of every cell of a `cells` =
+    (columns, rows) grid over the frame first, a corner at `threshold_lo` where a cell has none at
+    the threshold) or "all" (every feature at the threshold; the others are ignored)."""
 
     mode: str
     budget: int
-    cell: int
+    cells: tuple[int, int]
     threshold_lo: int
 
 
@@ -228,7 +229,7 @@ class OrbAccel:
         self.selection = Selection(
             mode=SELECTIONS[regs.SELECT.field("mode").get(sel)],  # 0 all, 1 grid (2, 3 are refused)
             budget=regs.SELECT.field("budget").get(sel),
-            cell=regs.SELECT.field("cell").get(sel),
+            cells=(regs.SELECT.field("cols").get(sel), regs.SELECT.field("rows").get(sel)),
             threshold_lo=regs.THRESHOLD.field("low").get(thr),
         )
 
@@ -278,12 +279,12 @@ class OrbAccel:
 
     def configure(self, threshold: int, mode: str = "orb", enable: bool = True,
                   irq: tuple[str, ...] = ("frame_done",), selection: str = "grid", budget: int | None = None,
-                  cell: int | None = None, threshold_lo: int | None = None) -> None:  # fmt: skip
+                  cells: tuple[int, int] | None = None, threshold_lo: int | None = None) -> None:  # fmt: skip
         """FAST threshold (0..255), mode ("orb" or "fast"), enable, the interrupt sources to
         enable (of IRQ_SOURCES) and the selection (docs/selection.md): "grid" keeps at most
         `budget` features a frame (default HwConfig.default_budget(): the recommended one, at most
-        a bank's capacity), the best of every `cell` x `cell` cell of each level first (default an
-        eighth of the width), with corners at `threshold_lo` (default 7; at or above the
+        a bank's capacity), the best of every cell of a `cells` = (columns, rows) grid over the frame
+        first, at each level (default 8 x 6), with corners at `threshold_lo` (default 7; at or above the
         threshold: none) where a cell has none at the threshold; "all" reports every feature at
         the threshold (a dense frame fills its bank and loses the rest: Frame.truncated). Applied
         from the next frame on. Raises ValueError on a bad value, before anything is written."""
@@ -297,11 +298,12 @@ class OrbAccel:
         if selection not in SELECTIONS:
             raise ValueError(f"selection {selection!r} not one of {SELECTIONS}")
         budget = self.hw.default_budget() if budget is None else budget
-        cell = recommended_cell(self.hw.width) if cell is None else cell
+        cols, rows = (RECOMMENDED_COLS, RECOMMENDED_ROWS) if cells is None else cells
         threshold_lo = RECOMMENDED_THRESHOLD_LO if threshold_lo is None else threshold_lo
         for name, value, f in (
             ("budget", budget, regs.SELECT.field("budget")),
-            ("cell", cell, regs.SELECT.field("cell")),
+            ("cell columns", cols, regs.SELECT.field("cols")),
+            ("cell rows", rows, regs.SELECT.field("rows")),
         ):
             lo, hi = f.min or 0, self._field_max(f)
             if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not lo <= value <= hi:
@@ -316,7 +318,8 @@ class OrbAccel:
         for s in irq:
             irq_word = regs.IRQ_ENABLE.field(s).put(1, irq_word)
         sel = regs.SELECT.field("mode").put(SELECTIONS.index(selection))
-        sel = regs.SELECT.field("cell").put(int(cell), sel)
+        sel = regs.SELECT.field("cols").put(int(cols), sel)
+        sel = regs.SELECT.field("rows").put(int(rows), sel)
         self.write(regs.SELECT, regs.SELECT.field("budget").put(int(budget), sel))
         thr = regs.THRESHOLD.field("low").put(int(threshold_lo))
         self.write(regs.THRESHOLD, regs.THRESHOLD.field("threshold").put(int(threshold), thr))
@@ -325,14 +328,14 @@ class OrbAccel:
         self.write(regs.CTRL, regs.CTRL.field("enable").put(int(enable), ctrl))
         self._mode_before = self.mode  # the frame in flight keeps it (settle)
         self.mode, self.enabled, self.threshold = mode, bool(enable), int(threshold)
-        self.selection = Selection(selection, int(budget), int(cell), int(threshold_lo))
+        self.selection = Selection(selection, int(budget), (int(cols), int(rows)), int(threshold_lo))
 
     def configure_as(self, cfg: Config, enable: bool = True, irq: tuple[str, ...] = ("frame_done",)) -> None:
-        """configure() with a model configuration's threshold, mode and selection (budget, cell
+        """configure() with a model configuration's threshold, mode and selection (budget, cells
         and low threshold in `grid`), so that a frame compares with golden_model.extract(img, cfg)."""
         grid = cfg.selection == "grid"
         self.configure(cfg.threshold, cfg.mode, enable, irq, cfg.selection, cfg.budget if grid else None,
-                       cfg.cell if grid else None, cfg.threshold_lo if grid else None)  # fmt: skip
+                       (cfg.cols, cfg.rows) if grid else None, cfg.threshold_lo if grid else None)  # fmt: skip
 
     def settle(self, timeout_s: float) -> Frame:
         """Let the frame in flight pass after configure(): the accelerator samples thresholds,

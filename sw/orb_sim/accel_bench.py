@@ -117,20 +117,21 @@ class AccelBench:
         await self.cpu(self.accel.write, reg, value)
 
     async def configure(self, threshold: int, mode: str = "orb", irq: int = 1, enable: int = 1,
-                        selection: str = "all", budget: int | None = None, cell: int | None = None,
+                        selection: str = "all", budget: int | None = None,
+                        cells: tuple[int, int] | None = None,
                         threshold_lo: int | None = None) -> None:  # fmt: skip
         """The driver's configure (selection "all" unless told: the tests of the memory and the
         overlay count every feature; the driver's own default is "grid")."""
         sources = tuple(s for i, s in enumerate(IRQ_SOURCES) if irq >> i & 1)
-        await self.cpu(self.accel.configure, threshold, mode, bool(enable), sources, selection, budget, cell,
+        await self.cpu(self.accel.configure, threshold, mode, bool(enable), sources, selection, budget, cells,
                        threshold_lo)  # fmt: skip
 
     @property
     def selection(self) -> str:
         """The selection last configured, as orbtb's scoreboard spells it ("all" or
-        "grid:BUDGET:CELL:LOW")."""
+        "grid:BUDGET:COLSxROWS:LOW")."""
         sel = self.accel.selection
-        return selection_text(sel.mode, sel.budget, sel.cell, sel.threshold_lo)
+        return selection_text(sel.mode, sel.budget, sel.cells, sel.threshold_lo)
 
     async def wait_irq(self, timeout_clocks: int) -> None:
         """Wait for the interrupt line (not acknowledged)."""

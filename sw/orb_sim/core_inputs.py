@@ -1,28 +1,32 @@
 # SPDX-License-Identifier: MIT
 """orb_core's run-time inputs of the selection (what orb_axil_regs drives in orb_accel_top), as the
-core's tests and jobs set them: `selection` is "all" or "grid:BUDGET:CELL:LOW" (docs/spec.md
+core's tests and jobs set them: `selection` is "all" or "grid:BUDGET:COLSxROWS:LOW" (docs/spec.md
 section 14), the spelling of orbtb's scoreboard."""
 
 from __future__ import annotations
+
+from golden_model.config import parse_cells
 
 # idle clocks after a selection change before the next frame's first pixel: orb_core splits a new
 # budget over the levels in 2 clocks a level (SCALES_g <= 8) plus a few of registers
 SELECT_SETTLE = 40
 
 
-def selection_text(mode: str, budget: int, cell: int, threshold_lo: int) -> str:
+def selection_text(mode: str, budget: int, cells: tuple[int, int], threshold_lo: int) -> str:
     """A selection ("all" or "grid" and its parameters: a model Config's or the driver's
-    Selection's fields) in this module's spelling."""
-    return "all" if mode == "all" else f"grid:{budget}:{cell}:{threshold_lo}"
+    Selection's fields; cells = (columns, rows)) in this module's spelling."""
+    return "all" if mode == "all" else f"grid:{budget}:{cells[0]}x{cells[1]}:{threshold_lo}"
 
 
 def drive_selection(dut, selection: str, threshold: int) -> None:
-    """Set orb_core's select_grid, budget, cell_size and threshold_lo for `selection` (in `all`:
-    budget 0, cell 80 and threshold_lo = threshold, which the core ignores)."""
+    """Set orb_core's select_grid, budget, grid_cols, grid_rows and threshold_lo for `selection`
+    (in `all`: budget 0, 8 x 6 cells and threshold_lo = threshold, which the core ignores)."""
     kind, *arg = selection.split(":")
     if kind not in ("all", "grid") or (kind == "grid" and len(arg) != 3):
-        raise ValueError(f"selection {selection!r}: expected all or grid:BUDGET:CELL:LOW")
+        raise ValueError(f"selection {selection!r}: expected all or grid:BUDGET:COLSxROWS:LOW")
     dut.select_grid.value = int(kind == "grid")
     dut.budget.value = int(arg[0]) if arg else 0
-    dut.cell_size.value = int(arg[1]) if arg else 80
+    cols, rows = parse_cells(arg[1]) if arg else (8, 6)
+    dut.grid_cols.value = cols
+    dut.grid_rows.value = rows
     dut.threshold_lo.value = int(arg[2]) if arg else threshold

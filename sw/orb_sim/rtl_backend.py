@@ -63,7 +63,7 @@ def run_accel_job(img: np.ndarray, cfg: Config, job: Path, log: Path, overlay: b
                 "INPUT_g": "LUMA" if img.ndim == 2 else "RGB"}  # fmt: skip
     env = {"ORB_JOB_DIR": str(job), "ORB_JOB_THRESHOLD": str(cfg.threshold), "ORB_JOB_MODE": cfg.mode,
            "ORB_JOB_OVERLAY": "1" if overlay else "0", "ORB_JOB_SELECTION": cfg.selection,
-           "ORB_JOB_BUDGET": str(cfg.budget), "ORB_JOB_CELL": str(cfg.cell),
+           "ORB_JOB_BUDGET": str(cfg.budget), "ORB_JOB_CELLS": f"{cfg.cols}x{cfg.rows}",
            "ORB_JOB_THRESHOLD_LO": str(cfg.threshold_lo)}  # fmt: skip
     _simulate("orb_accel_top", "orb_sim.jobs.accel_job", generics, env, log)
     if not (job / "job.json").exists():
@@ -80,7 +80,7 @@ def run_core_job(frames: list[np.ndarray], cfg: Config, thresholds: list[int], m
     np.save(job / "frames.npy", np.stack([np.ascontiguousarray(f, dtype=np.uint8) for f in frames]))
     generics = {"WIDTH_g": cfg.width, "HEIGHT_g": cfg.height, "SCALES_g": cfg.scales,
                 "STEP_NUM_g": cfg.step_num, "STEP_DEN_g": cfg.step_den, "SECTORS_g": cfg.sectors}  # fmt: skip
-    selection = selection_text(cfg.selection, cfg.budget, cfg.cell, cfg.threshold_lo)
+    selection = selection_text(cfg.selection, cfg.budget, (cfg.cols, cfg.rows), cfg.threshold_lo)
     env = {"ORB_JOB_DIR": str(job), "ORB_JOB_THRESHOLDS": ",".join(map(str, thresholds)),
            "ORB_JOB_MODES": ",".join(modes), "ORB_JOB_SELECTION": selection}  # fmt: skip
     _simulate("orb_core", "orb_sim.jobs.core_job", generics, env, log)

@@ -179,7 +179,8 @@ def cmd_info(args: argparse.Namespace) -> int:
               f"{hw.sectors} sectors, "
               f"{hw.mem_depth} slots per bank ({hw.mem_depth - 1} features per frame at most)")  # fmt: skip
         sel = accel.selection
-        how = (f"grid selection, budget {sel.budget}, cell {sel.cell}, low threshold {sel.threshold_lo}"
+        cells = f"{sel.cells[0]} x {sel.cells[1]} cells"
+        how = (f"grid selection, budget {sel.budget}, {cells}, low threshold {sel.threshold_lo}"
                if sel.mode == "grid" else "every feature (selection all)")  # fmt: skip
         print(f"control: {'enabled' if accel.enabled else 'disabled'}, mode {accel.mode}, threshold {accel.threshold}, "
               f"{how}; STATUS {status:#x}, IRQ_STATUS {accel.read(regs.IRQ_STATUS):#x}")  # fmt: skip

@@ -19,6 +19,8 @@ import numpy as np
 from golden_model import limits
 from golden_model.config import (
     RECOMMENDED_BUDGET,
+    RECOMMENDED_COLS,
+    RECOMMENDED_ROWS,
     RECOMMENDED_SCALES,
     RECOMMENDED_SECTORS,
     RECOMMENDED_STEP,
@@ -26,9 +28,9 @@ from golden_model.config import (
     Config,
     ConfigError,
     check_step,
+    parse_cells,
     parse_step,
     recommended_budget,
-    recommended_cell,
 )
 from golden_model.features import Features, write_csv
 from golden_model.images import DEFAULT_IMAGE, ImageError, to_luma
@@ -57,6 +59,22 @@ class UsageError(Exception):
 class _Parser(argparse.ArgumentParser):
     def error(self, message: str) -> None:  # one line, exit 2, as for every other user error
         raise UsageError(message)
+
+
+CELLS_HELP = (
+    "the grid selection's cells across and down the frame, the same grid at every level (default "
+    f"{RECOMMENDED_COLS}x{RECOMMENDED_ROWS}; each {limits.COLS.text})"
+)
+RECOMMENDED_CELLS = (RECOMMENDED_COLS, RECOMMENDED_ROWS)
+
+
+def _cells(text: str) -> tuple[int, int]:
+    """COLSxROWS, each checked against its limit (golden_model.limits)."""
+    try:
+        cols, rows = parse_cells(text)
+    except ConfigError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+    return _limited(limits.COLS, str(cols)), _limited(limits.ROWS, str(rows))
 
 
 def _limited(lim: limits.Limit, text: str) -> int:
@@ -141,12 +159,7 @@ def _add_model_options(p: argparse.ArgumentParser) -> None:
         default=None,
         help="features per frame (default: golden_model.config.recommended_budget of the size)",
     )
-    p.add_argument(
-        "--cell",
-        type=lambda t: _limited(limits.CELL, t),
-        default=None,
-        help="grid cell in level pixels (default: recommended_cell, an eighth of the width)",
-    )
+    p.add_argument("--cells", type=_cells, default=None, help=CELLS_HELP)
     p.add_argument("--threshold", type=_threshold, default=20, help="FAST threshold (default 20)")
     p.add_argument(
         "--threshold-lo",
@@ -210,12 +223,7 @@ def build_parser() -> argparse.ArgumentParser:
                     help=f"at most N features, the accelerator's grid selection (docs/selection.md; opencv: "
                          f"each level's best, docs/spec.md section 14); 0: every feature (selection all); "
                          f"default {RECOMMENDED_BUDGET} per 640x480: config.recommended_budget)")  # fmt: skip
-    ex.add_argument(
-        "--cell",
-        type=lambda t: _limited(limits.CELL, t),
-        default=None,
-        help="grid cell in level pixels (default: recommended_cell, an eighth of the width)",
-    )
+    ex.add_argument("--cells", type=_cells, default=None, help=CELLS_HELP)
     ex.add_argument("--threshold-lo", type=lambda t: _limited(limits.THRESHOLD_LO, t),
                     default=RECOMMENDED_THRESHOLD_LO,
                     help=f"the grid selection's low threshold (default {RECOMMENDED_THRESHOLD_LO})")  # fmt: skip
@@ -340,7 +348,8 @@ def cmd_extract(args: argparse.Namespace) -> int:
         width=w, height=h, scales=args.scales, sectors=args.sectors,
         threshold=args.threshold, mode="fast" if args.fast_only else "orb",
         step_num=args.step[0], step_den=args.step[1], selection="grid" if grid else "all", budget=budget if grid else 0,
-        cell=recommended_cell(w) if args.cell is None else args.cell, threshold_lo=args.threshold_lo,
+        cols=(args.cells or RECOMMENDED_CELLS)[0], rows=(args.cells or RECOMMENDED_CELLS)[1],
+        threshold_lo=args.threshold_lo,
     )  # fmt: skip
     t0 = time.perf_counter()
     feats = run_backend(args.backend, img, cfg)
@@ -352,7 +361,7 @@ def cmd_extract(args: argparse.Namespace) -> int:
     write_csv(feats, args.out)
     per_scale = ", ".join(f"scale {s}: {int((feats.scale == s).sum())}" for s in range(cfg.scales))
     if grid:
-        kept = f"{len(feats)} features (grid selection, budget {budget}, cell {cfg.cell})"
+        kept = f"{len(feats)} features (grid selection, budget {budget}, {cfg.cols} x {cfg.rows} cells)"
     else:
         kept = f"{len(feats)} of {found} features (budget {budget})" if budget else f"{found} features"
     print(f"{path.name} {w}x{h} [{args.backend}, {cfg.mode}, t={cfg.threshold}, {cfg.scales} scales of "
@@ -429,7 +438,7 @@ def cmd_eval_photos(args: argparse.Namespace) -> int:
 def _settings(args: argparse.Namespace) -> Settings:
     from .track_bench import Settings
 
-    return Settings(budget=args.budget, cell=args.cell, threshold=args.threshold, threshold_lo=args.threshold_lo,
+    return Settings(budget=args.budget, cells=args.cells, threshold=args.threshold, threshold_lo=args.threshold_lo,
                     scales=args.scales, step=args.step, sectors=args.sectors)  # fmt: skip
 
 

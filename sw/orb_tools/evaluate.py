@@ -23,7 +23,7 @@ import cv2
 import numpy as np
 
 from golden_model.brief import DESCRIPTOR_BYTES
-from golden_model.config import RECOMMENDED_THRESHOLD_LO, Config, recommended_cell, sectors_to_per_quadrant
+from golden_model.config import RECOMMENDED_THRESHOLD_LO, Config, sectors_to_per_quadrant
 from golden_model.fast import fast_score
 from golden_model.features import Features
 from golden_model.pipeline import DESC_BORDER, describe_level, detect, extract, orb_level
@@ -282,12 +282,12 @@ class RotationBench:
 def _extract_all(img: np.ndarray, sectors: Sequence[int], threshold: int, scales: int, budget: int = 0
                  ) -> list[Features]:  # fmt: skip
     """Features per method (model at each sector count, then OpenCV). With a budget: the model's
-    grid selection (recommended cell and low threshold) and OpenCV's own selection at the count of
+    grid selection (recommended cells and low threshold) and OpenCV's own selection at the count of
     the model's first sector count."""
     h, w = img.shape
     if budget > 0:
         model = [extract(img, Config(w, h, scales, s, threshold, "orb", threshold_lo=RECOMMENDED_THRESHOLD_LO,
-                                     selection="grid", budget=budget, cell=recommended_cell(w)))
+                                     selection="grid", budget=budget))
                  for s in sectors]  # fmt: skip
         return [*model, extract_opencv_selected(img, Config(w, h, scales, 32, threshold, "orb"), len(model[0]))]
     ns = [sectors_to_per_quadrant(s) for s in sectors]

@@ -14,10 +14,10 @@ Extractors:
   other steps the fixed-phase bilinear resampler), 32 sectors unless `sSECTORS`, threshold 20; with
   `/BUDGET`, each level's best of a per-level budget (golden_model.select, what the driver's
   Frame.best keeps); a level-k feature is centred at (x + 0.5) r^k - 0.5;
-- ours with the fabric's selection, `NUM:DENxLEVELS[sSECTORS]/gBUDGET[cCELL]` (e.g. `5:4x5s64/g1000`):
+- ours with the fabric's selection, `NUM:DENxLEVELS[sSECTORS]/gBUDGET[cCOLSxROWS]` (e.g. `5:4x5s64/g1000`):
   golden_model.pipeline.extract with selection "grid" (docs/spec.md section 14): BUDGET features per
-  image, low threshold 7 (RECOMMENDED_THRESHOLD_LO), cells of CELL pixels, by default
-  golden_model.config.recommended_cell of each image's width; on an image too small for LEVELS levels
+  image, low threshold 7 (RECOMMENDED_THRESHOLD_LO), a grid of COLS x ROWS cells over the image, by
+  default 8 x 6 (golden_model.config.RECOMMENDED_COLS, RECOMMENDED_ROWS); on an image too small for LEVELS levels
   of at least 37x37 pixels, the most levels that fit (the budget is split over those);
 - `cv-STEPxLEVELS`: OpenCV ORB with that pyramid (scale factor, levels), FAST score, threshold 20,
   no feature limit;
@@ -40,7 +40,7 @@ import cv2
 import numpy as np
 
 from golden_model import limits
-from golden_model.config import RECOMMENDED_THRESHOLD_LO, Config, level_size, recommended_cell
+from golden_model.config import RECOMMENDED_COLS, RECOMMENDED_ROWS, RECOMMENDED_THRESHOLD_LO, Config, level_size
 from golden_model.features import Features
 from golden_model.pipeline import DESC_BORDER, extract, extract_scale
 from golden_model.scaler import pyramid
@@ -57,7 +57,7 @@ SECTORS = 32
 LEVEL_CFG = Config(64, 48, scales=1, sectors=SECTORS, threshold=THRESHOLD, mode="orb")
 MIN_LEVEL = 2 * DESC_BORDER + 1  # 37: the smallest level that can hold a feature
 EXTRACTOR_RE = re.compile(
-    r"(?P<num>\d+):(?P<den>\d+)x(?P<levels>\d+)(?:s(?P<sectors>\d+))?(?:/(?P<grid>g)?(?P<budget>\d+)(?:c(?P<cell>\d+))?)?"
+    r"(?P<num>\d+):(?P<den>\d+)x(?P<levels>\d+)(?:s(?P<sectors>\d+))?(?:/(?P<grid>g)?(?P<budget>\d+)(?:c(?P<cols>\d+)x(?P<rows>\d+))?)?"
 )
 
 
@@ -71,7 +71,7 @@ class Extractor:
     sectors: int = SECTORS  # ours: orientation sectors in all
     budget: int = 0  # ours: features kept per image, each level's best (0: every feature)
     grid: bool = False  # ours: the fabric's grid selection of `budget` features instead of the host's
-    cell: int = 0  # ours, grid: the cell size (0: recommended_cell of each image's width)
+    cells: tuple[int, int] = (RECOMMENDED_COLS, RECOMMENDED_ROWS)  # ours, grid: the grid's columns and rows
 
     @property
     def factor(self) -> float:
@@ -79,29 +79,32 @@ class Extractor:
 
 
 def parse_extractor(text: str) -> Extractor:
-    """`2:1x4`, `5:4x6`, `5:4x4s64/1000` (ours), `5:4x5s64/g1000`, `5:4x5s64/g1000c80` (ours, grid
+    """`2:1x4`, `5:4x6`, `5:4x4s64/1000` (ours), `5:4x5s64/g1000`, `5:4x5s64/g1000c8x6` (ours, grid
     selection), `cv-2:1x4` (OpenCV with that pyramid), `cv-default[@OURS]`."""
     if text == "cv-default" or text.startswith("cv-default@"):
         return Extractor(text, "opencv-default", budget_of=text.partition("@")[2])
     kind = "opencv" if text.startswith("cv-") else "ours"
     body = text[3:] if kind == "opencv" else text
     m = EXTRACTOR_RE.fullmatch(body)
-    if m is None or (kind == "opencv" and (m["sectors"] or m["budget"])) or (m["cell"] and not m["grid"]):
+    if m is None or (kind == "opencv" and (m["sectors"] or m["budget"])) or (m["cols"] and not m["grid"]):
         raise ValueError(
-            f"extractor {text!r}: expected NUM:DENxLEVELS[sSECTORS][/BUDGET], NUM:DENxLEVELS[sSECTORS]/gBUDGET[cCELL], "
+            f"extractor {text!r}: expected NUM:DENxLEVELS[sSECTORS][/BUDGET], "
+            "NUM:DENxLEVELS[sSECTORS]/gBUDGET[cCOLSxROWS], "
             "cv-NUM:DENxLEVELS or cv-default"
         )
     num, den, levels = int(m["num"]), int(m["den"]), int(m["levels"])
     ext = Extractor(text, kind, (num, den), levels, sectors=int(m["sectors"] or SECTORS),
-                    budget=int(m["budget"] or 0), grid=bool(m["grid"]), cell=int(m["cell"] or 0))  # fmt: skip
+                    budget=int(m["budget"] or 0), grid=bool(m["grid"]))  # fmt: skip
+    if m["cols"]:
+        ext = replace(ext, cells=(int(m["cols"]), int(m["rows"])))
     if not (num > den >= 1 and 1 <= ext.levels <= 12 and ext.sectors in (16, 32, 64)):
         raise ValueError(f"extractor {text!r}: need num > den >= 1, 1..12 levels and 16, 32 or 64 sectors")
     if ext.grid:
         if not (1 <= ext.levels <= limits.SCALES.max and limits.BUDGET.legal(ext.budget)):
             raise ValueError(f"extractor {text!r}: the grid selection needs levels {limits.SCALES.text} and a budget "
                              f"{limits.BUDGET.text}")  # fmt: skip
-        if m["cell"] and not limits.CELL.legal(ext.cell):
-            raise ValueError(f"extractor {text!r}: the cell must be {limits.CELL.text}")
+        if not (limits.COLS.legal(ext.cells[0]) and limits.ROWS.legal(ext.cells[1])):
+            raise ValueError(f"extractor {text!r}: the cells must be {limits.COLS.text} x {limits.ROWS.text}")
     return ext
 
 
@@ -126,14 +129,14 @@ def max_levels(width: int, height: int, step: tuple[int, int]) -> int:
 
 
 def extract_grid(img: np.ndarray, ext: Extractor) -> Features:
-    """The fabric's grid selection (`/gBUDGET[cCELL]`) on as many of the extractor's levels as fit."""
+    """The fabric's grid selection (`/gBUDGET[cCOLSxROWS]`) on as many of the extractor's levels as fit."""
     h, w = img.shape
     levels = min(ext.levels, max_levels(w, h, ext.step))
     if levels < 1:
         raise ValueError(f"{ext.name}: a {w}x{h} image is smaller than a level may be ({MIN_LEVEL}x{MIN_LEVEL})")
     cfg = Config(w, h, scales=levels, sectors=ext.sectors, threshold=THRESHOLD, step_num=ext.step[0],
                  step_den=ext.step[1], threshold_lo=RECOMMENDED_THRESHOLD_LO, selection="grid", budget=ext.budget,
-                 cell=ext.cell or recommended_cell(w))  # fmt: skip
+                 cols=ext.cells[0], rows=ext.cells[1])  # fmt: skip
     return extract(img, cfg)
 
 

@@ -21,7 +21,7 @@ sigma 2 grey levels, rounded and clipped to 0..255. A photograph so large that t
 
 Extractors, per frame: `ours`, the golden model with the fabric's grid selection (golden_model.pipeline.
 extract, selection "grid": --budget features, default golden_model.config.recommended_budget of the
-size; cells of --cell pixels, default recommended_cell; --threshold 20 and --threshold-lo 7; --scales
+size; a grid of --cells COLSxROWS over the frame, default 8x6; --threshold 20 and --threshold-lo 7; --scales
 levels of --step, --sectors; a level must be at least 37x37 pixels, else the command refuses); `opencv`,
 cv2.ORB_create(nfeatures = our feature count on that frame), OpenCV's defaults otherwise (none when
 ours has none).
@@ -57,6 +57,8 @@ import cv2
 import numpy as np
 
 from golden_model.config import (
+    RECOMMENDED_COLS,
+    RECOMMENDED_ROWS,
     RECOMMENDED_SCALES,
     RECOMMENDED_SECTORS,
     RECOMMENDED_STEP,
@@ -65,7 +67,6 @@ from golden_model.config import (
     ConfigError,
     level_size,
     recommended_budget,
-    recommended_cell,
 )
 from golden_model.images import ImageError, to_luma
 from golden_model.pipeline import extract
@@ -99,7 +100,7 @@ class Settings:
     """The model's configuration of the benches (track-bench and density-bench); None: recommended."""
 
     budget: int | None = None
-    cell: int | None = None
+    cells: tuple[int, int] | None = None
     threshold: int = 20
     threshold_lo: int = RECOMMENDED_THRESHOLD_LO
     scales: int = RECOMMENDED_SCALES
@@ -110,10 +111,10 @@ class Settings:
         """The grid-selection Config for a frame size (ConfigError when a level is too small to hold features)."""
         check_levels(width, height, self.scales, self.step)
         budget = recommended_budget(width, height) if self.budget is None else self.budget
-        cell = recommended_cell(width) if self.cell is None else self.cell
+        cols, rows = (RECOMMENDED_COLS, RECOMMENDED_ROWS) if self.cells is None else self.cells
         return Config(width, height, scales=self.scales, sectors=self.sectors, threshold=self.threshold,
                       step_num=self.step[0], step_den=self.step[1], threshold_lo=self.threshold_lo,
-                      selection="grid", budget=budget, cell=cell)  # fmt: skip
+                      selection="grid", budget=budget, cols=cols, rows=rows)  # fmt: skip
 
 
 def check_levels(width: int, height: int, scales: int, step: tuple[int, int]) -> None:
@@ -356,8 +357,8 @@ def write_outputs(out_dir: Path, rows: Sequence[dict], settings: dict) -> list[d
 
 def settings_record(settings: Settings, size: tuple[int, int], frames: int, gaps: Sequence[int], seed: int) -> dict:
     cfg = settings.config(*size)
-    return {**asdict(settings), "size": f"{size[0]}x{size[1]}", "budget_used": cfg.budget, "cell_used": cfg.cell,
-            "frames": frames, "gaps": list(gaps), "seed": seed}  # fmt: skip
+    return {**asdict(settings), "size": f"{size[0]}x{size[1]}", "budget_used": cfg.budget,
+            "cells_used": f"{cfg.cols}x{cfg.rows}", "frames": frames, "gaps": list(gaps), "seed": seed}  # fmt: skip
 
 
 def table(summary: Sequence[dict]) -> str:

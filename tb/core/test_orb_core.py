@@ -6,7 +6,7 @@ and selection) through s_axis_video, collects m_axis_feat, resolves each frame's
 (golden_model.featcodec.resolve_selection: what the feature memory keeps) and compares every
 frame with the model's features: scale, x, y, score, response and low flag in fast mode, plus
 sector and descriptor in orb mode. The pytest runners below pick widths, heights, scales,
-sectors, modes, selections (`all`, or `grid:BUDGET:CELL:LOW`), images, thresholds and input gaps.
+sectors, modes, selections (`all`, or `grid:BUDGET:COLSxROWS:LOW`), images, thresholds and input gaps.
 A selection that changes waits SELECT_SETTLE idle clocks before its frame (the budget's split is
 formed from the inputs, orb_core's header).
 """
@@ -125,16 +125,16 @@ def run_detect(width: int, height: int, scales: int, images_: str, thresholds: s
 
 
 # The grid selection (issue 24): photographs with low corners, budgets below and above the
-# candidates, cells from 16 to 255, back to back with the selection changing, both modes, every
+# candidates, grids from 1 x 1 to 15 x 15, back to back with the selection changing, both modes, every
 # level of the finer pyramid; the densest legal patterns (at most the budget, nothing dropped).
 @pytest.mark.parametrize(
     ("width", "height", "scales", "step", "images_", "thresholds", "gaps", "modes", "selections"),
     [
         (160, 96, 3, (5, 4), "photo:astronaut,photo:coffee,photo:camera", "20,20,25", "random:3", "orb,orb,fast",
-         "grid:60:32:7,grid:25:16:5,grid:1000:255:10"),
-        (128, 96, 2, (2, 1), "photo:chelsea,photo:chelsea", "20,20", "none", "orb,orb", "all,grid:40:24:7"),
+         "grid:60:8x6:7,grid:25:15x15:5,grid:1000:1x1:10"),
+        (128, 96, 2, (2, 1), "photo:chelsea,photo:chelsea", "20,20", "none", "orb,orb", "all,grid:40:5x4:7"),
         (128, 96, 5, (5, 4), "dots4,checker,photo:coffee", "20,0,30", "none", "orb,fast,orb",
-         "grid:90:20:7,grid:200:17:0,grid:0:80:7"),
+         "grid:90:6x5:7,grid:200:13x9:0,grid:0:8x6:7"),
     ],
 )  # fmt: skip
 def test_grid_selection(width: int, height: int, scales: int, step: tuple[int, int], images_: str, thresholds: str,

@@ -30,7 +30,7 @@ import numpy as np
 import pytest
 
 from golden_model import regs
-from golden_model.config import RECOMMENDED_THRESHOLD_LO, recommended_cell
+from golden_model.config import RECOMMENDED_COLS, RECOMMENDED_ROWS, RECOMMENDED_THRESHOLD_LO
 from golden_model.features import Features, first_difference
 from golden_model.luma import rgb_to_luma
 from orb_accel import BusError, OrbAccel
@@ -61,7 +61,7 @@ def server(frames: np.ndarray, tmp_path_factory: pytest.TempPathFactory) -> Iter
 
 # the driver's default selection on this accelerator: the grid, the recommended budget within a bank
 HW = HwConfig(W, H, SCALES, SECTORS, DEPTH)
-SELECTION = f"grid:{HW.default_budget()}:{recommended_cell(W)}:{RECOMMENDED_THRESHOLD_LO}"
+SELECTION = f"grid:{HW.default_budget()}:{RECOMMENDED_COLS}x{RECOMMENDED_ROWS}:{RECOMMENDED_THRESHOLD_LO}"
 
 
 def model(frames: np.ndarray, k: int, threshold: int, mode: str = "orb") -> Features:

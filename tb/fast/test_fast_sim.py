@@ -29,13 +29,14 @@ import numpy as np
 import pytest
 
 from golden_model.config import (
+    RECOMMENDED_COLS,
+    RECOMMENDED_ROWS,
     RECOMMENDED_SCALES,
     RECOMMENDED_SECTORS,
     RECOMMENDED_STEP,
     RECOMMENDED_THRESHOLD_LO,
     Config,
     recommended_budget,
-    recommended_cell,
 )
 from golden_model.features import first_difference, read_csv
 from golden_model.luma import rgb_to_luma
@@ -53,10 +54,11 @@ ROOT = Path(__file__).resolve().parents[2]
 # the driver's default selection on this accelerator (the grid, the recommended budget), and a
 # tighter one that makes the netlist replace and evict
 HW = HwConfig(W, H, SCALES, SECTORS, DEPTH)
-DEFAULT = f"grid:{HW.default_budget()}:{recommended_cell(W)}:{RECOMMENDED_THRESHOLD_LO}"
-TIGHT = (60, 16, 5)
+DEFAULT = f"grid:{HW.default_budget()}:{RECOMMENDED_COLS}x{RECOMMENDED_ROWS}:{RECOMMENDED_THRESHOLD_LO}"
+TIGHT = (60, (15, 12), 5)
+TIGHT_TEXT = f"grid:{TIGHT[0]}:{TIGHT[1][0]}x{TIGHT[1][1]}:{TIGHT[2]}"
 CFG = Config(W, H, scales=SCALES, sectors=SECTORS, threshold=20, mode="orb", selection="grid", budget=TIGHT[0],
-             cell=TIGHT[1], threshold_lo=TIGHT[2])  # fmt: skip
+             cols=TIGHT[1][0], rows=TIGHT[1][1], threshold_lo=TIGHT[2])  # fmt: skip
 GENERICS = generics_for(CFG, colour=True, mem_depth=DEPTH)
 
 
@@ -77,8 +79,8 @@ def marked(rgb: np.ndarray, selection: str = DEFAULT):
 def test_photo_stream(photos: list[np.ndarray]) -> None:
     fa = FastAccel.start(GENERICS)
     sim, accel = fa.sim, fa.accel
-    tight = "grid:{}:{}:{}".format(*TIGHT)
-    accel.configure(threshold=20, budget=TIGHT[0], cell=TIGHT[1], threshold_lo=TIGHT[2])
+    tight = TIGHT_TEXT
+    accel.configure(threshold=20, budget=TIGHT[0], cells=TIGHT[1], threshold_lo=TIGHT[2])
     sim.set_out_ready(0.8, seed=5)
     sim.capture(True)
     for rgb in photos:
@@ -111,7 +113,7 @@ def test_against_ghdl(photos: list[np.ndarray], tmp_path: Path) -> None:
     a = read_csv(tmp_path / "ghdl" / "features.csv", SECTORS)
     b = read_csv(tmp_path / "fast" / "features.csv", SECTORS)
     assert first_difference(a, b) is None, f"GHDL (first) and the netlist (second) differ: {first_difference(a, b)}"
-    assert first_difference(b, model(rgb, "grid:{}:{}:{}".format(*TIGHT))) is None
+    assert first_difference(b, model(rgb, TIGHT_TEXT)) is None
     assert np.array_equal(np.load(tmp_path / "ghdl" / "overlay.npy"), np.load(tmp_path / "fast" / "overlay.npy"))
     same = ("features", "frame_cycles", "pixels", "cycles_per_pixel", "dropped_merge", "truncated", "desc_lost",
             "proto_errors")  # fmt: skip
@@ -176,7 +178,7 @@ def test_make_sim_fast_and_cli(tmp_path: Path, photos: list[np.ndarray]) -> None
     # make sim's default is the recommended configuration (golden_model.config.RECOMMENDED_*) with
     # the recommended grid selection
     luma = rgb_to_luma(photos[3])
-    grid = f"grid:{recommended_budget(W, H)}:{recommended_cell(W)}:{RECOMMENDED_THRESHOLD_LO}"
+    grid = f"grid:{recommended_budget(W, H)}:{RECOMMENDED_COLS}x{RECOMMENDED_ROWS}:{RECOMMENDED_THRESHOLD_LO}"
     want = expected_features(luma, RECOMMENDED_SCALES, 20, "orb", RECOMMENDED_SECTORS, RECOMMENDED_STEP, grid)
     assert report["features"] == len(want) and report["dropped"] == 0
     out = tmp_path / "cli.csv"

@@ -20,7 +20,6 @@ from golden_model.config import (
     RECOMMENDED_SECTORS,
     RECOMMENDED_STEP,
     RECOMMENDED_THRESHOLD_LO,
-    recommended_cell,
 )
 from golden_model.images import DEFAULT_IMAGE
 from orb_tools.cli import main
@@ -70,7 +69,7 @@ def test_extract_defaults_are_the_recommended_configuration(tmp_path: Path) -> N
     got = read_csv(out, sectors_total=cfg.sectors, step=cfg.step)
     full = extract(img, cfg)
     # the accelerator's grid selection at the recommended budget, cell and low threshold
-    grid = extract(img, replace(cfg, selection="grid", budget=RECOMMENDED_BUDGET, cell=recommended_cell(img.shape[1]),
+    grid = extract(img, replace(cfg, selection="grid", budget=RECOMMENDED_BUDGET,
                                 threshold_lo=RECOMMENDED_THRESHOLD_LO))  # fmt: skip
     assert got == grid and len(got) == RECOMMENDED_BUDGET < len(full)
     assert int(got.scale.max()) == RECOMMENDED_SCALES - 1, "every level of the recommended pyramid has features"
@@ -109,7 +108,8 @@ def _run_cli(*args: str) -> subprocess.CompletedProcess[str]:
         (lambda d: [str(d / "ok.png"), "--sectors", "24"], "sectors must be 16, 32 or 64"),
         (lambda d: [str(d / "ok.png"), "--backend", "fpga"], "invalid choice"),
         (lambda d: [str(d / "ok.png"), "--budget", "5000"], "budget must be 0..4095"),
-        (lambda d: [str(d / "ok.png"), "--cell", "8"], "cell must be 16..255"),
+        (lambda d: [str(d / "ok.png"), "--cells", "16x6"], "cols must be 1..15"),
+        (lambda d: [str(d / "ok.png"), "--cells", "8by6"], "expected COLSxROWS"),
         (lambda d: [str(d / "ok.png"), "--threshold-lo", "300"], "threshold_lo must be 0..255"),
     ],
 )

@@ -15,7 +15,7 @@ import cv2
 import numpy as np
 import pytest
 
-from golden_model.config import Config, recommended_cell
+from golden_model.config import Config
 from golden_model.pipeline import candidates
 from golden_model.select import best_per_level, select_grid
 from orb_tools import density_bench as dbench
@@ -100,11 +100,21 @@ def test_summary_and_command(tmp_path: Path) -> None:
 
 def test_scale_bench_grid_extractor_parses() -> None:
     g = sb.parse_extractor("5:4x5s64/g1000")
-    assert (g.kind, g.step, g.levels, g.sectors, g.budget, g.grid, g.cell) == ("ours", (5, 4), 5, 64, 1000, True, 0)
-    assert sb.parse_extractor("5:4x5s64/g1000c80").cell == 80
+    assert (g.kind, g.step, g.levels, g.sectors, g.budget, g.grid, g.cells) == ("ours", (5, 4), 5, 64, 1000, True,
+                                                                                 (8, 6))  # fmt: skip
+    assert sb.parse_extractor("5:4x5s64/g1000c4x3").cells == (4, 3)
     host = sb.parse_extractor("5:4x5s64/1000")
     assert (host.grid, host.budget) == (False, 1000)
-    for bad in ("5:4x5/1000c80", "5:4x5/g", "5:4x5/gc80", "5:4x5/g5000", "5:4x5/g100c8", "5:4x9/g100", "cv-5:4x5/g9"):
+    for bad in (
+        "5:4x5/1000c8x6",
+        "5:4x5/g",
+        "5:4x5/gc8x6",
+        "5:4x5/g5000",
+        "5:4x5/g100c16x6",
+        "5:4x5/g100c8",
+        "5:4x9/g100",
+        "cv-5:4x5/g9",
+    ):
         with pytest.raises(ValueError, match="extractor"):
             sb.parse_extractor(bad)
     assert "5:4x5s64/g1000" in SCALE_BENCH_DEFAULT and "cv-default@5:4x5s64/g1000" in SCALE_BENCH_DEFAULT
@@ -115,7 +125,7 @@ def test_scale_bench_grid_is_the_models_selection() -> None:
     img = photo("camera", 320, 240)
     got = sb.extract_ours(img, sb.parse_extractor("5:4x3s32/g200"))
     cfg = Config(320, 240, scales=3, sectors=32, threshold=20, step_num=5, step_den=4, threshold_lo=7,
-                 selection="grid", budget=200, cell=recommended_cell(320))  # fmt: skip
+                 selection="grid", budget=200)  # fmt: skip
     cands = candidates(img, cfg)
     want = select_grid(cands, cfg)
     wx, wy = want.full_res()
@@ -124,8 +134,8 @@ def test_scale_bench_grid_is_the_models_selection() -> None:
     assert np.array_equal(got.desc, want.descriptor)
     host = best_per_level(cands.take(np.flatnonzero(~cands.low)), 200, 3)
     assert not np.array_equal(np.sort(host.full_res()[0]), np.sort(wx)), "not the host's budget"
-    c = sb.extract_ours(img, sb.parse_extractor("5:4x3s32/g200c16"))
-    assert len(c) <= 200 and not np.array_equal(c.x, got.x), "the cell option is used"
+    c = sb.extract_ours(img, sb.parse_extractor("5:4x3s32/g200c2x2"))
+    assert len(c) <= 200 and not np.array_equal(c.x, got.x), "the cells option is used"
 
 
 def test_scale_bench_runs_cv_default_at_the_grid_count() -> None:

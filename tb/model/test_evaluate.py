@@ -10,7 +10,7 @@ import cv2
 import numpy as np
 import pytest
 
-from golden_model.config import Config, recommended_cell
+from golden_model.config import Config
 from golden_model.fast import fast_score
 from golden_model.features import read_csv
 from golden_model.pipeline import extract
@@ -157,8 +157,8 @@ def test_rotation_bench_with_the_grid_selection(photos: dict[str, np.ndarray]) -
     bench = rotation_bench([("coffee", img)], [32], [0.0, 90.0], 20, 1, budget=150)
     original, _, matches, correct, _ = np.moveaxis(bench.counts[0], -1, 0)
     h, w = img.shape
-    want = extract(img, Config(w, h, 1, 32, 20, "orb", threshold_lo=7, selection="grid", budget=150,
-                               cell=recommended_cell(w)))  # fmt: skip
+    want = extract(img, Config(w, h, 1, 32, 20, "orb", threshold_lo=7, selection="grid",
+                               budget=150))  # fmt: skip
     assert original[0, 0] == len(want) <= 150
     assert abs(int(original[0, 1]) - len(want)) <= 0.05 * len(want), "OpenCV keeps about the model's count"
     assert matches[0, 0] == correct[0, 0] == original[0, 0], "angle 0: every selected feature matches itself"

@@ -8,12 +8,16 @@ import numpy as np
 import pytest
 
 from golden_model import Config, extract
+from golden_model.config import level_size
 from golden_model.features import NO_SECTOR, Features
 from golden_model.pipeline import candidates
 from golden_model.select import (
+    CELL_SHIFT,
+    CellGrid,
     LevelSelector,
     arrival_order,
     best_per_level,
+    cell_axis,
     level_budgets,
     level_slots,
     select_grid,
@@ -103,14 +107,22 @@ def test_budgets_sum_to_the_total_and_follow_the_geometric_split(step: tuple[int
                 assert got[k] >= exact[k] - 1.0 or sum(got[: k + 1]) == total, (total, step, levels, got)
 
 
-def _random_level(rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, int, int]:
-    """Candidates of a level in raster order (never two at one pixel), with low flags and codes."""
+def _random_level(rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, int, CellGrid]:
+    """Candidates of a level in raster order (never two at one pixel), with low flags and codes, and
+    a grid: square cells, or a random frame's grid at a random level."""
     w, h = int(rng.integers(20, 200)), int(rng.integers(20, 200))
     count = int(rng.integers(0, 150))
     pos = np.sort(rng.choice(w * h, size=min(count, w * h), replace=False))
     low = rng.random(len(pos)) < rng.random()
     codes = rng.integers(0, int(rng.integers(1, 64)), len(pos))  # few codes: many ties
-    return pos % w, pos // w, low, codes, int(rng.integers(0, 40)), int(rng.integers(16, 90))
+    if rng.random() < 0.5:
+        grid = CellGrid.square(int(rng.integers(16, 90)))
+    else:
+        level = int(rng.integers(0, 4))
+        full = (w * 5**level // 4**level + 1, h * 5**level // 4**level + 1)
+        cols, rows = int(rng.integers(1, 16)), int(rng.integers(1, 16))
+        grid = CellGrid(*cell_axis(cols, full[0], level, (5, 4)), *cell_axis(rows, full[1], level, (5, 4)))
+    return pos % w, pos // w, low, codes, int(rng.integers(0, 40)), grid
 
 
 def test_streaming_selector_keeps_exactly_the_declarative_selection() -> None:
@@ -118,17 +130,51 @@ def test_streaming_selector_keeps_exactly_the_declarative_selection() -> None:
     on 3000 random levels: ties, low corners, more cells than places, budget 0."""
     rng = np.random.default_rng(24)
     for trial in range(3000):
-        x, y, low, codes, n, cell = _random_level(rng)
-        sel = LevelSelector(n, cell)
+        x, y, low, codes, n, grid = _random_level(rng)
+        sel = LevelSelector(n, grid)
         ops = [sel.offer(int(x[i]), int(y[i]), bool(low[i]), int(codes[i])) for i in range(len(x))]
-        want = select_level(x, y, low, codes, n, cell).tolist()
-        assert sel.kept() == want, f"trial {trial}: n={n} cell={cell}: streaming {sel.kept()} != {want}"
+        want = select_level(x, y, low, codes, n, grid).tolist()
+        assert sel.kept() == want, f"trial {trial}: n={n} {grid}: streaming {sel.kept()} != {want}"
         # slots: new ones in order 0, 1, ..., never more than n, and a replaced slot was in use
         new = [op[0] for op in ops if op is not None and op[1]]
         assert new == list(range(len(new))) and len(new) <= max(n, 0), f"trial {trial}"
         for k, op in enumerate(ops):
             if op is not None and not op[1]:
                 assert op[0] in new[: sum(1 for o in ops[:k] if o is not None and o[1])], f"trial {trial}"
+
+
+@pytest.mark.parametrize(("width", "height", "step", "levels"),
+                         [(640, 480, (5, 4), 8), (1280, 720, (5, 4), 8), (1920, 1080, (5, 4), 8),
+                          (1920, 1080, (2, 1), 8), (100, 75, (5, 4), 3), (4095, 4095, (16, 8), 8),
+                          (64, 48, (3, 2), 4)])  # fmt: skip
+def test_cell_map_is_the_frames_grid(width: int, height: int, step: tuple[int, int], levels: int) -> None:
+    """The fixed-point cell map (spec 14) puts every level pixel in the cell of the frame's grid that
+    holds its full-resolution position (v + 0.5) a / b - 0.5 (integers: floor(((2 v + 1) a - b)
+    cells / (2 full b))), for every grid, but for positions within 2^-16 of a cell boundary; a cell
+    row is at least a pixel row high (K < 2^24)."""
+    num, den = step
+    for k in range(levels):
+        size = level_size(width, height, k, step)
+        if min(size) < 1:
+            break
+        a, b = num**k, den**k
+        for axis, full in enumerate((width, height)):
+            v = np.arange(size[axis], dtype=np.int64)
+            for cells in range(1, 16):
+                kk, oo = cell_axis(cells, full, k, step)
+                got = (v * kk + oo) >> CELL_SHIFT
+                num_, den_ = ((2 * v + 1) * a - b) * cells, 2 * full * b
+                want = num_ // den_
+                if kk < (1 << CELL_SHIFT) - 1:  # (a saturated K: cells below a pixel, not the frame's)
+                    # exact but within 2^-16 of a cell boundary, where the 24-bit fraction decides
+                    frac = num_ % den_
+                    edge = (frac << 16 < den_) | ((den_ - frac) << 16 < den_)
+                    off = np.flatnonzero(got != want)
+                    assert np.all(edge[off]) and np.all(np.abs(got - want) <= 1), (
+                        f"{width}x{height} {step} level {k} axis {axis}, {cells} cells: {v[off][:5]}"
+                    )
+                assert kk < 1 << CELL_SHIFT and 0 <= oo < 1 << CELL_SHIFT and got.max() <= cells - 1
+                assert np.all(np.diff(got) <= 1), "a cell row below a pixel row"
 
 
 def test_selection_hand_case() -> None:
@@ -141,13 +187,13 @@ def test_selection_hand_case() -> None:
     code = np.array([5, 9, 8, 2, 1, 9])
     # 4 cells hold candidates > budget 3: the floors of the first 3 cells (by first candidate):
     # (0,0) -> index 1, (1,0) -> index 3 (main beats low), (2,0) -> index 4
-    assert select_level(x, y, low, code, 3, 10).tolist() == [1, 3, 4]
+    assert select_level(x, y, low, code, 3, CellGrid.square(10)).tolist() == [1, 3, 4]
     # budget 5: all 4 floors (1, 3, 4, 5), one place for the rest R = {0 (displaced at 1)}
-    assert select_level(x, y, low, code, 5, 10).tolist() == [0, 1, 3, 4, 5]
+    assert select_level(x, y, low, code, 5, CellGrid.square(10)).tolist() == [0, 1, 3, 4, 5]
     # equal codes in R: the one that joined first stays
     x2, y2 = np.array([1, 2, 3, 4]), np.zeros(4, dtype=np.int64)
     low2, code2 = np.zeros(4, dtype=bool), np.array([7, 3, 3, 3])
-    assert select_level(x2, y2, low2, code2, 2, 16).tolist() == [0, 1]  # floor 0, then 1 of {1, 2, 3}
+    assert select_level(x2, y2, low2, code2, 2, CellGrid.square(16)).tolist() == [0, 1]  # floor 0, then 1 of {1, 2, 3}
 
 
 def test_grid_selection_on_photographs(photographs) -> None:
@@ -156,7 +202,7 @@ def test_grid_selection_on_photographs(photographs) -> None:
     for name in ("astronaut", "coffee"):
         img = photographs[name][:240, :320]
         cfg = Config(320, 240, scales=4, step_num=5, step_den=4, threshold=20, threshold_lo=7, selection="grid",
-                     budget=300, cell=40)  # fmt: skip
+                     budget=300, cols=8, rows=6)  # fmt: skip
         cand = candidates(img, cfg)
         got = extract(img, cfg)
         assert got == select_grid(cand, cfg) and got == got.sorted()
@@ -164,19 +210,20 @@ def test_grid_selection_on_photographs(photographs) -> None:
         for k, n in enumerate(level_budgets(300, cfg.step, cfg.scales)):
             lv, kept = cand.take(np.flatnonzero(cand.scale == k)), got.take(np.flatnonzero(got.scale == k))
             assert len(kept) <= n, f"{name} level {k}"
-            cells = {(int(a) // 40, int(b) // 40) for a, b in zip(lv.x, lv.y, strict=True)}
+            gx, gy = CellGrid.of_level(cfg, k).of(lv.x, lv.y)
+            cells = set(zip(gx.tolist(), gy.tolist(), strict=True))
             if len(cells) > n:
                 continue
             keys = set(zip(kept.x.tolist(), kept.y.tolist(), strict=True))
             for c in cells:
-                m = (lv.x // 40 == c[0]) & (lv.y // 40 == c[1])
+                m = (gx == c[0]) & (gy == c[1])
                 rank = (~lv.low[m]).astype(np.int64) * 64 + lv.response[m]
                 best = np.flatnonzero(m)[np.flatnonzero(rank == rank.max())[0]]
                 assert (int(lv.x[best]), int(lv.y[best])) in keys, f"{name} level {k} cell {c}"
             # the rest: main non-floor candidates; none left out has a higher code than the lowest kept
             floor_keys = set()
             for c in cells:
-                m = (lv.x // 40 == c[0]) & (lv.y // 40 == c[1])
+                m = (gx == c[0]) & (gy == c[1])
                 rank = (~lv.low[m]).astype(np.int64) * 64 + lv.response[m]
                 best = np.flatnonzero(m)[np.flatnonzero(rank == rank.max())[0]]
                 floor_keys.add((int(lv.x[best]), int(lv.y[best])))
@@ -198,7 +245,7 @@ def test_streamed_grid_holds_the_selection_and_what_it_replaced(photographs) -> 
     img = photographs["astronaut"][:240, :320]
     for budget in (60, 300, 4000):
         cfg = Config(320, 240, scales=3, step_num=5, step_den=4, threshold=20, threshold_lo=7, selection="grid",
-                     budget=budget, cell=40)  # fmt: skip
+                     budget=budget)  # fmt: skip
         cand = candidates(img, cfg)
         kept, streamed = extract(img, cfg), streamed_grid(cand, cfg)
         keys, every, kept_keys = (set(zip(f.scale.tolist(), f.x.tolist(), f.y.tolist(), strict=True))

@@ -111,7 +111,7 @@ def test_command(tmp_path: Path) -> None:
         rows = list(csv.DictReader(fh))
     assert len(rows) == (2 + 1) * 2 and {r["clip"] for r in rows} == {"camera"}
     doc = json.loads((out / "track_bench_summary.json").read_text())
-    assert doc["settings"]["budget_used"] == 500 and doc["settings"]["cell_used"] == 40
+    assert doc["settings"]["budget_used"] == 500 and doc["settings"]["cells_used"] == "8x6"
     assert [(s["extractor"], s["gap"]) for s in doc["summary"]] == [("ours", 1), ("opencv", 1), ("ours", 2),
                                                                     ("opencv", 2)]  # fmt: skip
     assert (out / "track_bench.png").stat().st_size > 1000

@@ -11,7 +11,7 @@ Events (one per step, drawn from a seeded generator; the seed replays the campai
 good (random blanking), short_line, long_line, few_lines, many_lines, no_sof, early_sof (a start
 of frame in mid-frame), reset (rst in mid-frame), soft_reset (CTRL.soft_reset in mid-frame),
 threshold, mode and selection (changed between frames, then a good frame: the selection `all`
-or `grid` with a random budget, cell and low threshold), backpressure (random tready on the
+or `grid` with a random budget, cell grid and low threshold), backpressure (random tready on the
 overlay output during a good frame).
 
 Checked: the frames published are exactly the frames the reference closes good, in order, each
@@ -52,7 +52,7 @@ class Event:
     photo: int
     threshold: int
     mode: str
-    selection: tuple[str, int, int, int] = ("all", 0, 16, 0)
+    selection: tuple[str, int, tuple[int, int], int] = ("all", 0, (8, 6), 0)
     detail: str = ""
     published: int = 0
     expected: bool = False
@@ -172,12 +172,12 @@ def run_campaign(photos: Sequence[np.ndarray], steps: int, seed: int, generics: 
     frame_bound = 40 * ((w + 24) * (h + 16) + 300)
     res = CampaignResult(seed)
     ref = VideoCheckModel(w, h)
-    # threshold, mode and selection (mode, budget, cell, low threshold) of each frame the reference opened
-    frame_params: list[tuple[int, str, tuple[str, int, int, int]]] = []
+    # threshold, mode and selection (mode, budget, (cols, rows), low threshold) of each frame the reference opened
+    frame_params: list[tuple[int, str, tuple[str, int, tuple[int, int], int]]] = []
     ends_seen = 0
     threshold, mode = 20, "orb"
     capacity = int(generics["MEM_DEPTH_g"]) - 1
-    selection: tuple[str, int, int, int] = ("grid", min(capacity, 1000), 80, 7)
+    selection: tuple[str, int, tuple[int, int], int] = ("grid", min(capacity, 1000), (8, 6), 7)
     irq_all = ("frame_done", "error")
 
     def feed(data: np.ndarray, flags: np.ndarray) -> None:
@@ -189,7 +189,7 @@ def run_campaign(photos: Sequence[np.ndarray], steps: int, seed: int, generics: 
                 if o.user:
                     frame_params.append((threshold, mode, selection))
 
-    def expected_frames() -> list[tuple[Features, tuple[int, str, tuple[str, int, int, int]]]]:
+    def expected_frames() -> list[tuple[Features, tuple[int, str, tuple[str, int, tuple[int, int], int]]]]:
         """The frames the reference closed good since the last call, with their expected features."""
         nonlocal ends_seen
         out = []
@@ -197,9 +197,9 @@ def run_campaign(photos: Sequence[np.ndarray], steps: int, seed: int, generics: 
             index = ref.ends.index(end)
             if not end.bad:
                 pixels = np.array([b.data for b in ref.out[end.beat - w * h + 1 : end.beat + 1]], dtype=np.uint8)
-                t, m, (sel, budget, cell, lo) = frame_params[index]
+                t, m, (sel, budget, cells, lo) = frame_params[index]
                 cfg = Config(w, h, scales=scales, sectors=sectors, threshold=t, mode=m, selection=sel, budget=budget,
-                             cell=cell, threshold_lo=lo)  # fmt: skip
+                             cols=cells[0], rows=cells[1], threshold_lo=lo)  # fmt: skip
                 out.append((extract(pixels.reshape(h, w), cfg), frame_params[index]))
         ends_seen = len(ref.ends)
         return out
@@ -223,10 +223,10 @@ def run_campaign(photos: Sequence[np.ndarray], steps: int, seed: int, generics: 
             mode = "fast" if mode == "orb" else "orb"
             accel.configure(threshold, mode, True, irq_all, *selection)
         elif kind == "selection":
-            # grid from tiny to full budgets, cells of 16 pixels up to the frame, any low threshold
+            # grid from tiny to full budgets, any grid from 1 x 1 to 15 x 15 cells, any low threshold
             budget = int(rng.choice([0, 1, int(rng.integers(2, capacity + 1)), capacity]))
-            selection = (str(rng.choice(["all", "grid", "grid"])), budget, int(rng.integers(16, 256)),
-                         int(rng.integers(0, 30)))  # fmt: skip
+            cells = (int(rng.integers(1, 16)), int(rng.integers(1, 16)))
+            selection = (str(rng.choice(["all", "grid", "grid"])), budget, cells, int(rng.integers(0, 30)))
             accel.configure(threshold, mode, True, irq_all, *selection)
         sim.set_out_ready(float(rng.uniform(0.3, 0.95)) if kind == "backpressure" else 1.0, seed * 1000 + step + 1)
         ev = Event(step, kind, photo, threshold, mode, selection)

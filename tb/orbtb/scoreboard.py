@@ -6,19 +6,21 @@ from __future__ import annotations
 import numpy as np
 
 from golden_model import Config, extract, first_difference
+from golden_model.config import parse_cells
 from golden_model.features import Features
 from golden_model.pipeline import streamed
 
 
 def model_config(img: np.ndarray, scales: int, threshold: int, mode: str = "fast", sectors: int = 32,
                  step: tuple[int, int] = (2, 1), selection: str = "all") -> Config:  # fmt: skip
-    """The model's configuration; `selection` is `all` or `grid:BUDGET:CELL:LOW` (docs/spec.md
+    """The model's configuration; `selection` is `all` or `grid:BUDGET:COLSxROWS:LOW` (docs/spec.md
     section 14)."""
     h, w = img.shape
     kind, *arg = selection.split(":")
     sel = {}
     if kind == "grid":
-        sel = {"selection": "grid", "budget": int(arg[0]), "cell": int(arg[1]), "threshold_lo": int(arg[2])}
+        cols, rows = parse_cells(arg[1])
+        sel = {"selection": "grid", "budget": int(arg[0]), "cols": cols, "rows": rows, "threshold_lo": int(arg[2])}
     return Config(w, h, scales=scales, sectors=sectors, threshold=threshold, mode=mode, step_num=step[0],
                   step_den=step[1], **sel)  # fmt: skip
 

@@ -36,7 +36,7 @@ import cv2
 import numpy as np
 import pytest
 
-from golden_model.config import RECOMMENDED_THRESHOLD_LO, recommended_cell
+from golden_model.config import RECOMMENDED_COLS, RECOMMENDED_ROWS, RECOMMENDED_THRESHOLD_LO
 from golden_model.features import Features, first_difference
 from golden_model.luma import rgb_to_luma
 from orb_accel.csvdir import read_csv_dir
@@ -48,7 +48,7 @@ from orbtb.scoreboard import expected_features
 W, H, SCALES, SECTORS = 128, 96, 2, 32
 BUDGET = 40  # the accelerator's grid selection keeps at most 40 features a frame (~budget; docs/selection.md)
 # ... with the driver's cell (an eighth of the width) and low threshold
-SELECTION = f"grid:{BUDGET}:{recommended_cell(W)}:{RECOMMENDED_THRESHOLD_LO}"
+SELECTION = f"grid:{BUDGET}:{RECOMMENDED_COLS}x{RECOMMENDED_ROWS}:{RECOMMENDED_THRESHOLD_LO}"
 PHOTOS = ("astronaut", "coffee", "chelsea")
 CLIENT = Path(__file__).with_name("ros_client.py")
 WAIT_S = 600.0  # wall-clock bound of any wait (a simulated frame takes a few seconds)

@@ -311,7 +311,7 @@ async def driver_errors(dut) -> None:
     assert accel.selection.mode == "grid" and accel.selection.budget == min(cap, recommended_budget(b.width, b.height))
     for bad, words in (({"threshold": 300}, "0..255"), ({"threshold": -1}, "0..255"), ({"mode": "brief"}, "mode"),
                        ({"irq": ("vsync",)}, "interrupt"), ({"budget": cap + 1}, f"a bank holds {cap}"),
-                       ({"cell": 15}, "cell 15 outside 16..255"), ({"threshold_lo": 256}, "threshold_lo"),
+                       ({"cells": (0, 6)}, "cell columns 0 outside 1..15"), ({"threshold_lo": 256}, "threshold_lo"),
                        ({"selection": "best"}, "selection")):  # fmt: skip
         try:
             await b.cpu(accel.configure, **{"threshold": 20, **bad})

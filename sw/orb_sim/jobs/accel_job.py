@@ -7,7 +7,7 @@ streams in; the driver waits for the frame-done interrupt, reads the newest bank
 Unless ORB_JOB_OVERLAY is 0, the image is streamed once more with the accelerator disabled to
 capture the overlay of its features. Inputs and outputs are files in ORB_JOB_DIR: input.npy in;
 features.csv, overlay.npy, job.json and progress.txt out. ORB_JOB_THRESHOLD, ORB_JOB_MODE (orb or
-fast), ORB_JOB_SELECTION (all or grid), ORB_JOB_BUDGET, ORB_JOB_CELL, ORB_JOB_THRESHOLD_LO. It checks
+fast), ORB_JOB_SELECTION (all or grid), ORB_JOB_BUDGET, ORB_JOB_CELLS (COLSxROWS), ORB_JOB_THRESHOLD_LO. It checks
 nothing against the model: its caller does.
 """
 
@@ -23,6 +23,7 @@ import numpy as np
 from cocotb.triggers import ClockCycles, RisingEdge
 
 from golden_model import Config, write_csv
+from golden_model.config import parse_cells
 from orb_sim.accel_bench import AccelBench
 from orb_sim.video import Gaps
 
@@ -37,11 +38,12 @@ async def accel_job(dut) -> None:
     await b.start()
     accel = b.accel
     env = os.environ
+    cells = parse_cells(env.get("ORB_JOB_CELLS", "8x6"))
     cfg = Config(b.width, b.height, scales=b.scales, sectors=b.sectors, threshold=int(env["ORB_JOB_THRESHOLD"]),
                  mode=env.get("ORB_JOB_MODE", "orb"), step_num=b.step[0], step_den=b.step[1],
                  threshold_lo=int(env.get("ORB_JOB_THRESHOLD_LO", "255")),
                  selection=env.get("ORB_JOB_SELECTION", "all"), budget=int(env.get("ORB_JOB_BUDGET", "0")),
-                 cell=int(env.get("ORB_JOB_CELL", "80")))  # fmt: skip
+                 cols=cells[0], rows=cells[1])  # fmt: skip
     await b.cpu(accel.configure_as, cfg)
     wall = time.perf_counter()
     pixels = b.width * b.height

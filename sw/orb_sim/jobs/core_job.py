@@ -7,7 +7,7 @@ ORB_JOB_DIR holds frames.npy ((F, H, W) uint8) and job.json's input fields; the 
 features_<i>.csv per frame and report.json (cycles, pixels, latency, wall time, per-frame drops,
 the core's counters). ORB_JOB_THRESHOLDS and ORB_JOB_MODES are comma lists, one per frame;
 ORB_JOB_SELECTION the selection of every frame (orb_sim.core_inputs: "all" or
-"grid:BUDGET:CELL:LOW"). The stream of a grid frame is resolved as the feature memory does
+"grid:BUDGET:COLSxROWS:LOW"). The stream of a grid frame is resolved as the feature memory does
 (golden_model.featcodec.resolve_selection). It checks nothing against the model: its caller does.
 """
 
