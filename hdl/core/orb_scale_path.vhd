@@ -40,11 +40,11 @@ entity orb_scale_path is
     SLOTS_g        : positive range 1 to 4095 := 1023; -- the most slots the level can be given
     BASE_g         : natural range 0 to 8191  := 0;    -- the level's first slot in the frame's slots
     -- the selection's cell map (orb_feat_select): the frame's size, the pyramid step, the level
-    FULL_WIDTH_g  : positive range 8 to 4095 := 640;
-    FULL_HEIGHT_g : positive range 8 to 4095 := 480;
-    STEP_NUM_g    : positive range 2 to 16   := 2;
-    STEP_DEN_g    : positive range 1 to 8    := 1;
-    LEVEL_g       : natural range 0 to 7     := 0
+    FULL_WIDTH_g  : width_t              := 640;
+    FULL_HEIGHT_g : height_t             := 480;
+    STEP_NUM_g    : step_num_t           := 2;
+    STEP_DEN_g    : step_den_t           := 1;
+    LEVEL_g       : natural range 0 to 7 := 0
   );
   port (
     clk          : in    std_logic;

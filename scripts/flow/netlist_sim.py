@@ -62,7 +62,7 @@ CASES = (
     Case("orb_fast_nms", "detect/test_orb_fast_nms.py::test_nms[8-8-all8x8,ties:1]"),
     Case("orb_harris", "detect/test_orb_harris.py::test_orb_harris"),
     Case("orb_fast_detect", "detect/test_orb_fast_detect.py::test_fast_detect[8-6-noise@0,dots@0,flat@20/5-0.2]"),
-    Case("orb_feat_select", "core/test_orb_feat_select.py::test_orb_feat_select"),
+    Case("orb_feat_select", "core/test_orb_feat_select.py::test_orb_feat_select[level2]"),
     Case("orb_orient_moments", "describe/test_orb_orient_moments.py::test_orient_moments"),
     Case("orb_orient_sector", "describe/test_orb_orient_sector.py::test_orient_sector[16]"),
     Case("orb_overlay", "output/test_orb_overlay.py::test_overlay_photos[64-48-1-3-env0]"),

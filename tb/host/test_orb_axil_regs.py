@@ -240,7 +240,8 @@ async def reset_values(dut) -> None:
     assert int(dut.threshold.value) == regs.THRESHOLD.field("threshold").reset
     assert int(dut.threshold_lo.value) == regs.THRESHOLD.field("low").reset
     assert int(dut.select_grid.value) == regs.SELECT.field("mode").reset
-    assert int(dut.cell_size.value) == regs.SELECT.field("cell").reset
+    assert int(dut.grid_cols.value) == regs.SELECT.field("cols").reset
+    assert int(dut.grid_rows.value) == regs.SELECT.field("rows").reset
     # the budget's reset value, at most the bank's capacity
     assert int(dut.budget.value) == min(regs.SELECT.field("budget").reset, b.g["MEM_DEPTH_g"] - 1)
     assert int(dut.mode_orb.value) == (regs.CTRL.field("mode").reset == 0)
@@ -345,34 +346,38 @@ async def illegal_values(dut) -> None:
 
 @cocotb.test()
 async def select_limits(dut) -> None:
-    """SELECT: the cell's minimum and the budget's maximum (the bank's capacity, MEM_DEPTH_g - 1) answer
+    """SELECT: the grid's minimum (1 x 1) and the budget's maximum (the bank's capacity, MEM_DEPTH_g - 1) answer
     SLVERR just outside and OKAY just inside; outputs follow; byte strobes merge before the check."""
     b = Bench(dut)
     await b.start(pause_prob=0.3, seed=13)
     sel = regs.SELECT
     cap = min(b.g["MEM_DEPTH_g"] - 1, (1 << sel.field("budget").width) - 1)
 
-    def word(mode: int, cell: int, budget: int) -> int:
-        return sel.field("mode").put(mode, sel.field("cell").put(cell, sel.field("budget").put(budget)))
+    def word(mode: int, cols: int, rows: int, budget: int) -> int:
+        cells = sel.field("cols").put(cols, sel.field("rows").put(rows, sel.field("budget").put(budget)))
+        return sel.field("mode").put(mode, cells)
 
-    good = word(1, 16, cap)
+    def grid_out() -> tuple[int, int]:
+        return int(dut.grid_cols.value), int(dut.grid_rows.value)
+
+    good = word(1, 1, 1, cap)
     assert await b.write(sel.offset, good) == OKAY
     assert await b.read_ok(sel) == good
-    assert int(dut.cell_size.value) == 16 and int(dut.budget.value) == cap and int(dut.select_grid.value) == 1
-    assert await b.write(sel.offset, word(1, 15, cap)) == SLVERR, "cell 15 accepted"
-    assert await b.write(sel.offset, word(1, 0, 0)) == SLVERR, "cell 0 accepted"
+    assert grid_out() == (1, 1) and int(dut.budget.value) == cap and int(dut.select_grid.value) == 1
+    assert await b.write(sel.offset, word(1, 0, 6, cap)) == SLVERR, "0 columns accepted"
+    assert await b.write(sel.offset, word(1, 8, 0, 0)) == SLVERR, "0 rows accepted"
     if cap < (1 << sel.field("budget").width) - 1:
-        assert await b.write(sel.offset, word(1, 80, cap + 1)) == SLVERR, f"budget {cap + 1} accepted"
-    assert await b.write(sel.offset, word(2, 80, 0)) == SLVERR, "mode 2 accepted"
+        assert await b.write(sel.offset, word(1, 8, 6, cap + 1)) == SLVERR, f"budget {cap + 1} accepted"
+    assert await b.write(sel.offset, word(2, 8, 6, 0)) == SLVERR, "mode 2 accepted"
     assert await b.write(sel.offset, good | 1 << 30) == SLVERR, "reserved bit 30 accepted"
     assert await b.read_ok(sel) == good, "a refused write changed SELECT"
-    # byte lane 1 alone: the cell, checked after the merge
-    assert await b.raw_write(sel.offset, 0x0000_0F00, 0x2) == SLVERR
+    # byte lane 1 alone: the grid, checked after the merge
+    assert await b.raw_write(sel.offset, 0x0000_F000, 0x2) == SLVERR
     assert await b.raw_write(sel.offset, 0x0000_FF00, 0x2) == OKAY
-    assert await b.read_ok(sel) == word(1, 255, cap) and int(dut.cell_size.value) == 255
-    assert await b.write(sel.offset, word(0, 200, 0)) == OKAY
+    assert await b.read_ok(sel) == word(1, 15, 15, cap) and grid_out() == (15, 15)
+    assert await b.write(sel.offset, word(0, 7, 3, 0)) == OKAY
     await ClockCycles(dut.clk, 1)  # the budget output is registered (held at the capacity)
-    assert int(dut.select_grid.value) == 0 and int(dut.budget.value) == 0 and int(dut.cell_size.value) == 200
+    assert int(dut.select_grid.value) == 0 and int(dut.budget.value) == 0 and grid_out() == (7, 3)
     thr = regs.THRESHOLD
     t = thr.field("threshold").put(40, thr.field("low").put(9))
     assert await b.write(thr.offset, t) == OKAY
@@ -668,7 +673,8 @@ async def random_mix(dut) -> None:
     assert int(dut.threshold.value) == regs.THRESHOLD.field("threshold").get(thr)
     assert int(dut.threshold_lo.value) == regs.THRESHOLD.field("low").get(thr)
     assert int(dut.select_grid.value) == regs.SELECT.field("mode").get(sel)
-    assert int(dut.cell_size.value) == regs.SELECT.field("cell").get(sel)
+    assert int(dut.grid_cols.value) == regs.SELECT.field("cols").get(sel)
+    assert int(dut.grid_rows.value) == regs.SELECT.field("rows").get(sel)
     assert int(dut.budget.value) == min(regs.SELECT.field("budget").get(sel), b.g["MEM_DEPTH_g"] - 1)
     irq = bool(model.values["IRQ_STATUS"] & model.values["IRQ_ENABLE"])
     assert int(dut.irq.value) == irq

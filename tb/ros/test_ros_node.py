@@ -47,7 +47,7 @@ from orbtb.scoreboard import expected_features
 
 W, H, SCALES, SECTORS = 128, 96, 2, 32
 BUDGET = 40  # the accelerator's grid selection keeps at most 40 features a frame (~budget; docs/selection.md)
-# ... with the driver's cell (an eighth of the width) and low threshold
+# ... with the driver's grid (8 x 6 cells) and low threshold
 SELECTION = f"grid:{BUDGET}:{RECOMMENDED_COLS}x{RECOMMENDED_ROWS}:{RECOMMENDED_THRESHOLD_LO}"
 PHOTOS = ("astronaut", "coffee", "chelsea")
 CLIENT = Path(__file__).with_name("ros_client.py")

@@ -15,7 +15,7 @@ from pathlib import Path
 import cv2
 
 from golden_model import Config, extract, first_difference
-from golden_model.config import RECOMMENDED_THRESHOLD_LO, recommended_budget, recommended_cell
+from golden_model.config import RECOMMENDED_THRESHOLD_LO, recommended_budget
 from golden_model.features import read_csv
 from golden_model.luma import rgb_to_luma
 from golden_model.select import truncation_difference
@@ -36,14 +36,14 @@ def _sim(tmp_path: Path, rgb, *extra: str) -> tuple[Path, dict]:
 
 
 def test_sim_accel_small_photo(tmp_path: Path) -> None:
-    """The default selection: the grid at the recommended budget, cell and low threshold."""
+    """The default selection: the grid at the recommended budget, 8 x 6 cells and low threshold."""
     rgb = colour_photo("coffee", 160, 96)
     out, report = _sim(tmp_path, rgb)
     assert report["bit_exact"] and report["overlay_bit_exact"], report
     assert (report["dropped"], report["truncated"], report["cycles_per_pixel"]) == (0, 0, 1.0), report
     assert 0 < report["latency_cycles"] <= 1000, report
     cfg = Config(160, 96, scales=3, sectors=16, threshold=15, step_num=5, step_den=4, selection="grid",
-                 budget=recommended_budget(160, 96), cell=recommended_cell(160),
+                 budget=recommended_budget(160, 96),
                  threshold_lo=RECOMMENDED_THRESHOLD_LO)  # fmt: skip
     expected = extract(rgb_to_luma(rgb), cfg)
     every = extract(rgb_to_luma(rgb), replace(cfg, selection="all"))

@@ -325,9 +325,9 @@ async def driver_errors(dut) -> None:
     for op, args in ((b.bus.read32, (0x5C,)), (b.bus.write32, (regs.ID.offset, 0)),
                      (b.bus.write32, (regs.CTRL.offset, regs.CTRL.field("mode").put(3))),
                      (b.bus.write32, (regs.BANK_RELEASE.offset, 2)), (accel.release, (5,)),
-                     (b.bus.write32, (regs.SELECT.offset, regs.SELECT.field("budget").put(cap + 1, 0x1001))),
-                     (b.bus.write32, (regs.SELECT.offset, regs.SELECT.field("mode").put(2, 0x1000))),
-                     (b.bus.write32, (regs.SELECT.offset, regs.SELECT.field("cell").put(15, 1)))):  # fmt: skip
+                     (b.bus.write32, (regs.SELECT.offset, regs.SELECT.field("budget").put(cap + 1, 0x6801))),
+                     (b.bus.write32, (regs.SELECT.offset, regs.SELECT.field("mode").put(2, 0x6800))),
+                     (b.bus.write32, (regs.SELECT.offset, regs.SELECT.field("cols").put(0, 0x6801)))):  # fmt: skip
         try:
             await b.cpu(op, *args)
         except BusError as exc:
