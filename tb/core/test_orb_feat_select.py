@@ -162,6 +162,8 @@ def random_frames(width: int, height: int, seed: int) -> list[Frame]:
     assert (np.diff(c.y) < 0).any(), "the frame does not go back a row"
     # crossing a cell row where some grid puts a boundary between the last two rows of centres
     crossing = [r for r in range(1, 16) if len(set(grid_of((8, r)).of(0, np.array([h - 5, h - 4]))[1].tolist())) == 2]
+    # (the 64x48 level of the level-2 build has one: a candidate goes back into the cell row above)
+    assert crossing or level == 0, "no grid puts a cell boundary between the last two rows of centres"
     if crossing:
         out.append(Frame(f"checker, level {level}, 8 x {crossing[0]} cells", c.x, c.y, c.low, c.response, 25,
                          (8, crossing[0])))  # fmt: skip
