@@ -22,10 +22,11 @@ every level: a candidate's cell is the one that holds its full-resolution positi
   candidate, a low one only when the cell has no main corner.
 - If the level's cells with candidates number more than n, the floors of the first n of them (in
   the order of their first candidates) are the selection.
-- Otherwise every cell keeps its floor, and the rest R, the main candidates that are not floors,
-  fill the remaining n - (number of floors) places best first: response code descending, then by
-  the time each joined R (a candidate that was never a record: its own arrival; a record that a
-  later record of its cell displaced: that record's arrival), earlier first.
+- Otherwise every cell keeps its floor, and the rest R, every candidate that is not a floor, fills
+  the remaining n - (number of floors) places best first: rest key descending (rest_key: max(code,
+  1) for a main candidate, 0 for a low one, so low corners fill only places the main ones leave),
+  then by the time each joined R (a candidate that was never a record: its own arrival; a record
+  that a later record of its cell displaced: that record's arrival), earlier first.
 
 This is exactly what the fabric's streaming selection keeps (docs/selection.md): floors held per
 cell, the rest in a store that evicts its lowest code, latest first. `all` mode keeps every main
@@ -170,13 +171,19 @@ def select_level(x: np.ndarray, y: np.ndarray, low: np.ndarray, response: np.nda
         keep_grp[chosen] = True
         return np.sort(order[floor_o & keep_grp[grp]])
     floors = order[floor_o]
-    rest_o = main[order] & ~floor_o
+    rest_o = ~floor_o
     join = np.where(record_o, order[np.minimum(succ_pos, count - 1)], order)  # arrival of the displacing record
     cand = order[rest_o]
     key_join = join[rest_o]
     room = n - len(floors)
-    best = np.lexsort((key_join, -resp[cand]))[:room]
+    best = np.lexsort((key_join, -rest_key(low, resp)[cand]))[:room]
     return np.sort(np.concatenate([floors, cand[best]]))
+
+
+def rest_key(low: np.ndarray, response: np.ndarray) -> np.ndarray:
+    """The key the rest is ranked by (docs/spec.md section 14): max(code, 1) for a main candidate,
+    0 for a low one."""
+    return np.where(np.asarray(low, bool), 0, np.maximum(np.asarray(response, np.int64), 1))
 
 
 def arrival_order(x: np.ndarray, y: np.ndarray, width: int, height: int) -> np.ndarray:
@@ -238,8 +245,8 @@ def streamed_grid(features: Features, cfg: Config) -> Features:
 
 class LevelSelector:
     """The streaming form of `select_level`, one candidate at a time, as the fabric does it: a
-    cell's floor is held in place, the rest in a store of buckets (one per response code) that
-    evicts the most recently added candidate of its lowest code. Each candidate gives an operation:
+    cell's floor is held in place, the rest in a store of buckets (one per rest key) that
+    evicts the most recently added candidate of its lowest key. Each candidate gives an operation:
     None (dropped), or (slot, new) -- the candidate is stored in the level's slot `slot` (0 .. n-1),
     a slot never used before in this frame when `new`, else one whose occupant it replaces. The
     kept set after the last candidate equals `select_level`'s (a test checks it)."""
@@ -249,7 +256,7 @@ class LevelSelector:
         self.grid = grid
         self.used = 0
         self.floors: dict[tuple[int, int], tuple[int, int]] = {}  # cell -> (rank, slot)
-        self.buckets: dict[int, list[int]] = {}  # response code -> slots, most recent last
+        self.buckets: dict[int, list[int]] = {}  # rest key -> slots, most recent last
         self.occupant: dict[int, int] = {}  # slot -> the candidate index stored there
         self.count = 0  # candidates seen
 
@@ -297,12 +304,8 @@ class LevelSelector:
         f_rank, f_slot = floor
         if f_slot < 0:  # a cell that found no place stays without one
             return None
-        if rank > f_rank:  # a record: it becomes the floor
-            f_main, f_code = f_rank >> 16, f_rank & 0xFFFF
-            if not f_main:  # (d) a low floor is dropped, the new floor takes its slot
-                self.floors[c] = (rank, f_slot)
-                return self._store(index, f_slot, False)
-            # (b) the displaced floor joins the rest, now
+        if rank > f_rank:  # (b) a record: it becomes the floor, the displaced one joins the rest now
+            f_code = int(rest_key(f_rank >> 16 == 0, f_rank & 0xFFFF))
             if not full:
                 slot, self.used = self.used, self.used + 1
                 self._push(f_code, f_slot)
@@ -317,17 +320,16 @@ class LevelSelector:
                 return self._store(index, slot, False)
             self.floors[c] = (rank, f_slot)  # the old floor is the lowest: it goes
             return self._store(index, f_slot, False)
-        if low:  # (c) a low candidate that is not its cell's best: dropped
-            return None
-        if not full:  # (c) a main candidate for the rest
+        key = int(rest_key(low, response))
+        if not full:  # (c) a candidate for the rest (a low one only takes a free place: key 0)
             slot, self.used = self.used, self.used + 1
-            self._push(int(response), slot)
+            self._push(key, slot)
             return self._store(index, slot, True)
         m = self._min_code()
-        if m is not None and int(response) > m:
+        if m is not None and key > m:
             slot = self._pop_min()
             assert slot is not None
-            self._push(int(response), slot)
+            self._push(key, slot)
             return self._store(index, slot, False)
         return None
 

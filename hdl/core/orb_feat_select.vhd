@@ -14,15 +14,16 @@
 -- candidate's full-resolution position. Ky < 2^24, so a cell row is at least a pixel row high:
 -- only the current cell row and the one above it can change (a candidate arrives at most one pixel
 -- row above the last), and the cell table holds two rows, one per parity of the cell row: per cell its
--- floor's rank (main flag and code), slot and a `rejected` flag, valid where its `touched` bit is
--- set; a parity's bits clear when a new row takes it. The rest R is a store of buckets, one per response
--- code, each a LIFO list of slots through the next-pointer RAM (each entry flags NIL_c beside
--- the pointer). The lowest bucket, the one evictions take from, is kept in registers (its code,
+-- floor's rest key, rank (main flag and code), slot and a `rejected` flag, valid where its `touched` bit is
+-- set; a parity's bits clear when a new row takes it. The rest R is a store of buckets, one per rest
+-- key (max(code, 1) for a main candidate, 0 for a low one: a low corner takes only a free place),
+-- each a LIFO list of slots through the next-pointer RAM (each entry flags NIL_c beside
+-- the pointer). The lowest bucket, the one evictions take from, is kept in registers (its key,
 -- its top slot and the slot below it, prefetched from the next-pointer RAM): a pop needs no table
 -- write, so no operation writes the bucket heads twice; `upper` marks the other non-empty buckets,
 -- so the next one up is upper's lowest set bit, with no compare against the lowest. Pipeline: two
 -- clocks for the cell (multiply and add, DSP48), then D1 (reads: cell table, bucket heads, the next
--- non-empty bucket; and the decision's predicates: the rank against the floor's, the codes
+-- non-empty bucket; and the decision's predicates: the rank against the floor's, the keys
 -- against the lowest bucket's) and D2 (decision from those registers, writes); a decision leaves
 -- SELECT_LAT_c = 5 clocks after its candidate. In `all`
 -- mode (grid = 0) every main candidate is kept (new), low ones are dropped, and no state changes.
@@ -112,8 +113,19 @@ architecture rtl of orb_feat_select is
   constant KY_ROM_c : map_rom_t := map_rom(FULL_HEIGHT_g, false);
   constant OY_ROM_c : map_rom_t := map_rom(FULL_HEIGHT_g, true);
 
-  -- cell table entry: rejected & rank & slot
-  constant CT_BITS_c : positive := 1 + RESPONSE_BITS_c + 1 + SEL_SLOT_BITS_c;
+  -- cell table entry: rejected & rest key & rank & slot
+  constant CT_BITS_c : positive := 1 + RESPONSE_BITS_c + RESPONSE_BITS_c + 1 + SEL_SLOT_BITS_c;
+
+  -- the rest's key of a candidate (docs/spec.md section 14): max(code, 1) for a main one, 0 for a low one
+  function rest_key (low : std_logic; code : code_t) return code_t is
+  begin
+    if low = '1' then
+      return (others => '0');
+    elsif code = 0 then
+      return to_unsigned(1, RESPONSE_BITS_c);
+    end if;
+    return code;
+  end function rest_key;
 
   type ct_ram_t is array (0 to 2 * 2 ** CBITS_c - 1) of std_logic_vector(CT_BITS_c - 1 downto 0);
   type head_ram_t is array (0 to BUCKETS_c - 1) of slot_t;
@@ -155,10 +167,11 @@ architecture rtl of orb_feat_select is
   signal v_m0, v_m1, v_m2          : std_logic := '0';
   signal low_m0, low_m1, low_m2    : std_logic := '0';
   signal code_m0, code_m1, code_m2 : code_t := (others => '0');
-  signal x_m0,  y_m0               : unsigned(COORD_BITS_c - 1 downto 0) := (others => '0');
-  signal kx_m0, ky_m0              : map_t := (others => '0');
-  signal ox_m0, oy_m0              : map_t := (others => '0');
-  signal ox_m1, oy_m1              : map_t := (others => '0');
+  signal key_m1, key_m2            : code_t := (others => '0');
+  signal x_m0,   y_m0              : unsigned(COORD_BITS_c - 1 downto 0) := (others => '0');
+  signal kx_m0,  ky_m0             : map_t := (others => '0');
+  signal ox_m0,  oy_m0             : map_t := (others => '0');
+  signal ox_m1,  oy_m1             : map_t := (others => '0');
   signal px_m1                     : unsigned(COORD_BITS_c + CELL_SHIFT_c - 1 downto 0) := (others => '0');
   signal py_m1                     : unsigned(COORD_BITS_c + CELL_SHIFT_c - 1 downto 0) := (others => '0');
   signal px_m2                     : unsigned(MAP_BITS_c - 1 downto 0) := (others => '0');
@@ -168,6 +181,7 @@ architecture rtl of orb_feat_select is
   signal v_d1    : std_logic := '0';
   signal low_d1  : std_logic := '0';
   signal code_d1 : code_t := (others => '0');
+  signal key_d1  : code_t := (others => '0');
   signal cx_d1   : cell_t := (others => '0');
   signal cy_d1   : cell_t := (others => '0');
   -- in the current row
@@ -175,10 +189,9 @@ architecture rtl of orb_feat_select is
   -- the cell has a floor (or is rejected)
   signal floor_d1 : std_logic := '0';
   signal rej_d1   : std_logic := '0';
-  signal fmain_d1 : std_logic := '0';
-  signal fcode_d1 : code_t := (others => '0');
+  signal fkey_d1  : code_t := (others => '0');
   signal fslot_d1 : slot_t := (others => '0');
-  -- the candidate's rank above the floor's; the floor's code and the candidate's against mb
+  -- the candidate's rank above the floor's; the floor's rest key and the candidate's against mb
   signal gt_d1  : std_logic := '0';
   signal fgt_d1 : std_logic := '0';
   signal feq_d1 : std_logic := '0';
@@ -253,10 +266,10 @@ begin
     -- decision
     variable rank_x   : rank_t;
     variable rank_r   : rank_t;  -- the floor's rank, read
-    variable fcode_r  : code_t;
+    variable fkey_r   : code_t;
     variable from_fl  : boolean; -- the pushed one is the old floor (else the candidate)
     variable emptied  : boolean; -- the pop empties the lowest bucket
-    variable p_lt     : boolean; -- the pushed code below the lowest bucket after the pop
+    variable p_lt     : boolean; -- the pushed key below the lowest bucket after the pop
     variable p_eq     : boolean; -- ... equal to it
     variable clr2     : boolean; -- the next bucket up becomes the lowest: its upper bit clears
     variable keep     : std_logic;
@@ -266,7 +279,7 @@ begin
     variable set_rej  : boolean;
     variable do_pop   : boolean;
     variable do_push  : boolean;
-    -- pushed code and slot
+    -- pushed key and slot
     variable pq : code_t;
     variable ps : slot_t;
     -- the pushed bucket's top before the push
@@ -309,6 +322,7 @@ begin
       v_m1    <= v_m0;
       low_m1  <= low_m0;
       code_m1 <= code_m0;
+      key_m1  <= rest_key(low_m0, code_m0);
       px_m1   <= x_m0 * kx_m0;
       py_m1   <= y_m0 * ky_m0;
       ox_m1   <= ox_m0;
@@ -316,6 +330,7 @@ begin
       v_m2    <= v_m1;
       low_m2  <= low_m1;
       code_m2 <= code_m1;
+      key_m2  <= key_m1;
       px_m2   <= resize(px_m1, MAP_BITS_c) + ox_m1;
       py_m2   <= resize(py_m1, MAP_BITS_c) + oy_m1;
 
@@ -326,6 +341,7 @@ begin
       v_d1    <= v_m2;
       low_d1  <= low_m2;
       code_d1 <= code_m2;
+      key_d1  <= key_m2;
       cx      := resize(shift_right(px_m2, CELL_SHIFT_c), CBITS_c);
       cy      := resize(shift_right(py_m2, CELL_SHIFT_c), CBITS_c);
       cx_d1   <= cx;
@@ -339,22 +355,21 @@ begin
       end if;
       same_d1  <= bool2sl(same);
       ct_word  := ct(to_integer(cy(0 downto 0) & cx));
-      rank_r   := unsigned(ct_word(CT_BITS_c - 2 downto SEL_SLOT_BITS_c));
-      fcode_r  := rank_r(RESPONSE_BITS_c - 1 downto 0);
+      rank_r   := unsigned(ct_word(SEL_SLOT_BITS_c + RESPONSE_BITS_c downto SEL_SLOT_BITS_c));
+      fkey_r   := unsigned(ct_word(CT_BITS_c - 2 downto SEL_SLOT_BITS_c + RESPONSE_BITS_c + 1));
       floor_d1 <= bool2sl(same) and t_bits(to_integer(cx));
       rej_d1   <= ct_word(CT_BITS_c - 1);
-      fmain_d1 <= rank_r(RESPONSE_BITS_c);
-      fcode_d1 <= fcode_r;
+      fkey_d1  <= fkey_r;
       fslot_d1 <= unsigned(ct_word(SEL_SLOT_BITS_c - 1 downto 0));
       gt_d1    <= bool2sl(((not low_m2) & code_m2) > rank_r);
-      fgt_d1   <= bool2sl(fcode_r > mb);
-      feq_d1   <= bool2sl(fcode_r = mb);
-      xgt_d1   <= bool2sl(code_m2 > mb);
-      xeq_d1   <= bool2sl(code_m2 = mb);
-      hx_d1    <= heads(to_integer(code_m2));
-      bx_d1    <= upper(to_integer(code_m2));
-      hf_d1    <= heads(to_integer(fcode_r));
-      bf_d1    <= upper(to_integer(fcode_r));
+      fgt_d1   <= bool2sl(fkey_r > mb);
+      feq_d1   <= bool2sl(fkey_r = mb);
+      xgt_d1   <= bool2sl(key_m2 > mb);
+      xeq_d1   <= bool2sl(key_m2 = mb);
+      hx_d1    <= heads(to_integer(key_m2));
+      bx_d1    <= upper(to_integer(key_m2));
+      hf_d1    <= heads(to_integer(fkey_r));
+      bf_d1    <= upper(to_integer(fkey_r));
       mb2_d1    <= to_unsigned(lowest_set(upper), RESPONSE_BITS_c);
       mb2_ok_d1 <= bool2sl(upper /= (upper'range => '0'));
       full_d1   <= bool2sl(used >= unsigned(budget));
@@ -399,11 +414,8 @@ begin
           keep := '1';
           set_fl := true;
           from_fl := true;
-          -- (d) a low floor goes, its slot serves the new one
-          if fmain_d1 = '0' then
-            slot := fslot_d1;
-          -- the old floor joins the rest
-          elsif full_d1 = '0' then
+          -- the old floor joins the rest (a low one at key 0)
+          if full_d1 = '0' then
             new_slot := '1';
             slot := used;
             do_push := true;
@@ -416,8 +428,8 @@ begin
           else
             slot := fslot_d1;
           end if;
-        elsif low_d1 = '0' then
-          -- (c) a main candidate for the rest
+        else
+          -- (c) a candidate for the rest (a low one, key 0, only takes a free place)
           if full_d1 = '0' then
             keep := '1';
             new_slot := '1';
@@ -462,35 +474,35 @@ begin
             row_ok1 <= '1';
           end if;
         end if;
-        ct(to_integer(cy_d1(0 downto 0) & cx_d1)) <= bool2sl(set_rej) & std_logic_vector(rank_x) &
-                                                     std_logic_vector(slot);
+        ct(to_integer(cy_d1(0 downto 0) & cx_d1)) <= bool2sl(set_rej) & std_logic_vector(key_d1) &
+                                                     std_logic_vector(rank_x) & std_logic_vector(slot);
       end if;
 
-      -- the pushed code and slot, the top of its bucket before the push, and how the code compares
+      -- the pushed key and slot, the top of its bucket before the push, and how the key compares
       -- with the lowest bucket after the pop: mb, or the next one up when the pop empties mb (both
       -- sources compared in parallel and selected after, not one compare of a selected code: the
       -- decision clock's depth, docs/selection.md "Timing")
       emptied := do_pop and c1_nil = '1';
       if from_fl then
-        pq  := fcode_d1;
+        pq  := fkey_d1;
         ps  := fslot_d1;
         ph  := hf_d1;
         pb  := bf_d1;
         if emptied then
-          p_lt := fcode_d1 < mb2_d1;
-          p_eq := fcode_d1 = mb2_d1;
+          p_lt := fkey_d1 < mb2_d1;
+          p_eq := fkey_d1 = mb2_d1;
         else
           p_lt := fgt_d1 = '0' and feq_d1 = '0';
           p_eq := feq_d1 = '1';
         end if;
       else
-        pq  := code_d1;
+        pq  := key_d1;
         ps  := slot;
         ph  := hx_d1;
         pb  := bx_d1;
         if emptied then
-          p_lt := code_d1 < mb2_d1;
-          p_eq := code_d1 = mb2_d1;
+          p_lt := key_d1 < mb2_d1;
+          p_eq := key_d1 = mb2_d1;
         else
           p_lt := xgt_d1 = '0' and xeq_d1 = '0';
           p_eq := xeq_d1 = '1';

@@ -16,7 +16,8 @@ state cleared by in_done. Two builds: level 0 of a 160x120 frame, and level 2 of
 over 100x75 (a 64x48 level, whose cell map has an offset: the cells are the frame's). A check
 that the stimulus reaches every case of the decision (new
 floors, records, evictions from the lowest bucket that empty it or not, pushes below, onto and
-above the lowest bucket, rejected cells) makes the test fail if the frames stop exercising them.
+above the lowest bucket, rejected cells, low corners and displaced low floors into the rest at key 0,
+a main corner of code 0 at key 1) makes the test fail if the frames stop exercising them.
 """
 
 from __future__ import annotations
@@ -72,6 +73,7 @@ class CaseCounter(LevelSelector):
     def __init__(self, n: int, grid: CellGrid, cases: Counter) -> None:
         super().__init__(n, grid)
         self.cases = cases
+        self.main0 = False  # the candidate on offer is a main corner of code 0 (rest key 1)
 
     def _pop_min(self) -> int | None:
         low = min(self.buckets) if self.buckets else None
@@ -87,18 +89,25 @@ class CaseCounter(LevelSelector):
         else:
             key = "push below" if code < low else "push onto" if code == low else "push above"
         self.cases[key] += 1
+        if code == 0:
+            self.cases["a low corner into the rest"] += 1
+        if code == 1 and self.main0:
+            self.cases["a main code 0 into the rest"] += 1
         super()._push(code, slot)
 
     def offer(self, x: int, y: int, low: bool, response: int):  # type: ignore[override]
         cx, cy = self.grid.of(x, y)
         c = (int(cx), int(cy))
         before = self.floors.get(c)
+        self.main0 = not low and response == 0
         op = super().offer(x, y, low, response)
         after = self.floors.get(c)
         if before is None:
             self.cases["rejected cell" if after == (-1, -1) else "new floor"] += 1
         elif after != before and after is not None:
             self.cases["record"] += 1
+            if before[0] >> 16 == 0:
+                self.cases["a low floor displaced"] += 1
         return op
 
 
@@ -246,7 +255,8 @@ async def corner_cases(dut) -> None:
     dut._log.info("frames: %s", [f.label for f in frames])
     cases = await run_frames(dut, frames, seed=3)
     need = ("new floor", "record", "rejected cell", "pop empties a bucket", "pop keeps the bucket",
-            "push to an empty rest", "push below", "push onto", "push above")  # fmt: skip
+            "push to an empty rest", "push below", "push onto", "push above", "a low corner into the rest",
+            "a low floor displaced", "a main code 0 into the rest")  # fmt: skip
     missing = [k for k in need if not cases[k]]
     assert not missing, f"the stimulus never reached: {missing} ({dict(cases)})"
     dut._log.info("corner cases: %s", dict(cases))

@@ -20,6 +20,7 @@ from golden_model.select import (
     cell_axis,
     level_budgets,
     level_slots,
+    rest_key,
     select_grid,
     select_level,
     streamed_grid,
@@ -190,6 +191,14 @@ def test_selection_hand_case() -> None:
     assert select_level(x, y, low, code, 3, CellGrid.square(10)).tolist() == [1, 3, 4]
     # budget 5: all 4 floors (1, 3, 4, 5), one place for the rest R = {0 (displaced at 1)}
     assert select_level(x, y, low, code, 5, CellGrid.square(10)).tolist() == [0, 1, 3, 4, 5]
+    # budget 6: the low corner 2 (displaced at 3, rest key 0) fills the place the main ones leave
+    assert select_level(x, y, low, code, 6, CellGrid.square(10)).tolist() == [0, 1, 2, 3, 4, 5]
+    # a main candidate of code 0 shares rest key 1 with code 1 and still comes before a low corner
+    x3, y3 = np.array([1, 2, 3, 4]), np.zeros(4, dtype=np.int64)
+    low3, code3 = np.array([False, True, False, False]), np.array([9, 60, 1, 0])
+    assert select_level(x3, y3, low3, code3, 2, CellGrid.square(16)).tolist() == [0, 2]  # codes 1 and 0 share key 1: the earlier joined
+    assert select_level(x3, y3, low3, code3, 3, CellGrid.square(16)).tolist() == [0, 2, 3]
+    assert select_level(x3, y3, low3, code3, 4, CellGrid.square(16)).tolist() == [0, 1, 2, 3]
     # equal codes in R: the one that joined first stays
     x2, y2 = np.array([1, 2, 3, 4]), np.zeros(4, dtype=np.int64)
     low2, code2 = np.zeros(4, dtype=bool), np.array([7, 3, 3, 3])
@@ -197,17 +206,18 @@ def test_selection_hand_case() -> None:
 
 
 def test_grid_selection_on_photographs(photographs) -> None:
-    """Per level at most its budget; every cell with a candidate keeps its best one; the rest are
-    main corners whose codes are at least those of every main candidate left out."""
-    for name in ("astronaut", "coffee"):
+    """Per level at most its budget; every cell with a candidate keeps its best one; the rest have
+    rest keys at least those of every candidate left out (a low corner only where no main one is left)."""
+    checked_sparse = False
+    for name, budget in (("astronaut", 300), ("coffee", 300), ("coffee", 3000)):
         img = photographs[name][:240, :320]
         cfg = Config(320, 240, scales=4, step_num=5, step_den=4, threshold=20, threshold_lo=7, selection="grid",
-                     budget=300, cols=8, rows=6)  # fmt: skip
+                     budget=budget, cols=8, rows=6)  # fmt: skip
         cand = candidates(img, cfg)
         got = extract(img, cfg)
         assert got == select_grid(cand, cfg) and got == got.sorted()
         assert cand.low.any() and not Config(320, 240, scales=4, step_num=5, step_den=4).selection == "grid"
-        for k, n in enumerate(level_budgets(300, cfg.step, cfg.scales)):
+        for k, n in enumerate(level_budgets(budget, cfg.step, cfg.scales)):
             lv, kept = cand.take(np.flatnonzero(cand.scale == k)), got.take(np.flatnonzero(got.scale == k))
             assert len(kept) <= n, f"{name} level {k}"
             gx, gy = CellGrid.of_level(cfg, k).of(lv.x, lv.y)
@@ -220,23 +230,22 @@ def test_grid_selection_on_photographs(photographs) -> None:
                 rank = (~lv.low[m]).astype(np.int64) * 64 + lv.response[m]
                 best = np.flatnonzero(m)[np.flatnonzero(rank == rank.max())[0]]
                 assert (int(lv.x[best]), int(lv.y[best])) in keys, f"{name} level {k} cell {c}"
-            # the rest: main non-floor candidates; none left out has a higher code than the lowest kept
+            # the rest: non-floor candidates; none left out has a higher rest key than the lowest kept
             floor_keys = set()
             for c in cells:
                 m = (gx == c[0]) & (gy == c[1])
                 rank = (~lv.low[m]).astype(np.int64) * 64 + lv.response[m]
                 best = np.flatnonzero(m)[np.flatnonzero(rank == rank.max())[0]]
                 floor_keys.add((int(lv.x[best]), int(lv.y[best])))
-            rest = [
-                int(r)
-                for a, b, r in zip(kept.x, kept.y, kept.response, strict=True)
-                if (int(a), int(b)) not in floor_keys
-            ]
-            left = [int(r) for a, b, r, lo in zip(lv.x, lv.y, lv.response, lv.low, strict=True)
-                    if not lo and (int(a), int(b)) not in keys]  # fmt: skip
-            assert len(kept) == min(n, len(cells) + len(rest) + len(left)), f"{name} level {k}"
+            rest = [int(rest_key(lo, r)) for a, b, r, lo in zip(kept.x, kept.y, kept.response, kept.low, strict=True)
+                    if (int(a), int(b)) not in floor_keys]  # fmt: skip
+            left = [int(rest_key(lo, r)) for a, b, r, lo in zip(lv.x, lv.y, lv.response, lv.low, strict=True)
+                    if (int(a), int(b)) not in keys]  # fmt: skip
+            assert len(kept) == min(n, len(lv)), f"{name} level {k}: a free place left while candidates wait"
             if rest and left:
-                assert max(left) <= min(rest), f"{name} level {k}: a code above the rest was left out"
+                assert max(left) <= min(rest), f"{name} level {k}: a rest key above the rest was left out"
+            checked_sparse |= len(kept) < n and bool(kept.low.any())
+    assert checked_sparse, "no level left places for low corners: the sparse case is not exercised"
 
 
 def test_streamed_grid_holds_the_selection_and_what_it_replaced(photographs) -> None:
