@@ -163,9 +163,12 @@ def test_detect_small(width: int, height: int, scales: int, images_: str, thresh
     ("width", "height", "scales", "sectors", "images_", "thresholds", "gaps", "modes"),
     [
         (96, 64, 1, 32, "photo:astronaut,photo:coffee", "10,15", "none", "orb"),
-        (160, 96, 2, 16, "photo:camera,photo:chelsea", "12,20", "random:3", "orb"),
+        # 16 sectors with input gaps (make test-all; make test: 16 sectors in the rotated row below, gaps elsewhere)
+        pytest.param(160, 96, 2, 16, "photo:camera,photo:chelsea", "12,20", "random:3", "orb", marks=pytest.mark.slow),
         (160, 96, 2, 64, "photo:coffee", "10", "blanking", "orb"),
-        (128, 80, 3, 32, "photo:astronaut,photo:astronaut,photo:camera", "15,15,20", "none", "orb,fast,orb"),
+        # orb -> fast -> orb back to back (make test-all; make test: test_grid_selection's 5-level row)
+        pytest.param(128, 80, 3, 32, "photo:astronaut,photo:astronaut,photo:camera", "15,15,20", "none", "orb,fast,orb",
+                     marks=pytest.mark.slow),
         (96, 64, 1, 32, "dots4,noise,flat", "20,20,20", "none", "orb"),  # densest FAST dots, noise; flat
         (64, 48, 1, 32, "photo:camera", "5", "none", "orb"),  # smallest legal frame
         # rotated photographs, 0 to 360 degrees, at 16, 32 and 64 sectors
@@ -185,9 +188,14 @@ def test_orb_small(width: int, height: int, scales: int, sectors: int, images_: 
 @pytest.mark.parametrize(
     ("width", "height", "scales", "step", "images_", "thresholds", "gaps", "modes"),
     [
-        (160, 120, 6, (5, 4), "photo:astronaut,photo:coffee", "10,15", "none", "orb,orb"),
+        # 6 levels (make test-all; make test: 8 levels below, and test_orb_accel_top's 6-level top)
+        pytest.param(160, 120, 6, (5, 4), "photo:astronaut,photo:coffee", "10,15", "none", "orb,orb",
+                     marks=pytest.mark.slow),
         (128, 96, 8, (5, 4), "photo:chelsea", "8", "random:3", "orb"),
-        (128, 96, 5, (5, 4), "dots4,checker,checker4", "20,20,0", "none", "fast,fast,fast"),  # densest corners
+        # densest corners in fast mode (make test-all; make test: the same 5 levels of 5:4 on dots4 and
+        # checker in test_recommended_configuration_densest_input and test_grid_selection)
+        pytest.param(128, 96, 5, (5, 4), "dots4,checker,checker4", "20,20,0", "none", "fast,fast,fast",
+                     marks=pytest.mark.slow),
         (96, 96, 4, (5, 4), "dots4,noise", "20,20", "blanking", "orb"),
         (160, 96, 3, (3, 2), "photo:camera,rotated:astronaut:60", "10,10", "random:2", "orb"),
         (96, 72, 4, (9, 8), "photo:coffee", "10", "none", "orb"),

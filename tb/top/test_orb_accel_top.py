@@ -390,9 +390,19 @@ def run_accel(config: str, testcase: list[str] | None = None, env: dict[str, str
     run("orb_accel_top", "test_orb_accel_top", generics, env={**SIM_ENV, **(env or {})}, testcase=testcase)
 
 
-@pytest.mark.parametrize("config", ["rgb_2scales", "luma_1scale"])
-def test_accel_stream_faults_registers(config: str) -> None:
-    run_accel(config, testcase=["photo_stream", "faults", "registers"])
+@pytest.mark.parametrize(
+    ("config", "testcase"),
+    [
+        ("rgb_2scales", ["photo_stream", "registers"]),
+        ("luma_1scale", ["photo_stream", "faults", "registers"]),
+        # the same fault sequence through the RGB input and two levels: 3.5 minutes of simulation
+        # for what luma_1scale checks in 70 s (make test-all)
+        pytest.param("rgb_2scales", ["faults"], marks=pytest.mark.slow, id="rgb_2scales-faults"),
+    ],
+    ids=["rgb_2scales", "luma_1scale", "rgb_2scales-faults"],
+)
+def test_accel_stream_faults_registers(config: str, testcase: list[str]) -> None:
+    run_accel(config, testcase=testcase)
 
 
 def test_accel_four_scales() -> None:
