@@ -87,7 +87,8 @@ class Selection:
     """The selection in effect (SELECT and THRESHOLD.low; docs/selection.md): `mode` "grid" (each
     level keeps its share of `budget` features, the best corner of every cell of a `cells` =
     (columns, rows) grid over the frame first, a corner at `threshold_lo` where a cell has none at
-    the threshold) or "all" (every feature at the threshold; the others are ignored)."""
+    the threshold, then the strongest of the rest, corners at `threshold_lo` last) or "all" (every
+    feature at the threshold; the others are ignored)."""
 
     mode: str
     budget: int
