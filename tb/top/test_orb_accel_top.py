@@ -405,8 +405,11 @@ def test_accel_stream_faults_registers(config: str, testcase: list[str]) -> None
     run_accel(config, testcase=testcase)
 
 
+@pytest.mark.slow
 def test_accel_four_scales() -> None:
-    # two frames: the overlay of the second shows the first's features (test_accel_all streams four)
+    # two frames: the overlay of the second shows the first's features (test_accel_all streams four).
+    # make test-all: make test has 4 scales of 2:1 in orb_core's tests and a multi-level top in
+    # test_accel_finer_pyramid
     run_accel("rgb_4scales", testcase=["photo_stream"], env={"ORB_FRAMES": "2"})
 
 
