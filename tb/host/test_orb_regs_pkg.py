@@ -281,7 +281,7 @@ begin
     wr(REG_SCRATCH_c, x"00010000", "10");
     wr(REG_MAGIC2_c, x"00000000", "10");
     rd(REG_SCRATCH_c, x"0000053C", "00");
-    rd(REG_THRESHOLD_c, x"00000714", "00");
+    rd(REG_THRESHOLD_c, REG_THRESHOLD_RESET_c, "00");
     rd(REG_LEAST_c, x"00000014", "00");
     wr(REG_LEAST_c, x"0000000F", "10");
     wr(REG_LEAST_c, x"00000010", "00");

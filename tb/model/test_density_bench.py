@@ -15,7 +15,7 @@ import cv2
 import numpy as np
 import pytest
 
-from golden_model.config import Config
+from golden_model.config import RECOMMENDED_THRESHOLD_LO, Config
 from golden_model.pipeline import candidates
 from golden_model.select import best_per_level, select_grid
 from orb_tools import density_bench as dbench
@@ -124,8 +124,8 @@ def test_scale_bench_grid_extractor_parses() -> None:
 def test_scale_bench_grid_is_the_models_selection() -> None:
     img = photo("camera", 320, 240)
     got = sb.extract_ours(img, sb.parse_extractor("5:4x3s32/g200"))
-    cfg = Config(320, 240, scales=3, sectors=32, threshold=20, step_num=5, step_den=4, threshold_lo=7,
-                 selection="grid", budget=200)  # fmt: skip
+    cfg = Config(320, 240, scales=3, sectors=32, threshold=20, step_num=5, step_den=4,
+                 threshold_lo=RECOMMENDED_THRESHOLD_LO, selection="grid", budget=200)  # fmt: skip
     cands = candidates(img, cfg)
     want = select_grid(cands, cfg)
     wx, wy = want.full_res()

@@ -196,7 +196,8 @@ def test_selection_hand_case() -> None:
     # a main candidate of code 0 shares rest key 1 with code 1 and still comes before a low corner
     x3, y3 = np.array([1, 2, 3, 4]), np.zeros(4, dtype=np.int64)
     low3, code3 = np.array([False, True, False, False]), np.array([9, 60, 1, 0])
-    assert select_level(x3, y3, low3, code3, 2, CellGrid.square(16)).tolist() == [0, 2]  # codes 1 and 0 share key 1: the earlier joined
+    # codes 1 and 0 share rest key 1: the one that joined first (2) stays
+    assert select_level(x3, y3, low3, code3, 2, CellGrid.square(16)).tolist() == [0, 2]
     assert select_level(x3, y3, low3, code3, 3, CellGrid.square(16)).tolist() == [0, 2, 3]
     assert select_level(x3, y3, low3, code3, 4, CellGrid.square(16)).tolist() == [0, 1, 2, 3]
     # equal codes in R: the one that joined first stays

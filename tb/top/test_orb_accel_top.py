@@ -30,7 +30,7 @@ import pytest
 from cocotb.triggers import ClockCycles, RisingEdge
 
 from golden_model import regs
-from golden_model.config import recommended_budget
+from golden_model.config import RECOMMENDED_THRESHOLD_LO, recommended_budget
 from golden_model.features import Features
 from golden_model.luma import rgb_to_luma
 from golden_model.overlay import render_marker_overlay
@@ -319,7 +319,9 @@ async def driver_errors(dut) -> None:
             assert words in str(exc), f"{bad}: message {exc!s} does not name {words}"
         else:
             raise AssertionError(f"configure({bad}) did not raise ValueError")
-    assert await b.read_reg(regs.THRESHOLD) == regs.THRESHOLD.field("low").put(7, 20), "a refused configure wrote"
+    assert await b.read_reg(regs.THRESHOLD) == regs.THRESHOLD.field("low").put(RECOMMENDED_THRESHOLD_LO, 20), (
+        "a refused configure wrote"
+    )
     select = await b.read_reg(regs.SELECT)
     assert regs.SELECT.field("budget").get(select) == accel.selection.budget, "a refused configure wrote SELECT"
     for op, args in ((b.bus.read32, (0x5C,)), (b.bus.write32, (regs.ID.offset, 0)),
