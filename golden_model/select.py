@@ -29,7 +29,7 @@ every level: a candidate's cell is the one that holds its full-resolution positi
   that a later record of its cell displaced: that record's arrival), earlier first.
 
 This is exactly what the fabric's streaming selection keeps (docs/selection.md): floors held per
-cell, the rest in a store that evicts its lowest code, latest first. `all` mode keeps every main
+cell, the rest in a store that evicts its lowest rest key, latest first. `all` mode keeps every main
 candidate (nothing is selected; the feature memory stores them in arrival order).
 
 Host budget (`Frame.best`, `orb-accel extract --budget` on every feature): level k keeps its n_k
@@ -269,11 +269,11 @@ class LevelSelector:
             del self.buckets[low]
         return slot
 
-    def _min_code(self) -> int | None:
+    def _min_key(self) -> int | None:
         return min(self.buckets) if self.buckets else None
 
-    def _push(self, code: int, slot: int) -> None:
-        self.buckets.setdefault(code, []).append(slot)
+    def _push(self, key: int, slot: int) -> None:
+        self.buckets.setdefault(key, []).append(slot)
 
     def _store(self, index: int, slot: int, new: bool) -> tuple[int, bool]:
         self.occupant[slot] = index
@@ -305,17 +305,17 @@ class LevelSelector:
         if f_slot < 0:  # a cell that found no place stays without one
             return None
         if rank > f_rank:  # (b) a record: it becomes the floor, the displaced one joins the rest now
-            f_code = int(rest_key(f_rank >> 16 == 0, f_rank & 0xFFFF))
+            f_key = int(rest_key(f_rank >> 16 == 0, f_rank & 0xFFFF))
             if not full:
                 slot, self.used = self.used, self.used + 1
-                self._push(f_code, f_slot)
+                self._push(f_key, f_slot)
                 self.floors[c] = (rank, slot)
                 return self._store(index, slot, True)
-            m = self._min_code()
-            if m is not None and f_code > m:  # the rest's lowest goes, the old floor stays
+            m = self._min_key()
+            if m is not None and f_key > m:  # the rest's lowest goes, the old floor stays
                 slot = self._pop_min()
                 assert slot is not None
-                self._push(f_code, f_slot)
+                self._push(f_key, f_slot)
                 self.floors[c] = (rank, slot)
                 return self._store(index, slot, False)
             self.floors[c] = (rank, f_slot)  # the old floor is the lowest: it goes
@@ -325,7 +325,7 @@ class LevelSelector:
             slot, self.used = self.used, self.used + 1
             self._push(key, slot)
             return self._store(index, slot, True)
-        m = self._min_code()
+        m = self._min_key()
         if m is not None and key > m:
             slot = self._pop_min()
             assert slot is not None
