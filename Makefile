@@ -54,11 +54,11 @@ setup: $(STAMP)
 TEST_TOOLS := ghdl tclsh dtc cxx ros
 test: $(STAMP)
 	@sh scripts/flow/check_tools.sh $(TEST_TOOLS)
-	$(BIN)/python -m pytest -n $(JOBS) -m "not slow" tb
+	$(BIN)/python -m pytest -n $(JOBS) --maxschedchunk 1 -m "not slow" tb
 
 test-all: $(STAMP)
 	@sh scripts/flow/check_tools.sh $(TEST_TOOLS)
-	$(BIN)/python -m pytest -n $(JOBS) tb
+	$(BIN)/python -m pytest -n $(JOBS) --maxschedchunk 1 tb
 
 FAST ?=
 VIDEO ?=

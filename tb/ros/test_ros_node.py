@@ -1,8 +1,10 @@
 # SPDX-License-Identifier: MIT
 """The ROS 1 node end to end, through a real roscore (Debian's ROS packages; CI installs them):
 
-`orb-accel ros --sim` runs the node against orb_accel_top simulated in GHDL (three colour
-photographs streamed round and round); a rospy subscriber in another process (ros_client.py)
+`orb-accel ros --sim --sim-engine fast` runs the node against orb_accel_top simulated as its
+synthesised netlist in Verilator (docs/fast-sim.md; bit-exact with the RTL in GHDL by
+tb/fast/test_fast_sim.py; the GHDL engine of the same server is tb/driver/test_socket_bus.py's),
+three colour photographs streamed round and round; a rospy subscriber in another process (ros_client.py)
 receives every frame, `rosbag record` records the topic, services are called from a third
 process. Checked:
 
@@ -51,7 +53,7 @@ BUDGET = 40  # the accelerator's grid selection keeps at most 40 features a fram
 SELECTION = f"grid:{BUDGET}:{RECOMMENDED_COLS}x{RECOMMENDED_ROWS}:{RECOMMENDED_THRESHOLD_LO}"
 PHOTOS = ("astronaut", "coffee", "chelsea")
 CLIENT = Path(__file__).with_name("ros_client.py")
-WAIT_S = 600.0  # wall-clock bound of any wait (a simulated frame takes a few seconds)
+WAIT_S = 600.0  # wall-clock bound of any wait (a frame takes milliseconds on the fast engine, seconds in GHDL)
 
 
 def _free_port() -> int:
@@ -182,8 +184,8 @@ def test_node_end_to_end(ros_master: dict[str, str], tmp_path: Path) -> None:
                                        stdout=logs[1], stderr=subprocess.STDOUT, start_new_session=True)  # fmt: skip
     with open(node_log, "w") as log:
         procs["node"] = subprocess.Popen(
-            [sys.executable, "-m", "orb_tools.cli", "ros", "--sim", *pngs, "--sim-mem-depth", "1024",
-             "_frame_id:=test_camera", "_threshold:=20", f"_budget:={BUDGET}"],
+            [sys.executable, "-m", "orb_tools.cli", "ros", "--sim", *pngs, "--sim-engine", "fast",
+             "--sim-mem-depth", "512", "_frame_id:=test_camera", "_threshold:=20", f"_budget:={BUDGET}"],
             env={**env, "PYTHONUNBUFFERED": "1", "PYTHONFAULTHANDLER": "1"},  # a hang leaves its stacks in the log
             stdout=log, stderr=subprocess.STDOUT, start_new_session=True,
         )  # fmt: skip

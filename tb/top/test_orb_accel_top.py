@@ -382,6 +382,8 @@ CONFIGS = {
     "rgb_4scales": (192, 160, 4, 32, 1024, "RGB"),
     # the finer pyramid (issue 14): 6 levels of 5:4, the overlay in 16x16 blocks
     "rgb_6levels_5to4": (192, 144, 6, 32, 1024, "RGB", {"STEP_NUM_g": 5, "STEP_DEN_g": 4, "BLOCK_LOG2_g": 4}),
+    # the board configurations' pyramid (vivado/board.json): 4 levels of 5:4, 16x16 overlay blocks
+    "rgb_4levels_5to4": (160, 120, 4, 32, 1024, "RGB", {"STEP_NUM_g": 5, "STEP_DEN_g": 4, "BLOCK_LOG2_g": 4}),
 }
 
 
@@ -416,9 +418,18 @@ def test_accel_four_scales() -> None:
 
 
 def test_accel_finer_pyramid() -> None:
-    # 6 levels carry 1.8x the features of one: astronaut's 866 take longer to read than a 192x144 frame lasts.
-    # Two frames and the configuration registers (the frames of `registers` cost 15 minutes of
-    # simulation here; rgb_2scales runs them, and test_accel_all every test in this configuration)
+    # The board's pyramid, 4 levels of 5:4: two frames and the configuration registers (the frames
+    # of `registers` cost many minutes of simulation here; rgb_2scales runs them, and
+    # test_accel_all every test in this configuration)
+    run_accel("rgb_4levels_5to4", testcase=["photo_stream", "config_readback"],
+              env={"ORB_PHOTOS": "coffee,rocket", "ORB_FRAMES": "2"})  # fmt: skip
+
+
+@pytest.mark.slow
+def test_accel_six_levels() -> None:
+    # 6 levels carry 1.8x the features of one: astronaut's 866 take longer to read than a 192x144
+    # frame lasts. make test-all; make test: the board's 4 levels above, 8 levels of 5:4 in
+    # test_orb_core's test_finer_pyramid
     run_accel("rgb_6levels_5to4", testcase=["photo_stream", "config_readback"],
               env={"ORB_PHOTOS": "coffee,rocket", "ORB_FRAMES": "2"})  # fmt: skip
 

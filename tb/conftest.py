@@ -1,0 +1,35 @@
+# SPDX-License-Identifier: MIT
+"""Test order for `make test`: the long simulations first, so that two workers (pytest-xdist
+`--dist load --maxschedchunk 1`, the Makefile's) finish together instead of one of them starting a
+ten-minute simulation when the other has nothing left. The order changes nothing else: every test
+is independent of the others (each simulation builds in its own directory: docs/conventions.md).
+"""
+
+from __future__ import annotations
+
+import pytest
+
+# Node-id prefixes, longest simulations first (measured with `pytest --durations`); everything
+# else keeps pytest's order after them.
+LONG_FIRST = (
+    "tb/top/test_orb_accel_top.py",
+    "tb/top/test_orb_accel_zynq.py",
+    "tb/core/test_orb_core.py::test_recommended_configuration_densest_input",
+    "tb/core/test_orb_core.py::test_grid_selection",
+    "tb/core/test_orb_core.py",
+    "tb/tools/test_sim_accel.py",
+    "tb/driver/test_socket_bus.py",
+    "tb/tools/test_cli_rtl.py",
+    "tb/core/test_orb_core_axis.py",
+    "tb/describe/test_orb_desc_path.py",
+    "tb/tools/test_core_job.py",
+    "tb/fast/test_fast_sim.py",
+)
+
+
+def _rank(nodeid: str) -> int:
+    return next((i for i, prefix in enumerate(LONG_FIRST) if nodeid.startswith(prefix)), len(LONG_FIRST))
+
+
+def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
+    items.sort(key=lambda item: _rank(item.nodeid))  # stable: pytest's order within a rank
