@@ -19,13 +19,13 @@ SELECTIONS = ("all", "grid")
 # the scale benchmark within 80% of the device's LUTs and block RAM): what `make sim` and
 # `orb-accel extract` use unless told. The selection (docs/selection.md): the grid mode with a
 # budget of RECOMMENDED_BUDGET features per 640x480 frame (recommended_budget for other sizes),
-# a grid of 8 x 6 cells over the frame at every level and the low threshold 12, chosen by
-# measurement against 7 (ORB-SLAM's minThFAST) and 14 (docs/evaluation.md, "Low corners in the rest").
+# a grid of 8 x 6 cells over the frame at every level and the low threshold 14, chosen by
+# measurement against 7 (ORB-SLAM's minThFAST), 12 and 16 (docs/evaluation.md, "Low corners in the rest").
 RECOMMENDED_SCALES = 5
 RECOMMENDED_STEP = (5, 4)
 RECOMMENDED_SECTORS = 64
 RECOMMENDED_BUDGET = 1000
-RECOMMENDED_THRESHOLD_LO = 12
+RECOMMENDED_THRESHOLD_LO = 14
 RECOMMENDED_COLS = 8
 RECOMMENDED_ROWS = 6
 # the budgets of the board's resolutions (docs/board-configs.md): each fits its bank

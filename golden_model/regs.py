@@ -289,7 +289,7 @@ THRESHOLD = Register(
             name="low",
             lsb=8,
             width=8,
-            reset=12,
+            reset=14,
             description="low FAST threshold t_lo of the grid selection (output threshold_lo); t_lo >= t: none",
         ),
     ),

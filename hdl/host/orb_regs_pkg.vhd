@@ -98,13 +98,13 @@ package orb_regs_pkg is
   constant REG_THRESHOLD_c             : natural := 16#018#;
   constant REG_THRESHOLD_IDX_c         : natural := 6;
   constant REG_THRESHOLD_MASK_c        : std_logic_vector(31 downto 0) := x"0000FFFF";
-  constant REG_THRESHOLD_RESET_c       : std_logic_vector(31 downto 0) := x"00000C14";
+  constant REG_THRESHOLD_RESET_c       : std_logic_vector(31 downto 0) := x"00000E14";
   constant THRESHOLD_THRESHOLD_LSB_c   : natural := 0;
   constant THRESHOLD_THRESHOLD_MSB_c   : natural := 7;
   constant THRESHOLD_THRESHOLD_RESET_c : natural := 20;
   constant THRESHOLD_LOW_LSB_c         : natural := 8;
   constant THRESHOLD_LOW_MSB_c         : natural := 15;
-  constant THRESHOLD_LOW_RESET_c       : natural := 12;
+  constant THRESHOLD_LOW_RESET_c       : natural := 14;
 
   -- STATUS (ro): status flags of the other blocks
   constant REG_STATUS_c              : natural := 16#01C#;
@@ -297,7 +297,7 @@ package orb_regs_pkg is
     REG_CFG_ORB_IDX_c        => (REG_CFG_ORB_c, access_ro, x"1FFFFF0F", x"00020000", x"1FF0FF0F", x"00000000"),
     REG_CFG_MEM_IDX_c        => (REG_CFG_MEM_c, access_ro, x"0FFFFFFF", x"00000000", x"0FFFFFFF", x"00000000"),
     REG_CTRL_IDX_c           => (REG_CTRL_c, access_rw, x"00000033", x"00000000", x"00000000", x"00000002"),
-    REG_THRESHOLD_IDX_c      => (REG_THRESHOLD_c, access_rw, x"0000FFFF", x"00000C14", x"00000000", x"00000000"),
+    REG_THRESHOLD_IDX_c      => (REG_THRESHOLD_c, access_rw, x"0000FFFF", x"00000E14", x"00000000", x"00000000"),
     REG_STATUS_IDX_c         => (REG_STATUS_c, access_ro, x"00000113", x"00000000", x"00000113", x"00000000"),
     REG_FRAME_COUNT_IDX_c    => (REG_FRAME_COUNT_c, access_ro, x"FFFFFFFF", x"00000000", x"FFFFFFFF", x"00000000"),
     REG_DROPPED_IDX_c        => (REG_DROPPED_c, access_ro, x"FFFFFFFF", x"00000000", x"FFFFFFFF", x"00000000"),

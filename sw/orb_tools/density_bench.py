@@ -10,7 +10,7 @@ Extractors per frame:
 - `ours`: the golden model with the grid selection (golden_model.pipeline: candidates, then
   golden_model.select.select_grid, which is what extract does): budget
   golden_model.config.recommended_budget of the size and a grid of 8 x 6 cells unless --budget /
-  --cells, threshold 20 and low threshold 12, RECOMMENDED_SCALES levels of 5:4 unless --scales / --step,
+  --cells, threshold 20 and low threshold 14, RECOMMENDED_SCALES levels of 5:4 unless --scales / --step,
   64 sectors; a level must be at least 37x37 pixels, else the command refuses;
 - `cv-500`: cv2.ORB_create() with its defaults (nfeatures 500);
 - `cv-ours`: cv2.ORB_create(nfeatures = our count on that frame) (nothing when ours is empty).

@@ -16,7 +16,7 @@ Extractors:
   Frame.best keeps); a level-k feature is centred at (x + 0.5) r^k - 0.5;
 - ours with the fabric's selection, `NUM:DENxLEVELS[sSECTORS]/gBUDGET[cCOLSxROWS]` (e.g. `5:4x5s64/g1000`):
   golden_model.pipeline.extract with selection "grid" (docs/spec.md section 14): BUDGET features per
-  image, low threshold 12 (RECOMMENDED_THRESHOLD_LO), a grid of COLS x ROWS cells over the image, by
+  image, low threshold 14 (RECOMMENDED_THRESHOLD_LO), a grid of COLS x ROWS cells over the image, by
   default 8 x 6 (golden_model.config.RECOMMENDED_COLS, RECOMMENDED_ROWS); on an image too small for LEVELS levels
   of at least 37x37 pixels, the most levels that fit (the budget is split over those);
 - `cv-STEPxLEVELS`: OpenCV ORB with that pyramid (scale factor, levels), FAST score, threshold 20,
