@@ -4,7 +4,8 @@ serves its AXI4-Lite bus on a socket; orb_accel.socket_bus.SocketBus is the driv
 is on the board. One server for the module (128x96 colour photographs, 2 scales) on the fast
 engine: GHDL's synthesised netlist of the RTL in Verilator (docs/fast-sim.md; bit-exact with the
 RTL in GHDL by tb/fast/test_fast_sim.py), the configuration test_fast_sim builds, so one build
-serves both. The server on the RTL in GHDL is test_cli_sim_zynq's (the board's wrapper).
+serves both. Servers on the RTL in GHDL: test_ghdl_server_frames_log's (small luma frames) and
+test_cli_sim_zynq's (the board's wrapper).
 
 - frames read through the public API are bit-exact with the golden model (features, scores,
   angles, descriptors), with full-resolution and per-scale coordinates, counters and record;
