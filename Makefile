@@ -4,11 +4,13 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 IMAGE  ?=
-# empty: the recommended configuration (golden_model.config.RECOMMENDED_*; docs/pyramid.md)
+# CONFIG: a named configuration (docs/configurations.md); empty: recommended-vga (make sim),
+# board-720p (make bitstream). SCALES, PYRAMID, SECTORS, THRESHOLD, SIZE replace single values.
+CONFIG ?=
 SCALES ?=
 PYRAMID ?=
 SECTORS ?=
-THRESHOLD ?= 20
+THRESHOLD ?=
 JOBS   ?= 2
 
 .PHONY: setup test test-all sim bench bench-sim bench-driver eval figures lint synth netlist-sim tools pattern clean \
@@ -18,8 +20,9 @@ help:
 	@echo "make setup   create .venv and install the project with test extras (idempotent)"
 	@echo "make test    run the test suite (pytest -n $(JOBS), slow tests excluded)"
 	@echo "make test-all  run every test, slow full-frame ones included"
-	@echo "make sim     the complete accelerator in GHDL on the bundled image, recommended configuration 5:4 x 5, 64 sectors"
-	@echo "             (IMAGE=, SCALES=, PYRAMID=NUM:DEN, SECTORS=, THRESHOLD=, SELECTION=grid|all, BUDGET=;"
+	@echo "make sim     the complete accelerator in GHDL on the bundled image, the named configuration CONFIG="
+	@echo "             (default recommended-vga; docs/configurations.md; IMAGE=, SIZE=WxH|native, SCALES=, PYRAMID=NUM:DEN,"
+	@echo "             SECTORS=, THRESHOLD=, SELECTION=grid|all, BUDGET=;"
 	@echo "             FAST=1: its synthesised netlist in Verilator; VIDEO=file: every frame of a video, fast; docs/fast-sim.md)"
 	@echo "make bench   model speed benchmark (scripts/bench/bench_model.py)"
 	@echo "make bench-sim  RTL simulation speed, one 640x480 frame (scripts/bench/bench_sim.py)"
@@ -30,7 +33,7 @@ help:
 	@echo "make figures make eval, then copy its figures into docs/img (docs/img/README.md)"
 	@echo "make lint    ruff, the import-layer contracts (lint-imports); GHDL synth check and vsg style of hdl/"
 	@echo "make synth   LUT/FF/BRAM/DSP estimate of orb_core 640x480x1 + 1920x1080x2, checked (GHDL + yosys; 4-7 min, cached;"
-	@echo "             CONFIG=1920x1080x2 TOP=orb_accel_top|orb_accel_zynq: also the logic-delay pass + worst paths (STA=0: not);"
+	@echo "             SIZE=1920x1080x2 TOP=orb_accel_top|orb_accel_zynq: also the logic-delay pass + worst paths (STA=0: not);"
 	@echo "             GENERICS=\"STEP_NUM_g=5 STEP_DEN_g=4 SECTORS_g=64\": more generics of the top)"
 	@echo "make netlist-sim  unit tests on GHDL's synthesised netlists (~15 min; K=entity, QUICK=1; docs/netlist-sim.md)"
 	@echo "make tools   which of ghdl, yosys, python3 are installed, and how to install the rest"
@@ -64,9 +67,10 @@ FAST ?=
 VIDEO ?=
 sim: $(STAMP)
 	$(BIN)/python scripts/flow/sim_accel.py $(if $(IMAGE),--image $(IMAGE)) $(if $(VIDEO),--video $(VIDEO)) \
+		$(if $(CONFIG),--config $(CONFIG)) $(if $(SIZE),--size $(SIZE)) \
 		$(if $(SCALES),--scales $(SCALES)) $(if $(PYRAMID),--step $(PYRAMID)) $(if $(SECTORS),--sectors $(SECTORS)) \
 		$(if $(SELECTION),--selection $(SELECTION)) $(if $(BUDGET),--budget $(BUDGET)) \
-		--threshold $(THRESHOLD) --out-dir build/sim \
+		$(if $(THRESHOLD),--threshold $(THRESHOLD)) --out-dir build/sim \
 		$(if $(filter 1 yes true,$(FAST)),--fast)
 
 bench: $(STAMP)
@@ -84,7 +88,7 @@ bench-driver: $(STAMP)
 ROS_IMAGES ?= $(if $(IMAGE),$(IMAGE),golden_model/data/default_640x480.png)
 ros-sim: $(STAMP)
 	@sh scripts/flow/check_tools.sh ghdl ros
-	$(BIN)/orb-accel ros --roscore --sim $(ROS_IMAGES) --sim-size 320x240
+	$(BIN)/orb-accel ros --roscore --sim $(ROS_IMAGES) $(if $(CONFIG),--sim-config $(CONFIG))
 
 STEP ?= 1
 EVAL_PHOTOS := build/eval/photos
@@ -125,17 +129,16 @@ lint: $(STAMP)
 	$(BIN)/python scripts/board/dryrun.py
 
 # Resource estimate (GHDL + yosys, no Vivado; docs/synthesis.md), checked against scripts/flow/synth_expected.json.
-# CONFIG=1920x1080x2 (or a list) runs those configurations, TOP= another top; STA=1 adds the logic-delay pass
-# and its worst-paths report (build/synth/<top>/<config>/timing.md), the default when CONFIG is given (STA=0: not);
+# SIZE=1920x1080x2 (WxHxSCALES, or a list) runs those sizes, TOP= another top; STA=1 adds the logic-delay pass
+# and its worst-paths report (build/synth/<top>/<config>/timing.md), the default when SIZE is given (STA=0: not);
 # GENERICS="STEP_NUM_g=5 STEP_DEN_g=4 SECTORS_g=64" sets more generics of the top (the recommended 1080p build).
 # Plain python3 (no `make setup` needed); records are cached under build/synth.
-CONFIG ?=
 TOP ?=
 GENERICS ?=
-STA ?= $(if $(CONFIG),1,)
+STA ?= $(if $(SIZE),1,)
 synth:
 	@sh scripts/flow/check_tools.sh ghdl yosys python3
-	$(PYTHON) scripts/flow/synth.py --jobs $(JOBS) $(if $(TOP),--top $(TOP)) $(foreach c,$(CONFIG),--config $(c)) \
+	$(PYTHON) scripts/flow/synth.py --jobs $(JOBS) $(if $(TOP),--top $(TOP)) $(foreach c,$(SIZE),--config $(c)) \
 		$(foreach g,$(GENERICS),--generic $(g)) \
 		$(if $(filter 1 yes true,$(STA)),--sta)
 

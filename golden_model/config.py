@@ -11,23 +11,27 @@ import numbers
 from dataclasses import dataclass
 
 from . import limits
+from .configs import CONFIGS, TOPS_DEFAULT
 
 MODES = ("orb", "fast")
 SELECTIONS = ("all", "grid")
 
 # The recommended configuration for 640x480 on the XC7Z020 (docs/pyramid.md: the best measured on
-# the scale benchmark within 80% of the device's LUTs and block RAM): what `make sim` and
-# `orb-accel extract` use unless told. The selection (docs/selection.md): the grid mode with a
-# budget of RECOMMENDED_BUDGET features per 640x480 frame (recommended_budget for other sizes),
-# a grid of 8 x 6 cells over the frame at every level and the low threshold 14, chosen by
-# measurement against 7 (ORB-SLAM's minThFAST), 12 and 16 (docs/evaluation.md, "Low corners in the rest").
-RECOMMENDED_SCALES = 5
-RECOMMENDED_STEP = (5, 4)
-RECOMMENDED_SECTORS = 64
-RECOMMENDED_BUDGET = 1000
-RECOMMENDED_THRESHOLD_LO = 14
-RECOMMENDED_COLS = 8
-RECOMMENDED_ROWS = 6
+# the scale benchmark within 80% of the device's LUTs and block RAM), the named configuration
+# "recommended-vga" (docs/configurations.md): what `make sim` and `orb-accel extract` use unless
+# told. The selection (docs/selection.md): the grid mode with a budget of RECOMMENDED_BUDGET
+# features per 640x480 frame (recommended_budget for other sizes), a grid of 8 x 6 cells over the
+# frame at every level and the low threshold 14, chosen by measurement against 7 (ORB-SLAM's
+# minThFAST), 12 and 16 (docs/evaluation.md, "Low corners in the rest").
+RECOMMENDED_NAME = "recommended-vga"
+_REC = CONFIGS[RECOMMENDED_NAME]
+RECOMMENDED_SCALES = int(_REC["scales"])
+RECOMMENDED_STEP = (int(_REC["step_num"]), int(_REC["step_den"]))
+RECOMMENDED_SECTORS = int(_REC["sectors"])
+RECOMMENDED_BUDGET = 1000  # per 640x480 frame: the budget rule below ("recommended-vga" has it)
+RECOMMENDED_THRESHOLD_LO = int(_REC["threshold_lo"])
+RECOMMENDED_COLS = int(_REC["cols"])
+RECOMMENDED_ROWS = int(_REC["rows"])
 # the budgets of the board's resolutions (docs/board-configs.md): each fits its bank
 RECOMMENDED_BUDGETS = {(640, 480): 1000, (1280, 720): 1500, (1920, 1080): 2000}
 
@@ -107,6 +111,12 @@ class Config:
                 f"be at least {limits.SCALE_WIDTH.min}x{limits.SCALE_HEIGHT.min} (fewer scales or a larger frame)"
             )
 
+    @classmethod
+    def named(cls, name: str, **overrides: object) -> Config:
+        """The model configuration of the named configuration ``name`` (docs/configurations.md),
+        with ``overrides`` (any Config field) applied: ``Config.named("board-720p", threshold=30)``."""
+        return named(name).config(**overrides)
+
     @property
     def low_threshold(self) -> int:
         """The low threshold in effect: threshold_lo, or the threshold when threshold_lo is above it."""
@@ -174,3 +184,68 @@ def sectors_to_per_quadrant(sectors: int) -> int:
     if isinstance(sectors, bool) or not isinstance(sectors, numbers.Integral) or not limits.SECTORS.legal(int(sectors)):
         raise ConfigError(f"sectors must be {limits.SECTORS.text}, got {sectors!r}")
     return int(sectors) // 4
+
+
+NAMES = tuple(CONFIGS)
+
+
+@dataclass(frozen=True)
+class NamedConfig:
+    """A named configuration (golden_model/data/configs.json, docs/configurations.md): the generics of
+    a bitstream or simulation (width .. block_log2) and the selection the driver starts it with."""
+
+    name: str
+    about: str
+    width: int
+    height: int
+    scales: int
+    step_num: int
+    step_den: int
+    sectors: int
+    mem_depth: int
+    block_log2: int
+    threshold: int
+    threshold_lo: int
+    selection: str
+    budget: int
+    cols: int
+    rows: int
+    used_by: tuple[str, ...]
+    verified_by: tuple[str, ...]
+
+    def config(self, **overrides: object) -> Config:
+        """The model's Config of this device (Config fields in ``overrides`` replace its values)."""
+        fields = {k: getattr(self, k) for k in _CONFIG_FIELDS}
+        unknown = set(overrides) - set(fields) - {"mode"}
+        if unknown:
+            raise ConfigError(f"not Config fields: {sorted(unknown)}")
+        return Config(**{**fields, **overrides})  # type: ignore[arg-type]
+
+    def generics(self, input_format: str = "RGB") -> dict[str, int | str]:
+        """The VHDL generics of orb_accel_top / orb_accel_zynq for this configuration."""
+        return {"WIDTH_g": self.width, "HEIGHT_g": self.height, "SCALES_g": self.scales,
+                "STEP_NUM_g": self.step_num, "STEP_DEN_g": self.step_den, "SECTORS_g": self.sectors,
+                "MEM_DEPTH_g": self.mem_depth, "BLOCK_LOG2_g": self.block_log2, "INPUT_g": input_format}  # fmt: skip
+
+    @property
+    def capacity(self) -> int:
+        """Features a bank holds (one slot is the end-of-frame record)."""
+        return self.mem_depth - 1
+
+
+_CONFIG_FIELDS = ("width", "height", "scales", "step_num", "step_den", "sectors", "threshold", "threshold_lo",
+                  "selection", "budget", "cols", "rows")  # fmt: skip
+
+
+def named(name: str) -> NamedConfig:
+    """The named configuration ``name``; ConfigError naming the known ones otherwise."""
+    try:
+        entry = CONFIGS[name]
+    except KeyError:
+        raise ConfigError(f"no configuration named {name!r}; known: {', '.join(NAMES)}") from None
+    return NamedConfig(name=name, **entry)  # type: ignore[arg-type]
+
+
+def tops_default() -> NamedConfig:
+    """The configuration of the HDL tops' generic defaults."""
+    return named(TOPS_DEFAULT)

@@ -19,18 +19,21 @@ use work.orb_util_pkg.all;
 use work.orb_feat_pkg.all;
 use work.orb_regs_pkg.all;
 use work.orb_limits_pkg.all;
+use work.orb_configs_pkg.all;
 
 entity orb_accel_top is
   generic (
-    WIDTH_g      : width_t      := 640;   -- legal values: orb_limits_pkg (docs/limits.md)
-    HEIGHT_g     : height_t     := 480;
-    SCALES_g     : scales_t     := 2;
-    STEP_NUM_g   : step_num_t   := 2;     -- pyramid step STEP_NUM_g:STEP_DEN_g (2:1: the box)
-    STEP_DEN_g   : step_den_t   := 1;
-    SECTORS_g    : sectors_t    := 32;    -- orientation sectors in all
-    MEM_DEPTH_g  : mem_depth_t  := 1024;  -- feature slots per bank
-    INPUT_g      : string       := "RGB"; -- "RGB", "RBG" (dvi2rgb) or "LUMA"
-    BLOCK_LOG2_g : block_log2_t := 3      -- overlay block size 2^BLOCK_LOG2_g
+    -- defaults: the named configuration TOPS_DEFAULT_c (docs/configurations.md); legal values:
+    -- orb_limits_pkg (docs/limits.md)
+    WIDTH_g      : width_t      := TOPS_DEFAULT_c.width;     -- frame width
+    HEIGHT_g     : height_t     := TOPS_DEFAULT_c.height;    -- frame height
+    SCALES_g     : scales_t     := TOPS_DEFAULT_c.scales;    -- scales (pyramid levels)
+    STEP_NUM_g   : step_num_t   := TOPS_DEFAULT_c.step_num;  -- pyramid step STEP_NUM_g:STEP_DEN_g
+    STEP_DEN_g   : step_den_t   := TOPS_DEFAULT_c.step_den;  -- (2:1: the box)
+    SECTORS_g    : sectors_t    := TOPS_DEFAULT_c.sectors;   -- orientation sectors in all
+    MEM_DEPTH_g  : mem_depth_t  := TOPS_DEFAULT_c.mem_depth; -- feature slots per bank
+    INPUT_g      : string       := "RGB";                    -- "RGB", "RBG" (dvi2rgb) or "LUMA"
+    BLOCK_LOG2_g : block_log2_t := TOPS_DEFAULT_c.block_log2 -- overlay block size 2^BLOCK_LOG2_g
   );
   port (
     clk : in    std_logic;

@@ -17,6 +17,8 @@
 library ieee;
 use ieee.std_logic_1164.all;
 
+-- Generic defaults: the named configuration orb_configs_pkg.TOPS_DEFAULT_c (docs/configurations.md),
+-- written as literals for Vivado's module reference; tb/common/test_orb_configs_pkg.py checks them.
 -- Legal generic values: docs/limits.md (orb_accel_top's generics have the orb_limits_pkg subtypes).
 -- C_S_AXI_CTRL_ADDR_WIDTH: Xilinx's name for an AXI4-Lite address width, not the NAME_g style
 -- vsg_off generic_600

@@ -14,9 +14,11 @@ output directory (default build/sim): features.csv (the CLI's format), overlay.p
 overlay block's output) and report.json (features, bit_exact against the golden model, dropped,
 truncated, latency_cycles, cycles_per_pixel, sim_wall_s and details), and prints a short summary.
 
-The selection is the driver's default unless told (docs/selection.md): `grid` with the
-recommended budget of the frame size (at most a bank's 4,095 features), a grid of 8 x 6 cells over
-the frame and the low threshold 7; the frame must equal the model's selection with nothing lost.
+The device is a named configuration (docs/configurations.md; `--config`, `make sim CONFIG=`):
+its generics and the selection the driver starts it with, the image resized to its frame size
+(`--size native` keeps the image's own; `--size WxH`). Without `--config`: recommended-vga's values at
+the image's own size. The other options replace single values. In `grid` the frame must equal the
+model's selection with nothing lost.
 `--selection all` stores every feature: a frame with more than a bank holds is truncated, and the
 stored features are checked to be what the memory keeps (golden_model.select.truncation_difference:
 each level's first features in arrival order); the truncation is reported, not an error.
@@ -37,14 +39,12 @@ import numpy as np
 
 from golden_model import Config, extract, first_difference, limits
 from golden_model.config import (
-    RECOMMENDED_COLS,
-    RECOMMENDED_ROWS,
-    RECOMMENDED_SCALES,
-    RECOMMENDED_SECTORS,
-    RECOMMENDED_STEP,
-    RECOMMENDED_THRESHOLD_LO,
+    NAMES,
+    RECOMMENDED_NAME,
     SELECTIONS,
     ConfigError,
+    NamedConfig,
+    named,
     parse_cells,
     parse_step,
     recommended_budget,
@@ -57,7 +57,7 @@ from golden_model.pipeline import streamed
 from golden_model.select import truncation_difference
 from orb_accel.driver import Frame
 from orb_sim.fast.sim import FastSimError
-from orb_sim.rtl_backend import ACCEL_MEM_DEPTH, RtlUnavailable, run_accel_job
+from orb_sim.rtl_backend import RtlUnavailable, run_accel_job
 from orb_sim.runner import ToolMissing
 from orb_tools.images import load_rgb_or_grey
 
@@ -81,18 +81,41 @@ def progress_loop(path: Path, stop: threading.Event) -> None:
                     last = line
 
 
-def make_config(args: argparse.Namespace, w: int, h: int, num: int, den: int) -> Config:
-    """The model configuration of the run (the driver configures the accelerator from it)."""
-    if not limits.MEM_DEPTH.legal(args.mem_depth):
-        raise ConfigError(f"mem_depth must be {limits.MEM_DEPTH.text}, got {args.mem_depth}")
-    capacity = args.mem_depth - 1
-    budget = min(capacity, recommended_budget(w, h)) if args.budget is None else args.budget
-    if args.selection == "grid" and not 0 <= budget <= capacity:
+def make_config(args: argparse.Namespace, nc: NamedConfig, w: int, h: int) -> tuple[Config, int]:
+    """The model configuration of the run (the driver configures the accelerator from it) and the
+    simulated bank's slots: the named configuration at the frame's size, with the options given."""
+    mem_depth = nc.mem_depth if args.mem_depth is None else args.mem_depth
+    if not limits.MEM_DEPTH.legal(mem_depth):
+        raise ConfigError(f"mem_depth must be {limits.MEM_DEPTH.text}, got {mem_depth}")
+    capacity = mem_depth - 1
+    same = (w, h) == (nc.width, nc.height) and mem_depth == nc.mem_depth
+    budget = args.budget
+    if budget is None:
+        budget = nc.budget if same and nc.selection == "grid" else min(capacity, recommended_budget(w, h))
+    selection = nc.selection if args.selection is None else args.selection
+    if selection == "grid" and not 0 <= budget <= capacity:
         raise ConfigError(f"budget {budget}: a bank of the simulated accelerator holds 0..{capacity} features")
-    cols, rows = (RECOMMENDED_COLS, RECOMMENDED_ROWS) if args.cells is None else parse_cells(args.cells)
-    return Config(width=w, height=h, scales=args.scales, sectors=args.sectors, threshold=args.threshold, mode="orb",
-                  step_num=num, step_den=den, selection=args.selection, budget=budget, cols=cols,
-                  rows=rows, threshold_lo=args.threshold_lo)  # fmt: skip
+    cols, rows = (nc.cols, nc.rows) if args.cells is None else parse_cells(args.cells)
+    num, den = (nc.step_num, nc.step_den) if args.step is None else parse_step(args.step)
+    pick = lambda given, default: default if given is None else given  # noqa: E731
+    cfg = nc.config(width=w, height=h, scales=pick(args.scales, nc.scales), sectors=pick(args.sectors, nc.sectors),
+                    threshold=pick(args.threshold, nc.threshold), mode="orb", step_num=num, step_den=den,
+                    selection=selection, budget=budget, cols=cols, rows=rows,
+                    threshold_lo=pick(args.threshold_lo, nc.threshold_lo))  # fmt: skip
+    return cfg, mem_depth
+
+
+def parse_size(text: str | None, nc: NamedConfig | None) -> tuple[int, int] | None:
+    """--size: (W, H); None for native; not given: the named configuration's size when one was
+    named (--config), else native."""
+    if text is None:
+        return None if nc is None else (nc.width, nc.height)
+    if text == "native":
+        return None
+    w, sep, h = text.lower().partition("x")
+    if not sep or not w.isdigit() or not h.isdigit():
+        raise ValueError(f"size {text!r}: expected WxH or native")
+    return int(w), int(h)
 
 
 def describe_selection(cfg: Config) -> str:
@@ -113,23 +136,21 @@ def compare(got: Features, img: np.ndarray, cfg: Config, truncated: int, capacit
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--image", type=Path, help="image file (default: the bundled 640x480 photograph)")
-    rec = f"{RECOMMENDED_STEP[0]}:{RECOMMENDED_STEP[1]}"
-    ap.add_argument(
-        "--scales",
-        type=int,
-        default=RECOMMENDED_SCALES,
-        help=f"scales, pyramid levels (default {RECOMMENDED_SCALES}, the recommended configuration)",
-    )
-    ap.add_argument("--step", default=rec, help=f"pyramid step NUM:DEN (default {rec})")
-    ap.add_argument("--sectors", type=int, default=RECOMMENDED_SECTORS, help="16, 32 or 64")
-    ap.add_argument("--threshold", type=int, default=20)
-    ap.add_argument("--selection", choices=SELECTIONS, default="grid", help="grid (default) or all")
-    ap.add_argument("--budget", type=int, help="grid: features per frame (default: recommended for the size)")
-    ap.add_argument("--cells", help="grid: COLSxROWS cells over the frame (default 8x6)")
-    ap.add_argument("--mem-depth", type=int, default=ACCEL_MEM_DEPTH,
-                    help=f"slots per bank of the simulated accelerator (default {ACCEL_MEM_DEPTH})")  # fmt: skip
-    ap.add_argument("--threshold-lo", type=int, default=RECOMMENDED_THRESHOLD_LO,
-                    help=f"grid: low FAST threshold (default {RECOMMENDED_THRESHOLD_LO})")  # fmt: skip
+    ap.add_argument("--config", choices=NAMES,
+                    help=f"a named configuration (docs/configurations.md), the image resized to its size; default: "
+                         f"{RECOMMENDED_NAME} at the image's size; the options below replace its values")  # fmt: skip
+    ap.add_argument("--size", help="WxH: resize the image to this (default: the named configuration's size, else "
+                    "the image's; native: the image's)")  # fmt: skip
+    ap.add_argument("--scales", type=int, help="scales, pyramid levels")
+    ap.add_argument("--step", help="pyramid step NUM:DEN")
+    ap.add_argument("--sectors", type=int, help="16, 32 or 64")
+    ap.add_argument("--threshold", type=int)
+    ap.add_argument("--selection", choices=SELECTIONS, help="grid or all")
+    ap.add_argument("--budget", type=int, help="grid: features per frame (default: the configuration's at its size, "
+                    "else the recommended one of the size within a bank)")  # fmt: skip
+    ap.add_argument("--cells", help="grid: COLSxROWS cells over the frame")
+    ap.add_argument("--mem-depth", type=int, help="slots per bank of the simulated accelerator")
+    ap.add_argument("--threshold-lo", type=int, help="grid: low FAST threshold")
     ap.add_argument("--out-dir", type=Path, default=ROOT / "build" / "sim")
     ap.add_argument("--fast", action="store_true", help="the netlist in Verilator instead of the RTL in GHDL")
     ap.add_argument("--seed", type=int, default=0, help="--fast: random initial state from this seed (0: zeros)")
@@ -145,9 +166,12 @@ def main() -> int:
             original = (original >> 8).astype(np.uint8)
         rgb = original if original.ndim == 3 else np.repeat(original[..., None], 3, axis=2)
         rgb = np.ascontiguousarray(rgb[..., :3], dtype=np.uint8)
+        nc = named(args.config or RECOMMENDED_NAME)
+        size = parse_size(args.size, nc if args.config else None)
+        if size is not None and size != (rgb.shape[1], rgb.shape[0]):
+            rgb = cv2.resize(rgb, size, interpolation=cv2.INTER_AREA)
         h, w = rgb.shape[:2]
-        num, den = parse_step(args.step)
-        cfg = make_config(args, w, h, num, den)
+        cfg, mem_depth = make_config(args, nc, w, h)
     except (ImageError, ConfigError, ValueError, OSError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
@@ -157,7 +181,7 @@ def main() -> int:
     job.mkdir(parents=True)
     log = out / "sim.log"
     engine = "its netlist in Verilator" if args.fast else f"GHDL (log: {log})"
-    print(f"make sim: {path.name} {w}x{h}, {cfg.scales} scale(s) of {cfg.step_num}:{cfg.step_den}, "
+    print(f"make sim: {path.name} {w}x{h}, {nc.name}: {cfg.scales} scale(s) of {cfg.step_num}:{cfg.step_den}, "
           f"{cfg.sectors} sectors, "
           f"threshold {cfg.threshold}, {describe_selection(cfg)}: orb_accel_top in {engine}", flush=True)  # fmt: skip
     stop = threading.Event()
@@ -168,9 +192,9 @@ def main() -> int:
         if args.fast:
             from orb_sim.fast.jobs import run_accel_fast
 
-            result = run_accel_fast(rgb, cfg, job, overlay=True, seed=args.seed, mem_depth=args.mem_depth)
+            result = run_accel_fast(rgb, cfg, job, overlay=True, seed=args.seed, mem_depth=mem_depth)
         else:
-            result = run_accel_job(rgb, cfg, job, log, overlay=True, mem_depth=args.mem_depth)
+            result = run_accel_job(rgb, cfg, job, log, overlay=True, mem_depth=mem_depth)
     except (RtlUnavailable, ToolMissing, FastSimError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 1
@@ -180,7 +204,7 @@ def main() -> int:
     feats = read_csv(job / "features.csv", sectors_total=cfg.sectors, step=cfg.step)
     shutil.copyfile(job / "features.csv", out / "features.csv")
     luma = rgb_to_luma(rgb)
-    diff = compare(feats, luma, cfg, result["truncated"], args.mem_depth - 1)
+    diff = compare(feats, luma, cfg, result["truncated"], mem_depth - 1)
     # the overlay marks what the feature stream carried: every feature in `all` (the bank may have
     # truncated them), in `grid` the selection and the features it replaced
     overlay = np.load(job / "overlay.npy")
@@ -195,7 +219,7 @@ def main() -> int:
     report = {
         "image": str(path), "width": w, "height": h, "scales": cfg.scales, "step": f"{cfg.step_num}:{cfg.step_den}",
         "sectors": cfg.sectors, "selection": cfg.selection, "budget": cfg.budget, "cells": [cfg.cols, cfg.rows],
-        "threshold_lo": cfg.threshold_lo, "truncated": truncated, "mem_depth": args.mem_depth,
+        "threshold_lo": cfg.threshold_lo, "truncated": truncated, "mem_depth": mem_depth, "config": nc.name,
         "threshold": cfg.threshold, "features": result["features"], "bit_exact": diff is None,
         "first_difference": diff, "overlay_bit_exact": overlay_exact, "dropped": dropped,
         "dropped_detail": {"merge": result["dropped_merge"], "feature_memory_truncated": result["truncated"],
@@ -225,23 +249,25 @@ def main_video(args: argparse.Namespace) -> int:
     from orb_tools.images import load_frames
 
     try:
-        frames = load_frames([args.video], max_frames=args.max_frames)
+        nc = named(args.config or RECOMMENDED_NAME)
+        frames = load_frames(
+            [args.video], parse_size(args.size, nc if args.config else None), max_frames=args.max_frames
+        )
         n, h, w = frames.shape[:3]
-        num, den = parse_step(args.step)
-        cfg = make_config(args, w, h, num, den)
+        cfg, mem_depth = make_config(args, nc, w, h)
     except (ImageError, ConfigError, ValueError, OSError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
     out = args.out_dir.resolve()
     out.mkdir(parents=True, exist_ok=True)
-    print(f"make sim: {args.video.name}, {n} frames of {w}x{h}, {cfg.scales} scale(s) of "
+    print(f"make sim: {args.video.name}, {n} frames of {w}x{h}, {nc.name}: {cfg.scales} scale(s) of "
           f"{cfg.step_num}:{cfg.step_den}, {cfg.sectors} sectors, threshold {cfg.threshold}, "
           f"{describe_selection(cfg)}: orb_accel_top's netlist in Verilator", flush=True)  # fmt: skip
     results: list[dict] = []
 
     def check(i: int, frame: Frame) -> None:
         luma = rgb_to_luma(frames[i]) if frames.ndim == 4 else frames[i]
-        diff = compare(frame.features, luma, cfg, frame.truncated, args.mem_depth - 1)
+        diff = compare(frame.features, luma, cfg, frame.truncated, mem_depth - 1)
         lost = frame.dropped + (frame.truncated if cfg.selection == "grid" else 0)
         if lost and diff is None:
             diff = f"{lost} features lost"
@@ -252,12 +278,13 @@ def main_video(args: argparse.Namespace) -> int:
             print(f"  frame {i}: {len(frame)} features, bit-exact: {verdict}", flush=True)
 
     try:
-        _, run = run_video_fast(frames, cfg, seed=args.seed, mem_depth=args.mem_depth, on_frame=check)
+        _, run = run_video_fast(frames, cfg, seed=args.seed, mem_depth=mem_depth, on_frame=check)
     except (ToolMissing, FastSimError, TimeoutError, OSError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 1
     exact = sum(r["bit_exact"] for r in results)
-    report = {"video": str(args.video), "width": w, "height": h, "scales": cfg.scales,
+    report = {"video": str(args.video), "config": nc.name, "mem_depth": mem_depth, "width": w, "height": h,
+              "scales": cfg.scales,
               "step": f"{cfg.step_num}:{cfg.step_den}", "sectors": cfg.sectors,
               "threshold": cfg.threshold, "selection": cfg.selection, "budget": cfg.budget,
               "cells": [cfg.cols, cfg.rows], "threshold_lo": cfg.threshold_lo, "frames": n,

@@ -660,7 +660,7 @@ def estimates(
         return s
 
     if others:
-        lines.append("Other known configurations (resources; make synth TOP=<top> CONFIG=<WxHxS>):")
+        lines.append("Other known configurations (resources; make synth TOP=<top> SIZE=<WxHxS>):")
         total = [line(f"{j.name}", j.name, ("ghdl", "yosys_stat")) for j in others]
         lines.append(together(total))
     if without_sta:

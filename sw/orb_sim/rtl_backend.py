@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
-from golden_model.config import Config
+from golden_model.config import RECOMMENDED_NAME, Config, named
 from golden_model.features import Features, read_csv
 from golden_model.overlay import marker_block_log2
 
@@ -33,7 +33,8 @@ class RtlUnavailable(RuntimeError):
     """The RTL backend cannot run here (no source checkout, no simulator, a failed simulation)."""
 
 
-ACCEL_MEM_DEPTH = 4096  # feature slots per bank of the simulated orb_accel_top (4,095 features)
+# feature slots per bank of the simulated orb_accel_top when not told: the recommended configuration's
+ACCEL_MEM_DEPTH = named(RECOMMENDED_NAME).mem_depth
 
 
 def _simulate(toplevel: str, module: str, generics: dict, env: dict[str, str], log: Path) -> None:

@@ -3,15 +3,18 @@
 own process group, so that a driver in any other process reaches it through
 orb_accel.socket_bus.SocketBus exactly as it reaches the board through UIO:
 
-    with SimServer(frames, scales=2) as server:          # frames: (N, H, W, 3) RGB or (N, H, W) luma
+    with SimServer(frames, "sim-qvga") as server:      # frames: (N, H, W, 3) RGB or (N, H, W) luma
         with SocketBus(server.address) as bus:
             accel = OrbAccel(bus)
 
-The bitstream-like configuration (WIDTH_g, HEIGHT_g from the frames; SCALES_g, SECTORS_g,
-MEM_DEPTH_g) is fixed when the server starts; the frames stream in round and round with blanking
-(h_blank clocks per line, v_blank_lines blank lines per frame). `python -m orb_sim.sim_server JOB`
-is the child process: engine "ghdl" runs the cocotb job through orb_sim.runner, engine "fast"
-serves the synthesised netlist in Verilator (orb_sim.fast; orb_accel_top only; no frames.log).
+The bitstream-like configuration is fixed when the server starts: the generics of a named
+configuration (docs/configurations.md; default DEFAULT_CONFIG, the board's shape at 320x240) at
+the frames' size (WIDTH_g, HEIGHT_g; the CLI resizes the frames to the configuration's size unless
+told), each of SCALES_g, STEP_*_g, SECTORS_g, MEM_DEPTH_g replaceable by an argument; the frames
+stream in round and round with blanking (h_blank clocks per line, v_blank_lines blank lines per
+frame). `python -m orb_sim.sim_server JOB` is the child process: engine "ghdl" runs the cocotb job
+through orb_sim.runner, engine "fast" serves the synthesised netlist in Verilator (orb_sim.fast;
+orb_accel_top only; no frames.log).
 """
 
 from __future__ import annotations
@@ -29,7 +32,7 @@ from types import TracebackType
 import numpy as np
 
 from golden_model import limits
-from golden_model.config import Config
+from golden_model.config import Config, named
 from golden_model.overlay import marker_block_log2
 
 from .hdl import MANIFEST
@@ -37,6 +40,7 @@ from .runner import run
 
 TOPLEVELS = ("orb_accel_top", "orb_accel_zynq")
 ENGINES = ("ghdl", "fast")
+DEFAULT_CONFIG = "sim-qvga"  # the simulated bitstream of sim-server, ros --sim, board --sim
 
 
 class SimServerError(RuntimeError):
@@ -44,10 +48,17 @@ class SimServerError(RuntimeError):
 
 
 class SimServer:
-    def __init__(self, frames: np.ndarray, scales: int = 2, sectors: int = 32, mem_depth: int = 2048,
+    def __init__(self, frames: np.ndarray, config: str = DEFAULT_CONFIG, *, scales: int | None = None,
+                 sectors: int | None = None, mem_depth: int | None = None, step: tuple[int, int] | None = None,
                  toplevel: str = "orb_accel_top", port: int = 0, h_blank: int = 16, v_blank_lines: int = 20,
-                 job_dir: Path | None = None, engine: str = "ghdl",
-                 step: tuple[int, int] = (2, 1)) -> None:  # fmt: skip
+                 job_dir: Path | None = None, engine: str = "ghdl") -> None:  # fmt: skip
+        nc = named(config)
+        # the overlay's block: the configuration's, or the smallest that fits replaced scales
+        block_log2 = nc.block_log2 if scales is None else marker_block_log2(scales)
+        scales = nc.scales if scales is None else scales
+        sectors = nc.sectors if sectors is None else sectors
+        mem_depth = nc.mem_depth if mem_depth is None else mem_depth
+        step = (nc.step_num, nc.step_den) if step is None else step
         frames = np.asarray(frames)
         if frames.dtype != np.uint8 or frames.ndim not in (3, 4) or (frames.ndim == 4 and frames.shape[3] != 3):
             raise ValueError(f"frames must be (N, H, W, 3) or (N, H, W) uint8, got {frames.shape} {frames.dtype}")
@@ -70,7 +81,7 @@ class SimServer:
         self.frames = frames
         self.generics: dict[str, int | str] = {
             "WIDTH_g": int(width), "HEIGHT_g": int(height), "SCALES_g": scales, "STEP_NUM_g": int(step[0]),
-            "STEP_DEN_g": int(step[1]), "SECTORS_g": sectors, "BLOCK_LOG2_g": marker_block_log2(scales),
+            "STEP_DEN_g": int(step[1]), "SECTORS_g": sectors, "BLOCK_LOG2_g": block_log2,
             "MEM_DEPTH_g": mem_depth,
             "INPUT_g": ("RBG" if toplevel == "orb_accel_zynq" else "RGB") if frames.ndim == 4 else "LUMA",
         }  # fmt: skip

@@ -23,10 +23,10 @@ from contextlib import ExitStack, contextmanager
 from pathlib import Path
 
 from golden_model import limits
-from golden_model.config import MODES, parse_step
+from golden_model.config import MODES, NAMES, named, parse_step
 from orb_accel.bus import Bus
 from orb_accel.driver import OrbAccel
-from orb_sim.sim_server import ENGINES, TOPLEVELS  # pure Python at import (no cocotb): fine on the board
+from orb_sim.sim_server import DEFAULT_CONFIG, ENGINES, TOPLEVELS  # pure Python at import: fine on the board
 
 BOARD_TIMEOUT_S = 1.0  # a frame at 24 fps and more, with margin
 SIM_TIMEOUT_FRAMES = 3  # in simulation: three frame periods of simulated time
@@ -41,11 +41,14 @@ def add_bus_options(p: argparse.ArgumentParser) -> None:
     g.add_argument("--connect", metavar="HOST:PORT", help="a running simulator (orb-accel sim-server)")
     g.add_argument("--sim", metavar="IMAGE_OR_VIDEO", nargs="+", type=Path,
                    help="start a simulator streaming these images or videos (one size) round and round")  # fmt: skip
-    p.add_argument("--sim-scales", type=int, default=2, help="simulated bitstream: scales (default 2)")
-    p.add_argument("--sim-step", default="2:1", help="simulated bitstream: pyramid step NUM:DEN (default 2:1)")
-    p.add_argument("--sim-sectors", type=int, default=32, help="simulated bitstream: sectors (default 32)")
-    p.add_argument("--sim-mem-depth", type=int, default=2048, help="simulated bitstream: slots per bank (2048)")
-    p.add_argument("--sim-size", metavar="WxH", help="resize every simulated frame to WxH")
+    p.add_argument("--sim-config", metavar="NAME", default=DEFAULT_CONFIG, choices=NAMES,
+                   help=f"simulated bitstream: a named configuration (default {DEFAULT_CONFIG})")  # fmt: skip
+    p.add_argument("--sim-scales", type=int, help="simulated bitstream: scales instead of the configuration's")
+    p.add_argument("--sim-step", help="simulated bitstream: pyramid step NUM:DEN instead of the configuration's")
+    p.add_argument("--sim-sectors", type=int, help="simulated bitstream: sectors instead of the configuration's")
+    p.add_argument("--sim-mem-depth", type=int, help="simulated bitstream: slots per bank instead of the config's")
+    p.add_argument("--sim-size", metavar="WxH",
+                   help="resize the frames to WxH (default: the config's; native: the frames' own)")  # fmt: skip
     p.add_argument(
         "--sim-engine",
         choices=ENGINES,
@@ -84,11 +87,13 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     srv = sub.add_parser("sim-server", help="serve a simulated accelerator on a local socket (docs/driver.md)")
     srv.add_argument("frames", nargs="+", type=Path, metavar="IMAGE_OR_VIDEO")
     srv.add_argument("--port", type=int, default=5555, help="TCP port on 127.0.0.1 (default 5555; 0: any)")
-    srv.add_argument("--scales", type=int, default=2)
-    srv.add_argument("--step", default="2:1", help="pyramid step NUM:DEN (default 2:1)")
-    srv.add_argument("--sectors", type=int, default=32)
-    srv.add_argument("--mem-depth", type=int, default=2048)
-    srv.add_argument("--size", metavar="WxH")
+    srv.add_argument("--config", metavar="NAME", default=DEFAULT_CONFIG, choices=NAMES,
+                     help=f"a named configuration (docs/configurations.md; default {DEFAULT_CONFIG})")  # fmt: skip
+    srv.add_argument("--scales", type=int, help="instead of the configuration's")
+    srv.add_argument("--step", help="pyramid step NUM:DEN instead of the configuration's")
+    srv.add_argument("--sectors", type=int, help="instead of the configuration's")
+    srv.add_argument("--mem-depth", type=int, help="instead of the configuration's")
+    srv.add_argument("--size", metavar="WxH", help="resize the frames to WxH (default: the configuration's; 'native')")
     srv.add_argument("--top", choices=TOPLEVELS, default=TOPLEVELS[0])
     srv.add_argument("--engine", choices=ENGINES, default="ghdl", help="fast: the netlist in Verilator")
     srv.add_argument("--max-frames", type=int, default=50)
@@ -104,28 +109,34 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     to_ros2.add_argument("--storage", choices=("sqlite3", "mcap"), default="mcap")
 
 
-def _size(text: str | None) -> tuple[int, int] | None:
+def _size(text: str | None, config: str) -> tuple[int, int] | None:
+    """The simulated frames' size: WxH, the named configuration's (None given), None for 'native'."""
     if text is None:
+        nc = named(config)
+        return nc.width, nc.height
+    if text == "native":
         return None
     try:
         w, h = (int(v) for v in text.lower().split("x"))
     except ValueError:
-        raise ValueError(f"size {text!r} is not WxH") from None
+        raise ValueError(f"size {text!r} is not WxH or native") from None
     return w, h
 
 
-def _start_sim(stack: ExitStack, paths: list[Path], scales: int, sectors: int, mem_depth: int, size: str | None,
-               max_frames: int, top: str, engine: str = "ghdl", port: int = 0, step: str = "2:1") -> str:  # fmt: skip
+def _start_sim(stack: ExitStack, paths: list[Path], config: str, size: str | None, max_frames: int, top: str,
+               engine: str = "ghdl", port: int = 0, scales: int | None = None, step: str | None = None,
+               sectors: int | None = None, mem_depth: int | None = None) -> str:  # fmt: skip
     from orb_sim.sim_server import SimServer
     from orb_tools.images import load_frames
 
-    frames = load_frames(paths, _size(size), max_frames)
+    frames = load_frames(paths, _size(size, config), max_frames)
     h, w = frames.shape[1:3]
-    num, den = parse_step(step)
-    print(f"starting the simulator ({engine}): {top} {w}x{h}, {scales} scales of {num}:{den}, {sectors} sectors, "
+    server = SimServer(frames, config, scales=scales, sectors=sectors, mem_depth=mem_depth, toplevel=top, port=port,
+                       engine=engine, step=None if step is None else parse_step(step))  # fmt: skip
+    g = server.generics
+    print(f"starting the simulator ({engine}): {top} {w}x{h}, {config}: {g['SCALES_g']} scales of "
+          f"{g['STEP_NUM_g']}:{g['STEP_DEN_g']}, {g['SECTORS_g']} sectors, {g['MEM_DEPTH_g']} slots per bank, "
           f"{len(frames)} frame(s) round and round ...", flush=True)  # fmt: skip
-    server = SimServer(frames, scales=scales, sectors=sectors, mem_depth=mem_depth, toplevel=top, port=port,
-                       engine=engine, step=(num, den))  # fmt: skip
     stack.enter_context(server)
     print(f"simulator listening on {server.address} (log: {server.log})", flush=True)
     return server.address
@@ -138,9 +149,19 @@ def open_bus(args: argparse.Namespace) -> Iterator[tuple[Bus, str, float]]:
 
     with ExitStack() as stack:
         if args.sim or args.connect:
-            address = args.connect or _start_sim(stack, args.sim, args.sim_scales, args.sim_sectors, args.sim_mem_depth,
-                                                 args.sim_size, args.sim_max_frames, args.sim_top,
-                                                 args.sim_engine, 0, args.sim_step)  # fmt: skip
+            address = args.connect or _start_sim(
+                stack,
+                args.sim,
+                args.sim_config,
+                args.sim_size,
+                args.sim_max_frames,
+                args.sim_top,
+                args.sim_engine,
+                scales=args.sim_scales,
+                step=args.sim_step,
+                sectors=args.sim_sectors,
+                mem_depth=args.sim_mem_depth,
+            )
             bus = stack.enter_context(SocketBus(address))
             g = bus.info["generics"]
             period_s = (g["WIDTH_g"] + bus.info["h_blank"]) * g["HEIGHT_g"] + bus.info["v_blank"]
@@ -319,8 +340,8 @@ def cmd_ros_env(_args: argparse.Namespace) -> int:
 
 def cmd_sim_server(args: argparse.Namespace) -> int:
     with ExitStack() as stack:
-        _start_sim(stack, args.frames, args.scales, args.sectors, args.mem_depth, args.size, args.max_frames, args.top,
-                   args.engine, args.port, args.step)  # fmt: skip
+        _start_sim(stack, args.frames, args.config, args.size, args.max_frames, args.top, args.engine, args.port,
+                   scales=args.scales, step=args.step, sectors=args.sectors, mem_depth=args.mem_depth)  # fmt: skip
         print("serving until Ctrl-C", flush=True)
         while True:
             time.sleep(3600)

@@ -18,8 +18,10 @@ import numpy as np
 
 from golden_model import limits
 from golden_model.config import (
+    NAMES,
     RECOMMENDED_BUDGET,
     RECOMMENDED_COLS,
+    RECOMMENDED_NAME,
     RECOMMENDED_ROWS,
     RECOMMENDED_SCALES,
     RECOMMENDED_SECTORS,
@@ -27,7 +29,9 @@ from golden_model.config import (
     RECOMMENDED_THRESHOLD_LO,
     Config,
     ConfigError,
+    NamedConfig,
     check_step,
+    named,
     parse_cells,
     parse_step,
     recommended_budget,
@@ -128,6 +132,16 @@ def _size(text: str) -> tuple[int, int]:
     return int(w), int(h)
 
 
+def _size_option(text: str | None, nc: NamedConfig | None) -> tuple[int, int] | None:
+    """--size: (W, H); None for native; not given: the named configuration's size when one was
+    named, else native."""
+    if text is None:
+        return None if nc is None else (nc.width, nc.height)
+    if text == "native":
+        return None
+    return _size(text)
+
+
 def _at_least(low: int) -> Callable[[str], int]:
     def parse(text: str) -> int:
         try:
@@ -200,32 +214,38 @@ def build_parser() -> argparse.ArgumentParser:
     src.add_argument("--default-image", action="store_true", help=f"use the bundled {DEFAULT_IMAGE.name}")
     ex.add_argument("--backend", choices=BACKENDS, default="model")
     ex.add_argument(
-        "--threshold", type=_threshold, default=20, help=f"FAST threshold {limits.THRESHOLD.text} (default 20)"
+        "--config",
+        choices=NAMES,
+        help=f"a named configuration (docs/configurations.md), the image resized to its size; the options "
+        f"below replace its values (default: {RECOMMENDED_NAME}'s values at the image's size)",
     )
-    rec = f"{RECOMMENDED_STEP[0]}:{RECOMMENDED_STEP[1]}"
+    ex.add_argument(
+        "--size",
+        help="WxH: resize the image (default: the named configuration's size, else the image's; native: the image's)",
+    )
+    ex.add_argument("--threshold", type=_threshold, help=f"FAST threshold {limits.THRESHOLD.text} (default 20)")
     ex.add_argument(
         "--scales",
         type=_scales,
-        default=RECOMMENDED_SCALES,
         help=f"number of scales (pyramid levels) {limits.SCALES.text} (default {RECOMMENDED_SCALES})",
     )
     ex.add_argument(
         "--step",
         type=_step,
-        default=RECOMMENDED_STEP,
         help=f"pyramid step NUM:DEN, DEN a power of two, DEN < NUM <= 2 DEN; 2:1 is the thesis's box "
-        f"(default {rec}: with --scales, the recommended 640x480 configuration, docs/pyramid.md)",
+        f"(default {_REC.split('x')[0]}, docs/pyramid.md)",
     )
-    ex.add_argument("--sectors", type=_sectors, default=RECOMMENDED_SECTORS,
-                    help=f"orientation sectors in all, {limits.SECTORS.text} "
-                         f"(default {RECOMMENDED_SECTORS})")  # fmt: skip
+    ex.add_argument(
+        "--sectors",
+        type=_sectors,
+        help=f"orientation sectors in all, {limits.SECTORS.text} (default {RECOMMENDED_SECTORS})",
+    )
     ex.add_argument("--budget", type=_budget, default=None,
                     help=f"at most N features, the accelerator's grid selection (docs/selection.md; opencv: "
                          f"each level's best, docs/spec.md section 14); 0: every feature (selection all); "
                          f"default {RECOMMENDED_BUDGET} per 640x480: config.recommended_budget)")  # fmt: skip
     ex.add_argument("--cells", type=_cells, default=None, help=CELLS_HELP)
     ex.add_argument("--threshold-lo", type=lambda t: _limited(limits.THRESHOLD_LO, t),
-                    default=RECOMMENDED_THRESHOLD_LO,
                     help=f"the grid selection's low threshold (default {RECOMMENDED_THRESHOLD_LO})")  # fmt: skip
     ex.add_argument("--fast-only", action="store_true", help="detection only (no sectors or descriptors)")
     ex.add_argument("--out", type=Path, required=True, help="features CSV to write")
@@ -336,20 +356,30 @@ def cmd_extract(args: argparse.Namespace) -> int:
     from orb_tools.images import load_rgb_or_grey
 
     path = DEFAULT_IMAGE if args.default_image else args.image
+    nc = named(args.config or RECOMMENDED_NAME)
     original = load_rgb_or_grey(path)
+    size = _size_option(args.size, nc if args.config else None)
+    if size is not None and size != (original.shape[1], original.shape[0]):
+        import cv2
+
+        original = cv2.resize(original, size, interpolation=cv2.INTER_AREA)
     img = to_luma(original)
     _check_size(img, path)
     h, w = img.shape
-    budget = recommended_budget(w, h) if args.budget is None else args.budget
+    same = (w, h) == (nc.width, nc.height) and args.config is not None
+    default_budget = nc.budget if same else recommended_budget(w, h)
+    budget = default_budget if args.budget is None else args.budget
     # the model and the RTL select as the accelerator does (grid; Config checks the budget's limit);
     # OpenCV's features are ranked on the host (each level's best: Frame.best)
     grid = bool(budget) and args.backend != "opencv"
+    step = (nc.step_num, nc.step_den) if args.step is None else args.step
+    cells = (nc.cols, nc.rows) if args.cells is None else args.cells
+    pick = lambda given, default: default if given is None else given  # noqa: E731
     cfg = Config(
-        width=w, height=h, scales=args.scales, sectors=args.sectors,
-        threshold=args.threshold, mode="fast" if args.fast_only else "orb",
-        step_num=args.step[0], step_den=args.step[1], selection="grid" if grid else "all", budget=budget if grid else 0,
-        cols=(args.cells or RECOMMENDED_CELLS)[0], rows=(args.cells or RECOMMENDED_CELLS)[1],
-        threshold_lo=args.threshold_lo,
+        width=w, height=h, scales=pick(args.scales, nc.scales), sectors=pick(args.sectors, nc.sectors),
+        threshold=pick(args.threshold, nc.threshold), mode="fast" if args.fast_only else "orb",
+        step_num=step[0], step_den=step[1], selection="grid" if grid else "all", budget=budget if grid else 0,
+        cols=cells[0], rows=cells[1], threshold_lo=pick(args.threshold_lo, nc.threshold_lo),
     )  # fmt: skip
     t0 = time.perf_counter()
     feats = run_backend(args.backend, img, cfg)

@@ -34,7 +34,7 @@ import numpy as np
 import pytest
 
 from golden_model import regs
-from golden_model.config import RECOMMENDED_COLS, RECOMMENDED_ROWS, RECOMMENDED_THRESHOLD_LO
+from golden_model.config import RECOMMENDED_COLS, RECOMMENDED_ROWS, RECOMMENDED_THRESHOLD_LO, named
 from golden_model.features import Features, first_difference
 from golden_model.luma import rgb_to_luma
 from orb_accel import BusError, OrbAccel
@@ -46,7 +46,9 @@ from orb_sim.sim_server import SimServer
 from orbtb.images import colour_photo
 from orbtb.scoreboard import expected_features
 
-W, H, SCALES, SECTORS, DEPTH = 128, 96, 2, 32, 512
+TINY = named("test-tiny")  # the simulated bitstream of these tests (docs/configurations.md)
+W, H, SCALES, SECTORS, DEPTH = TINY.width, TINY.height, TINY.scales, TINY.sectors, TINY.mem_depth
+assert (TINY.step_num, TINY.step_den) == (2, 1), "the model calls below assume the 2:1 pyramid"
 PHOTOS = ("astronaut", "coffee", "chelsea")
 CLI = [sys.executable, "-m", "orb_tools.cli"]
 
@@ -58,7 +60,7 @@ def frames() -> np.ndarray:
 
 @pytest.fixture(scope="module")
 def server(frames: np.ndarray, tmp_path_factory: pytest.TempPathFactory) -> Iterator[SimServer]:
-    with SimServer(frames, scales=SCALES, sectors=SECTORS, mem_depth=DEPTH, engine="fast",
+    with SimServer(frames, TINY.name, engine="fast",
                    job_dir=tmp_path_factory.mktemp("sim-server")) as s:  # fmt: skip
         yield s
 
@@ -256,7 +258,7 @@ def test_ghdl_server_frames_log(tmp_path: Path) -> None:
     """The GHDL engine's server: two small luma frames round and round, the frames it started in
     frames.log in stream order, each published frame bit-exact."""
     small = np.stack([rgb_to_luma(colour_photo(name, 64, 48)) for name in ("coffee", "rocket")])
-    with SimServer(small, scales=1, sectors=SECTORS, mem_depth=64, job_dir=tmp_path / "job") as srv, \
+    with SimServer(small, TINY.name, scales=1, mem_depth=64, job_dir=tmp_path / "job") as srv, \
             SocketBus(srv.address) as bus:  # fmt: skip
         assert bus.info["engine"] == "ghdl" and bus.info["generics"]["INPUT_g"] == "LUMA"
         accel = OrbAccel(bus)
@@ -283,7 +285,8 @@ def test_cli_sim_zynq(frames: np.ndarray, tmp_path: Path) -> None:
     cv2.imwrite(str(tmp_path / "1.png"), big)  # resized back to W x H (exactly: nearest) by --sim-size
     out = tmp_path / "csv"
     r = subprocess.run([*CLI, "board", "stream", "--sim", str(tmp_path / "0.png"), str(tmp_path / "1.png"),
-                        "--sim-top", "orb_accel_zynq", "--sim-size", f"{W}x{H}", "--sim-mem-depth", "256",
+                        "--sim-top", "orb_accel_zynq", "--sim-config", TINY.name, "--sim-size", f"{W}x{H}",
+                        "--sim-mem-depth", "256",
                         "--frames", "2", "--csv", str(out)], capture_output=True, text=True, timeout=900)  # fmt: skip
     assert r.returncode == 0, r.stdout + r.stderr
     assert "starting the simulator (ghdl): orb_accel_zynq" in r.stdout
@@ -291,7 +294,8 @@ def test_cli_sim_zynq(frames: np.ndarray, tmp_path: Path) -> None:
     shown = np.stack([frames[0], second])
     ks = [which_photo(shown, feats, 20) for _, feats in read_csv_dir(out)]
     assert sorted(ks) == [0, 1], ks
-    bad = subprocess.run([*CLI, "board", "info", "--sim", str(tmp_path / "0.png"), str(tmp_path / "1.png")],
+    bad = subprocess.run([*CLI, "board", "info", "--sim", str(tmp_path / "0.png"), str(tmp_path / "1.png"),
+                          "--sim-size", "native"],
                          capture_output=True, text=True)  # fmt: skip
     assert bad.returncode == 2 and "not 128x96 as the first frame" in bad.stderr, bad.stderr
 
@@ -302,7 +306,7 @@ def test_cli_sim_fast_engine(frames: np.ndarray, tmp_path: Path) -> None:
     _png(frames, tmp_path)
     out = tmp_path / "csv"
     r = subprocess.run([*CLI, "board", "stream", "--sim", *(str(tmp_path / f"{k}.png") for k in range(3)),
-                        "--sim-engine", "fast", "--sim-mem-depth", str(DEPTH), "--frames", "4", "--csv", str(out)],
+                        "--sim-engine", "fast", "--sim-config", TINY.name, "--frames", "4", "--csv", str(out)],
                        capture_output=True, text=True, timeout=900)  # fmt: skip
     assert r.returncode == 0, r.stdout + r.stderr
     assert "starting the simulator (fast): orb_accel_top" in r.stdout

@@ -36,6 +36,7 @@ from golden_model.config import (
     RECOMMENDED_STEP,
     RECOMMENDED_THRESHOLD_LO,
     Config,
+    named,
     recommended_budget,
 )
 from golden_model.features import first_difference, read_csv
@@ -48,7 +49,9 @@ from orbtb.campaign import run_campaign
 from orbtb.images import colour_photo
 from orbtb.scoreboard import expected_features, expected_streamed
 
-W, H, SCALES, SECTORS, DEPTH = 128, 96, 2, 32, 512
+TINY = named("test-tiny")  # docs/configurations.md
+W, H, SCALES, SECTORS, DEPTH = TINY.width, TINY.height, TINY.scales, TINY.sectors, TINY.mem_depth
+assert (TINY.step_num, TINY.step_den) == (2, 1), "the model calls below assume the 2:1 pyramid"
 PHOTOS = ("astronaut", "coffee", "chelsea", "rocket")
 ROOT = Path(__file__).resolve().parents[2]
 # the driver's default selection on this accelerator (the grid, the recommended budget), and a
@@ -171,15 +174,18 @@ def test_make_sim_fast_and_cli(tmp_path: Path, photos: list[np.ndarray]) -> None
     img = tmp_path / "photo.png"
     cv2.imwrite(str(img), cv2.cvtColor(photos[3], cv2.COLOR_RGB2BGR))
     r = subprocess.run([sys.executable, str(ROOT / "scripts/flow/sim_accel.py"), "--fast", "--image", str(img),
-                        "--out-dir", str(tmp_path / "sim")], capture_output=True, text=True, timeout=900)  # fmt: skip
+                        "--size", "native", "--out-dir", str(tmp_path / "sim")],
+                       capture_output=True, text=True, timeout=900)  # fmt: skip
     assert r.returncode == 0, r.stdout + r.stderr
     report = json.loads((tmp_path / "sim" / "report.json").read_text())
     assert report["bit_exact"] and report["overlay_bit_exact"] and report["engine"] == "verilator-netlist"
-    # make sim's default is the recommended configuration (golden_model.config.RECOMMENDED_*) with
-    # the recommended grid selection
+    # make sim's default is the named configuration "recommended-vga" with its grid selection, here
+    # at the photograph's own size (--size native)
+    rec = named("recommended-vga")
+    assert report["config"] == rec.name
     luma = rgb_to_luma(photos[3])
-    grid = f"grid:{recommended_budget(W, H)}:{RECOMMENDED_COLS}x{RECOMMENDED_ROWS}:{RECOMMENDED_THRESHOLD_LO}"
-    want = expected_features(luma, RECOMMENDED_SCALES, 20, "orb", RECOMMENDED_SECTORS, RECOMMENDED_STEP, grid)
+    grid = f"grid:{recommended_budget(W, H)}:{rec.cols}x{rec.rows}:{rec.threshold_lo}"
+    want = expected_features(luma, rec.scales, rec.threshold, "orb", rec.sectors, (rec.step_num, rec.step_den), grid)
     assert report["features"] == len(want) and report["dropped"] == 0
     out = tmp_path / "cli.csv"
     r = subprocess.run([sys.executable, "-m", "orb_tools.cli", "extract", str(img), "--backend", "rtl-fast", "--budget",

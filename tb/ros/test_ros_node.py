@@ -38,7 +38,7 @@ import cv2
 import numpy as np
 import pytest
 
-from golden_model.config import RECOMMENDED_COLS, RECOMMENDED_ROWS, RECOMMENDED_THRESHOLD_LO
+from golden_model.config import RECOMMENDED_COLS, RECOMMENDED_ROWS, RECOMMENDED_THRESHOLD_LO, named
 from golden_model.features import Features, first_difference
 from golden_model.luma import rgb_to_luma
 from orb_accel.csvdir import read_csv_dir
@@ -47,7 +47,9 @@ from orb_tools.rosbag_convert import bag_to_csv, bag_to_ros2, features_from_msg
 from orbtb.images import colour_photo
 from orbtb.scoreboard import expected_features
 
-W, H, SCALES, SECTORS = 128, 96, 2, 32
+TINY = named("test-tiny")  # the simulated bitstream of this test (docs/configurations.md)
+W, H, SCALES, SECTORS = TINY.width, TINY.height, TINY.scales, TINY.sectors
+assert (TINY.step_num, TINY.step_den) == (2, 1), "the model calls below assume the 2:1 pyramid"
 BUDGET = 40  # the accelerator's grid selection keeps at most 40 features a frame (~budget; docs/selection.md)
 # ... with the driver's grid (8 x 6 cells) and low threshold
 SELECTION = f"grid:{BUDGET}:{RECOMMENDED_COLS}x{RECOMMENDED_ROWS}:{RECOMMENDED_THRESHOLD_LO}"
@@ -185,7 +187,7 @@ def test_node_end_to_end(ros_master: dict[str, str], tmp_path: Path) -> None:
     with open(node_log, "w") as log:
         procs["node"] = subprocess.Popen(
             [sys.executable, "-m", "orb_tools.cli", "ros", "--sim", *pngs, "--sim-engine", "fast",
-             "--sim-mem-depth", "512", "_frame_id:=test_camera", "_threshold:=20", f"_budget:={BUDGET}"],
+             "--sim-config", TINY.name, "_frame_id:=test_camera", "_threshold:=20", f"_budget:={BUDGET}"],
             env={**env, "PYTHONUNBUFFERED": "1", "PYTHONFAULTHANDLER": "1"},  # a hang leaves its stacks in the log
             stdout=log, stderr=subprocess.STDOUT, start_new_session=True,
         )  # fmt: skip

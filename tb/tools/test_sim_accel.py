@@ -29,8 +29,9 @@ def _sim(tmp_path: Path, rgb, *extra: str) -> tuple[Path, dict]:
     image = tmp_path / "coffee.png"
     cv2.imwrite(str(image), cv2.cvtColor(rgb, cv2.COLOR_RGB2BGR))
     out = tmp_path / "sim"
-    cmd = [sys.executable, str(ROOT / "scripts" / "flow" / "sim_accel.py"), "--image", str(image), "--scales", "3",
-           "--step", "5:4", "--sectors", "16", "--threshold", "15", "--out-dir", str(out), *extra]  # fmt: skip
+    cmd = [sys.executable, str(ROOT / "scripts" / "flow" / "sim_accel.py"), "--image", str(image), "--size", "native",
+           "--scales", "3", "--step", "5:4", "--sectors", "16", "--threshold", "15",
+           "--out-dir", str(out), *extra]  # fmt: skip
     done = subprocess.run(cmd, capture_output=True, text=True, timeout=900)
     assert done.returncode == 0, done.stdout + done.stderr
     return out, json.loads((out / "report.json").read_text())

@@ -30,7 +30,7 @@ import pytest
 from cocotb.triggers import ClockCycles, RisingEdge
 
 from golden_model import regs
-from golden_model.config import RECOMMENDED_THRESHOLD_LO, recommended_budget
+from golden_model.config import RECOMMENDED_THRESHOLD_LO, named, recommended_budget, tops_default
 from golden_model.features import Features
 from golden_model.luma import rgb_to_luma
 from golden_model.overlay import render_marker_overlay
@@ -382,9 +382,12 @@ CONFIGS = {
     "rgb_4scales": (192, 160, 4, 32, 1024, "RGB"),
     # the finer pyramid (issue 14): 6 levels of 5:4, the overlay in 16x16 blocks
     "rgb_6levels_5to4": (192, 144, 6, 32, 1024, "RGB", {"STEP_NUM_g": 5, "STEP_DEN_g": 4, "BLOCK_LOG2_g": 4}),
-    # the board configurations' pyramid (vivado/board.json): 4 levels of 5:4, 16x16 overlay blocks
-    "rgb_4levels_5to4": (160, 120, 4, 32, 1024, "RGB", {"STEP_NUM_g": 5, "STEP_DEN_g": 4, "BLOCK_LOG2_g": 4}),
 }
+# the board configurations' pyramid: 4 levels of 5:4, 16x16 overlay blocks (docs/configurations.md)
+SMALL = named("test-small")
+CONFIGS["rgb_4levels_5to4"] = (SMALL.width, SMALL.height, SMALL.scales, SMALL.sectors, SMALL.mem_depth, "RGB",
+                               {"STEP_NUM_g": SMALL.step_num, "STEP_DEN_g": SMALL.step_den,
+                                "BLOCK_LOG2_g": SMALL.block_log2})  # fmt: skip
 
 
 def run_accel(config: str, testcase: list[str] | None = None, env: dict[str, str] | None = None) -> None:
@@ -432,6 +435,17 @@ def test_accel_six_levels() -> None:
     # test_orb_core's test_finer_pyramid
     run_accel("rgb_6levels_5to4", testcase=["photo_stream", "config_readback"],
               env={"ORB_PHOTOS": "coffee,rocket", "ORB_FRAMES": "2"})  # fmt: skip
+
+
+def test_accel_defaults() -> None:
+    """The top built with no generics is the tops' default named configuration ("thesis-vga",
+    orb_configs_pkg.TOPS_DEFAULT_c): its configuration registers read back that configuration."""
+    d = tops_default()
+    assert d.name == "thesis-vga"
+    env = {"ORB_WIDTH": str(d.width), "ORB_HEIGHT": str(d.height), "ORB_SCALES": str(d.scales),
+           "ORB_SECTORS": str(d.sectors), "ORB_STEP_NUM": str(d.step_num), "ORB_STEP_DEN": str(d.step_den),
+           "ORB_MEM_DEPTH": str(d.mem_depth), "ORB_BLOCK_LOG2": str(d.block_log2)}  # fmt: skip
+    run("orb_accel_top", "test_orb_accel_top", {}, env={**SIM_ENV, **env}, testcase=["config_readback"])
 
 
 def test_accel_overflow_overrun() -> None:
