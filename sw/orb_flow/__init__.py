@@ -1,0 +1,1 @@
+"""The design flow of the ORB accelerator: lint, synthesis, netlist simulation, board build, generators."""
