@@ -13,11 +13,11 @@ from types import ModuleType
 
 import pytest
 
-from orb_flow.gen import entities
+from orb_flow.gen import architecture, entities
 from orb_flow.vhdl import PAGE_LINE
 from orb_sim.hdl import ROOT, read_manifest
 
-GENERATORS: tuple[ModuleType, ...] = (entities,)
+GENERATORS: tuple[ModuleType, ...] = (entities, architecture)
 
 
 @pytest.mark.parametrize("gen", GENERATORS, ids=lambda g: g.__name__)
@@ -69,3 +69,15 @@ def test_pages_hold_every_port_and_generic() -> None:
         page = views[entities.PAGES / f"{s.name}.md"]
         rows = re.findall(r"(?m)^\| `(\w+)` \|", page)
         assert sorted(rows) == sorted(names), f"{s.name}: page rows {sorted(set(rows) ^ set(names))} differ"
+
+
+def test_architecture_follows_the_hierarchy(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The picture refuses to drift from the HDL: an instance without a place, or a place of no instance."""
+    layout = dict(architecture.LAYOUT)
+    del layout["detect/path/selection"]
+    monkeypatch.setattr(architecture, "LAYOUT", layout)
+    with pytest.raises(ValueError, match="detect/path/selection"):
+        architecture.render(ROOT)
+    monkeypatch.setattr(architecture, "LAYOUT", {**architecture.LAYOUT, "detect/ghost": (0, 0, 10, 10, "")})
+    with pytest.raises(ValueError, match="detect/ghost"):
+        architecture.render(ROOT)
