@@ -13,11 +13,11 @@ from types import ModuleType
 
 import pytest
 
-from orb_flow.gen import architecture, entities
+from orb_flow.gen import architecture, entities, tools
 from orb_flow.vhdl import PAGE_LINE
 from orb_sim.hdl import ROOT, read_manifest
 
-GENERATORS: tuple[ModuleType, ...] = (entities, architecture)
+GENERATORS: tuple[ModuleType, ...] = (entities, architecture, tools)
 
 
 @pytest.mark.parametrize("gen", GENERATORS, ids=lambda g: g.__name__)
