@@ -81,3 +81,14 @@ def test_architecture_follows_the_hierarchy(monkeypatch: pytest.MonkeyPatch) -> 
     monkeypatch.setattr(architecture, "LAYOUT", {**architecture.LAYOUT, "detect/ghost": (0, 0, 10, 10, "")})
     with pytest.raises(ValueError, match="detect/ghost"):
         architecture.render(ROOT)
+
+
+def test_relative_links_resolve() -> None:
+    """Every relative Markdown link of README, CHANGELOG and docs/ (generated pages included) names a file."""
+    pages = [ROOT / "README.md", ROOT / "CHANGELOG.md", *sorted((ROOT / "docs").rglob("*.md"))]
+    broken = []
+    for page in pages:
+        for target in re.findall(r"\]\(([^)#\s]+)(?:#[^)]*)?\)", page.read_text()):
+            if not target.startswith(("http://", "https://", "mailto:")) and not (page.parent / target).exists():
+                broken.append(f"{page.relative_to(ROOT)}: {target}")
+    assert not broken, f"links to no file: {broken}"
