@@ -13,7 +13,7 @@ SECTORS ?=
 THRESHOLD ?=
 JOBS   ?= 2
 
-.PHONY: setup test test-all sim bench bench-sim bench-driver eval figures lint synth netlist-sim tools pattern clean \
+.PHONY: setup test test-all sim bench bench-sim bench-driver eval figures lint synth netlist-sim tools pattern docs clean \
 	help bitstream board-estimate board-dryrun ros-sim
 
 help:
@@ -37,6 +37,7 @@ help:
 	@echo "             GENERICS=\"STEP_NUM_g=5 STEP_DEN_g=4 SECTORS_g=64\": more generics of the top)"
 	@echo "make netlist-sim  unit tests on GHDL's synthesised netlists (~15 min; K=entity, QUICK=1; docs/netlist-sim.md)"
 	@echo "make tools   which of ghdl, yosys, python3 are installed, and how to install the rest"
+	@echo "make docs    regenerate docs/entities/, docs/img/architecture.svg and docs/tools.md (orb_flow.gen)"
 	@echo "make bitstream  the Zybo Z7-20 design in Vivado (CONFIG=640x480|1280x720|1920x1080, VIVADO_LIBRARY=DIR,"
 	@echo "             BOARD_REPO=DIR, VIVADO=; outputs in build/vivado/<config>; docs/board.md)"
 	@echo "make board-dryrun  the Vivado build's TCL in tclsh against recording stubs, checked, with its table"
@@ -155,6 +156,11 @@ tools:
 pattern: $(STAMP)
 	$(BIN)/python scripts/gen/gen_pattern.py
 	$(BIN)/python scripts/gen/gen_pattern_vhdl.py
+
+docs: $(STAMP)
+	$(BIN)/python -m orb_flow.gen.entities
+	$(BIN)/python -m orb_flow.gen.architecture
+	$(BIN)/python -m orb_flow.gen.tools
 
 # The Zybo Z7-20 build (docs/board.md). CONFIG here is a board configuration (vivado/board.json), default
 # 1280x720; VIVADO_LIBRARY is a checkout of Digilent's vivado-library (the pinned commit is in board.json);

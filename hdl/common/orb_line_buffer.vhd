@@ -13,6 +13,7 @@
 -- register (the whole column, its valid and its index), so that no logic follows the block RAM's
 -- clock-to-output time (docs/synthesis.md, "Timing"). The read-modify-write of the RAM is the same
 -- either way.
+-- Ports and generics: docs/entities/orb_line_buffer.md
 
 library ieee;
 use ieee.std_logic_1164.all;

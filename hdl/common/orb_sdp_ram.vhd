@@ -13,6 +13,7 @@
 -- for the simulator, not a signal per bit), without it a signal (see gen_ram below). `ghdl synth`
 -- reports them as RAM "gen_ram.ram.mem" / "gen_ram.mem", and yosys maps them to block RAM
 -- (RAMB18E1 / RAMB36E1) or LUT RAM by size. Doc: docs/conventions.md ("Memories").
+-- Ports and generics: docs/entities/orb_sdp_ram.md
 
 library ieee;
 use ieee.std_logic_1164.all;

@@ -21,6 +21,7 @@
 -- outside the configured WIDTH_g x HEIGHT_g frame (a long line or extra lines) are ignored and
 -- counted in bad_pixels; features the descriptor path had to discard (only on a malformed frame)
 -- are counted in desc_lost.
+-- Ports and generics: docs/entities/orb_core.md
 
 library ieee;
 use ieee.std_logic_1164.all;

@@ -7,6 +7,7 @@
 -- when the FIFO holds fewer than DEPTH_g words (level < DEPTH_g) or a word is read in the same
 -- clock (rd_en = '1' with rd_valid = '1'); a write into a full FIFO without a read is ignored.
 -- level counts every word held, the one on rd_data included. rst resets pointers and counters.
+-- Ports and generics: docs/entities/orb_feat_fifo.md
 
 library ieee;
 use ieee.std_logic_1164.all;

@@ -21,6 +21,7 @@
 -- Per-scale input vectors are flat, scale s in bits (s + 1) * W - 1 downto s * W (W = COORD_BITS_c,
 -- SCORE_BITS_c, FEAT_SECTOR_BITS_c or DESC_BITS_c); in_sector and in_desc are ignored without
 -- DESC_g.
+-- Ports and generics: docs/entities/orb_feat_merge.md
 
 library ieee;
 use ieee.std_logic_1164.all;

@@ -29,6 +29,7 @@
 -- mode (grid = 0) every main candidate is kept (new), low ones are dropped, and no state changes.
 -- The parameters (grid, budget, cols, rows) must hold from the frame's first candidate to in_done;
 -- in_done (after the frame's last candidate has left) clears the frame's state.
+-- Ports and generics: docs/entities/orb_feat_select.md
 
 library ieee;
 use ieee.std_logic_1164.all;

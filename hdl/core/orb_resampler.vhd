@@ -12,6 +12,7 @@
 -- RAM's word registered, the vertical products, their sum and the rounding. Latency: the output
 -- leaves 7 clocks after the input pixel that completes it. For NUM:DEN = 2:1 it is the 2x2 box of orb_scaler, bit for bit;
 -- orb_core uses orb_scaler for 2:1 and this entity for every other step.
+-- Ports and generics: docs/entities/orb_resampler.md
 
 library ieee;
 use ieee.std_logic_1164.all;

@@ -20,6 +20,7 @@
 -- keeps it, with its slot (BASE_g + the level's slot) and whether it replaces that slot's occupant;
 -- in `all` mode every main feature leaves (slot BASE_g, a new slot: replace 0). frame_done pulses once per frame,
 -- after the frame's last reported feature.
+-- Ports and generics: docs/entities/orb_scale_path.md
 
 library ieee;
 use ieee.std_logic_1164.all;

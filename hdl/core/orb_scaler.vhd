@@ -7,6 +7,7 @@
 -- registered once more before the final addition (no adder behind the block RAM's
 -- clock-to-output time: docs/synthesis.md, "Timing"). Latency 2 clocks. An odd last column or line of the input is not used. The output carries
 -- its position in the reduced image, so scalers chain for further scales.
+-- Ports and generics: docs/entities/orb_scaler.md
 
 library ieee;
 use ieee.std_logic_1164.all;

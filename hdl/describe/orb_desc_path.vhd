@@ -20,6 +20,7 @@
 -- waiting feature is never 32 lines or more from the window), and the full tag is the window's
 -- own at the match. cand_* shows every described feature CAND_LEAD_c = 14 clocks before it
 -- leaves on feat_*, for the level's selection (orb_feat_select). Page: docs/rtl-description.md.
+-- Ports and generics: docs/entities/orb_desc_path.md
 
 library ieee;
 use ieee.std_logic_1164.all;

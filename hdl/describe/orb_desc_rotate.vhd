@@ -8,6 +8,7 @@
 -- replaces a rotator per scale (orb_desc_path with ROTATE_g = false). AXI4-Stream register
 -- slice: s_axis_feat_tready = not m_axis_feat_tvalid or m_axis_feat_tready (full throughput, no
 -- bubble); latency 1 clock. Page: docs/rtl-description.md.
+-- Ports and generics: docs/entities/orb_desc_rotate.md
 
 library ieee;
 use ieee.std_logic_1164.all;

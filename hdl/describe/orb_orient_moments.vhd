@@ -17,6 +17,7 @@
 -- by rst. Nine pipeline stages (pair sums, weighted differences, band sums into the delay lines,
 -- registered taps, band terms, two adder-tree stages, C and A, B): fixed latency LATENCY_c = 9
 -- clocks, input gaps allowed.
+-- Ports and generics: docs/entities/orb_orient_moments.md
 
 library ieee;
 use ieee.std_logic_1164.all;

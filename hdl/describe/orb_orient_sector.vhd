@@ -12,6 +12,7 @@
 -- product is registered twice so that it can use both the DSP48's M and P registers and the
 -- comparison starts from a short clock-to-output (docs/synthesis.md, "Timing"). Fixed latency
 -- LATENCY_c = 5 clocks, input gaps allowed; (x, y) tags pass through unchanged.
+-- Ports and generics: docs/entities/orb_orient_sector.md
 
 library ieee;
 use ieee.std_logic_1164.all;

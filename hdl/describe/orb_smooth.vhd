@@ -11,6 +11,7 @@
 -- line or frame edge (in_x < 6 or in_y < 6) give 0, so a column sum from an earlier line, frame
 -- or reset never reaches an output. The sums are ranged integers (their ranges set the hardware
 -- widths; GHDL simulates them natively). Page: docs/rtl-description.md.
+-- Ports and generics: docs/entities/orb_smooth.md
 
 library ieee;
 use ieee.std_logic_1164.all;

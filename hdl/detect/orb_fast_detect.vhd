@@ -8,6 +8,7 @@
 -- waits beside orb_harris). The thresholds are sampled with the frame's first pixel (0, 0) and
 -- hold for that frame. frame_done pulses once the frame's last decision has been made. The 7x7
 -- window is also an output, for the smoothing of the descriptor path.
+-- Ports and generics: docs/entities/orb_fast_detect.md
 
 library ieee;
 use ieee.std_logic_1164.all;

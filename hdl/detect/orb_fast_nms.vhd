@@ -12,6 +12,7 @@
 -- to four mutually adjacent candidates at most one can survive, so the output carries at most one
 -- feature per clock. frame_done pulses with the decision at stream position (W - 1, H - 1).
 -- Latency: 3 clocks.
+-- Ports and generics: docs/entities/orb_fast_nms.md
 
 library ieee;
 use ieee.std_logic_1164.all;

@@ -10,6 +10,7 @@
 -- clock-to-output time leaves no room for arithmetic behind them: docs/synthesis.md, "Timing"),
 -- differences and comparisons, arc test and partial sums, final score: latency 4 clocks. The
 -- output keeps the input's (x, y) tag.
+-- Ports and generics: docs/entities/orb_fast_score.md
 
 library ieee;
 use ieee.std_logic_1164.all;

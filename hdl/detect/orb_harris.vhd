@@ -15,6 +15,7 @@
 -- a, b and |c| are at most 51200) and the floating-point code.
 -- Pipeline: 17 stages, every one registered; latency HARRIS_LAT_c = 17 clocks (orb_fast_pkg),
 -- whatever the input gaps; the output keeps the input's (x, y) tag. Page: docs/rtl-detection.md.
+-- Ports and generics: docs/entities/orb_harris.md
 
 library ieee;
 use ieee.std_logic_1164.all;

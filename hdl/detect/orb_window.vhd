@@ -6,6 +6,7 @@
 -- (r * WIN_g + c) * DATA_WIDTH_g, r = 0 the top (oldest) line, c = 0 the leftmost column.
 -- Near the left and top borders the window holds pixels of the previous line or frame; the
 -- consumer masks those positions.
+-- Ports and generics: docs/entities/orb_window.md
 
 library ieee;
 use ieee.std_logic_1164.all;

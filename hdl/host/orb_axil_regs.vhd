@@ -27,6 +27,7 @@
 -- maxima; a maximum marked `depth` is MEM_DEPTH_g - 1),
 -- generated from the map. Per-register code is only wiring: the `wiring` process (ro fields that
 -- follow a generic or an input port, w1c set inputs) and the output assignments at the end.
+-- Ports and generics: docs/entities/orb_axil_regs.md
 
 library ieee;
 use ieee.std_logic_1164.all;

@@ -25,6 +25,7 @@
 -- held until the next read. The layout and the protocol are in docs/feature-memory.md. rst resets the control
 -- state (banks free, bank 0 next, counters 0, no read pending); RAM contents and bank headers are
 -- kept.
+-- Ports and generics: docs/entities/orb_feat_mem.md
 
 library ieee;
 use ieee.std_logic_1164.all;

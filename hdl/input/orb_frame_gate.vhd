@@ -7,6 +7,7 @@
 -- rest of a frame cut by a reset passes (orb_video_check discards it as pixels without a start
 -- of frame). Latency 0: data, tuser, tlast and tvalid pass combinationally, tready comes back
 -- combinationally; the only state is the open/closed bit. See docs/frame-gate.md.
+-- Ports and generics: docs/entities/orb_frame_gate.md
 
 library ieee;
 use ieee.std_logic_1164.all;

@@ -13,6 +13,7 @@
 -- 3 clocks: a beat accepted at clock edge n is on m_axis_video after edge n + 2, so taken at n + 3
 -- at the earliest (skid register, products, output register).
 -- tready is low in reset and high from the first clock after it while the skid buffer is empty.
+-- Ports and generics: docs/entities/orb_rgb_luma.md
 
 library ieee;
 use ieee.std_logic_1164.all;

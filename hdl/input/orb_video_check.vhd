@@ -16,6 +16,7 @@
 -- detector never stalls; a simulation assertion checks it). rst abandons an open frame without a
 -- frame_end (the detector, on the same reset, drops its partial frame too) and clears the counters.
 -- See docs/video-input.md.
+-- Ports and generics: docs/entities/orb_video_check.md
 
 library ieee;
 use ieee.std_logic_1164.all;

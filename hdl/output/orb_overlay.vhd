@@ -20,6 +20,7 @@
 -- never stalls.
 -- rst resets control state only: the bitmaps are zero at configuration (block RAM default), and
 -- after a reset in mid-stream marks of an interrupted frame can show once.
+-- Ports and generics: docs/entities/orb_overlay.md
 
 library ieee;
 use ieee.std_logic_1164.all;

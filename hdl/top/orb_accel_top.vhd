@@ -10,6 +10,7 @@
 -- passing video, m_axis_video, in the input's packing). orb_axil_regs holds the registers
 -- (docs/registers.md) and forwards reads at MEM_BASE_c and above to the feature memory. rst
 -- resets everything; CTRL.soft_reset resets the video and feature path (not the registers).
+-- Ports and generics: docs/entities/orb_accel_top.md
 
 library ieee;
 use ieee.std_logic_1164.all;

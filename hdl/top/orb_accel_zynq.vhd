@@ -13,6 +13,7 @@
 -- the grey value is bits [7:0] and bits [23:8] are ignored. The AXI4-Lite address is
 -- C_S_AXI_CTRL_ADDR_WIDTH bits; orb_accel_top decodes the low max(18, clog2(0x10000 +
 -- 128 * MEM_DEPTH_g)) of them (20 for MEM_DEPTH_g = 4096), the bits above are ignored.
+-- Ports and generics: docs/entities/orb_accel_zynq.md
 
 library ieee;
 use ieee.std_logic_1164.all;

@@ -1,1 +1,1 @@
-"""The flow: synthesis, timing, board build checks and the generators of the generated views (docs/conventions.md)."""
+"""The design flow of the ORB accelerator: lint, synthesis, netlist simulation, board build, generators."""

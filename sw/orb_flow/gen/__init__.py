@@ -1,1 +1,1 @@
-"""The generators of the generated views: one source per shared fact (docs/conventions.md)."""
+"""The generators of the generated views: one data file, several views (docs/conventions.md)."""

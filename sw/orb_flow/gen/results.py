@@ -1,0 +1,283 @@
+# SPDX-License-Identifier: MIT
+"""Generate the docs' results tables from the measurement records, the one place of every figure.
+
+The records: docs/results/eval.json and docs/results/sim.json (written by orb_flow.record from the
+benches' and make sim's outputs) and scripts/flow/synth_expected.json (the synthesis estimates,
+written by make synth). Each table sits in a page between the lines
+``<!-- generated: NAME (orb_flow.gen.results) -->`` and ``<!-- end generated -->``; this module
+replaces what is between them and leaves the rest of the page alone. A page that lacks a
+table's markers, or a record a table needs, is an error. Deterministic.
+Usage: python -m orb_flow.gen.results [--out DIR] (default: the repository).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import re
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+ROOT = Path(__file__).resolve().parents[3]
+GENERATOR = "orb_flow.gen.results"
+BEGIN = "<!-- generated: {name} (" + GENERATOR + ") -->"
+END = "<!-- end generated -->"
+SYNTH = Path("scripts") / "flow" / "synth_expected.json"
+BOARD = Path("vivado") / "board.json"
+XC7Z020 = {"lut": 53200, "ff": 106400, "bram36": 140, "dsp": 220}  # the device's resources (DS190)
+
+
+class ResultsError(ValueError):
+    """A page or a record is missing what a table needs."""
+
+
+class Records:
+    """The measurement records of a checkout."""
+
+    def __init__(self, root: Path) -> None:
+        self.eval = self._runs(root / "docs" / "results" / "eval.json")
+        self.sim = self._runs(root / "docs" / "results" / "sim.json")
+        self.synth = json.loads((root / SYNTH).read_text())["jobs"]
+        self.board = json.loads((root / BOARD).read_text())
+
+    @staticmethod
+    def _runs(path: Path) -> dict[str, Any]:
+        return json.loads(path.read_text())["runs"] if path.exists() else {}
+
+    def run(self, kind: str, name: str) -> dict[str, Any]:
+        runs = getattr(self, kind)
+        if name not in runs:
+            raise ResultsError(f"docs/results/{kind}.json has no run {name!r}: measure it and record it "
+                               f"(python -m orb_flow.record {kind} ...)")  # fmt: skip
+        return runs[name]
+
+
+def _pct(v: float) -> str:
+    return f"{v:.2f}%"
+
+
+def _int(v: float) -> str:
+    return f"{round(v):,}"
+
+
+def _source(run: dict[str, Any]) -> str:
+    return f"`{run['command']}`, commit {run['commit']}, {run['date']}"
+
+
+def _table(head: list[str], rows: list[list[str]]) -> list[str]:
+    return ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)] + ["| " + " | ".join(r) + " |" for r in rows]
+
+
+def extractor_label(key: str) -> str:
+    """A scale-bench extractor key in words: 5:4x5s64/g1000, cv-default@2:1x4, ..."""
+    if key.startswith("cv-default@"):
+        return f"OpenCV defaults at the count of {extractor_label(key.removeprefix('cv-default@'))}"
+    m = re.fullmatch(r"(cv-)?(\d+):(\d+)x(\d+)(?:s(\d+))?(?:/(g?)(\d+))?", key)
+    if not m:
+        return key
+    cv, num, den, scales, sectors, grid, budget = m.groups()
+    who = "OpenCV" if cv else "ours"
+    text = f"{who} {num}:{den} x {scales}"
+    if sectors:
+        text += f", {sectors} sectors"
+    if budget:
+        text += f", grid selection {budget}" if grid else f", host budget {budget}"
+    elif not cv:
+        text += ", every feature"
+    return f"{text} (`{key}`)"
+
+
+# ------------------------------------------------------------------------------------------------
+# the tables
+
+
+def scale_table(records: Records, name: str) -> list[str]:
+    run = records.run("eval", name)
+    rows = []
+    for r in run["data"]:
+        label = extractor_label(r["extractor"])
+        bold = r["extractor"] == "5:4x5s64/g1000"
+        cells = [label, _pct(r["pooled_pct"]), _pct(r["scale_1_pct"]), _pct(r["scale_0.8_pct"]),
+                 _pct(r["scale_0.6_pct"]), f"{r['features_per_image']:,.1f}"]  # fmt: skip
+        rows.append([f"**{c}**" if bold and i < 2 else c for i, c in enumerate(cells)])
+    head = ["extractor", "pooled", "scale 1.0", "scale 0.8", "scale 0.6", "features per image"]
+    return [*_table(head, rows), "", f"Measured by {_source(run)}."]
+
+
+def rotation_table(records: Records, name: str) -> list[str]:
+    run = records.run("eval", name)
+    rows = []
+    for r in run["data"]:
+        ours = r["method"] != "opencv"
+        label = f"ours, {r['method'].split('-')[1]} sectors" if ours else "OpenCV ORB"
+        rows.append([label, _pct(r["mean_correct_pct"]), _pct(r["min_correct_pct"]), _pct(r["mean_recall_pct"]),
+                     _int(r["mean_matches"]), f"{r['vs_opencv']:.3f}"])  # fmt: skip
+    head = ["extractor", "mean correct", "min correct", "mean recall", "mean matches", "correct, of OpenCV's"]
+    return [*_table(head, rows), "", f"Measured by {_source(run)}."]
+
+
+def track_tables(records: Records) -> list[str]:
+    run = records.run("eval", "track-bench")
+    rows = []
+    for r in run["data"]["summary"]:
+        ours = r["extractor"] == "ours"
+        rows.append([("**ours**" if ours else "OpenCV"), str(r["gap"]), str(r["pairs"]), _int(r["features"]),
+                     f"{r['inliers']:.1f}", f"{r['inliers_per_feature']:.3f}", f"{r['coverage']:.3f}",
+                     f"{100 * r['failed_share']:.1f}%", str(r["failed_alone"])])  # fmt: skip
+    head = ["extractor", "gap", "pairs", "features", "inliers", "inliers per feature", "inlier coverage",
+            "failed pairs", "failed alone"]  # fmt: skip
+    out = _table(head, rows)
+    clips = []
+    for clip, rs in run["data"]["by_clip"].items():
+        by = {(r["extractor"], r["gap"]): r for r in rs}
+        o1, c1, o5, c5 = by[("ours", 1)], by[("opencv", 1)], by[("ours", 5)], by[("opencv", 5)]
+        clips.append([clip, f"{_int(o1['features'])} / {_int(c1['features'])}",
+                      f"{_int(o1['inliers'])} / {_int(c1['inliers'])}", f"{_int(o5['inliers'])} / {_int(c5['inliers'])}",
+                      f"{100 * o1['failed_share']:.0f}% / {100 * c1['failed_share']:.0f}%",
+                      f"{100 * o5['failed_share']:.0f}% / {100 * c5['failed_share']:.0f}%"])  # fmt: skip
+    head = ["clip", "features, ours / OpenCV", "inliers gap 1", "inliers gap 5", "failed gap 1", "failed gap 5"]
+    return [*out, "", *_table(head, clips), "", f"Measured by {_source(run)}."]
+
+
+def density_table(records: Records) -> list[str]:
+    run = records.run("eval", "density-bench")
+    by: dict[tuple[str, float], dict[str, dict[str, Any]]] = {}
+    for r in run["data"]["summary"]:
+        by.setdefault((r["size"], r["contrast"]), {})[r["extractor"]] = r
+    rows = []
+    for (size, contrast), rs in by.items():
+        o, cv, c5 = rs["ours"], rs["cv-ours"], rs["cv-500"]
+        rows.append([f"{size}, {contrast:g}", _int(o["features"]),
+                     " / ".join(f"{x['coverage']:.3f}" for x in (o, cv, c5)),
+                     " / ".join(f"{x['row_share']:.3f}" for x in (o, cv, c5)), str(o["corner_cells"]),
+                     " / ".join(str(x["corner_cells_empty"]) for x in (o, cv, c5)),
+                     " / ".join(str(x["empty_with_candidates"]) for x in (o, cv, c5))])  # fmt: skip
+    head = ["size, contrast", "ours: mean features", "coverage, ours / cv-ours / cv-500",
+            "rows with a feature", "corner cells", "left empty, ours / cv-ours / cv-500",
+            "empty frames with candidates"]  # fmt: skip
+    return [*_table(head, rows), "", f"Measured by {_source(run)}."]
+
+
+def sim_table(records: Records) -> list[str]:
+    rows = []
+    for name, run in records.sim.items():
+        d = run["data"]
+        what = Path(d.get("image") or d.get("video", "")).name
+        engine = "netlist in Verilator" if d["engine"] == "verilator-netlist" else "RTL in GHDL"
+        rows.append([f"`{run['command']}`", f"{what} {d['width']}x{d['height']}",
+                     f"{d['scales']} x {d['step']}, {d['sectors']} sectors, {d['mem_depth']:,} slots", engine,
+                     _int(d["features"]), "yes" if d["bit_exact"] and d.get("overlay_bit_exact", True) else "**no**",
+                     str(d["dropped"]), str(d.get("latency_cycles", "-")), f"{d['sim_wall_s']:,.0f} s",
+                     f"{run['commit']}, {run['date']}"])  # fmt: skip
+    head = ["command", "image", "device", "engine", "features", "bit-exact (features, overlay)", "lost",
+            "last pixel to end-of-frame record, clocks", "simulation", "commit, date"]  # fmt: skip
+    return _table(head, rows)
+
+
+def _board_job(records: Records, name: str) -> tuple[str, dict[str, Any]]:
+    c = records.board["configs"][name]
+    key = (f"orb_accel_zynq {c['width']}x{c['height']}x{c['scales']} MEM_DEPTH_g={c['mem_depth']} "
+           f"STEP_NUM_g={c['step_num']} STEP_DEN_g={c['step_den']} BLOCK_LOG2_g={c['block_log2']}")  # fmt: skip
+    if key not in records.synth:
+        raise ResultsError(f"{SYNTH} has no entry {key!r} for the board configuration {name}")
+    return key, records.synth[key]
+
+
+def board_table(records: Records) -> list[str]:
+    rows = []
+    for name, c in records.board["configs"].items():
+        _, j = _board_job(records, name)
+        rows.append([name, f"{c['scales']} x {c['step_num']}:{c['step_den']}, {c['sectors']} sectors, "
+                           f"{c['mem_depth']:,} slots",
+                     f"{j['lut']:,} ({100 * j['lut'] / XC7Z020['lut']:.1f}%)", f"{j['ff']:,}",
+                     f"{j['bram36']:g} ({100 * j['bram36'] / XC7Z020['bram36']:.1f}%)",
+                     f"{j['dsp']} ({100 * j['dsp'] / XC7Z020['dsp']:.1f}%)", f"{j['logic_delay_ns']:.3f} ns",
+                     f"{1000 / c['core_mhz']:.2f} ns ({c['core_mhz']} MHz)",
+                     f"{j['measured']['commit']}, {j['measured']['date']}"])  # fmt: skip
+    head = ["configuration", "device", "LUT", "FF", "RAMB36", "DSP48", "logic delay (pre-route)",
+            "core clock period", "commit, date"]  # fmt: skip
+    return _table(head, rows)
+
+
+def headline(records: Records) -> list[str]:
+    held = {r["extractor"]: r for r in records.run("eval", "scale-bench-held")["data"]}
+    rot = {r["method"]: r for r in records.run("eval", "rotation-bench-grid")["data"]}
+    track = {(r["extractor"], r["gap"]): r for r in records.run("eval", "track-bench")["data"]["summary"]}
+    dens = records.run("eval", "density-bench")["data"]["summary"]
+    sim = records.run("sim", "make-sim")["data"]
+    ours_h, cv_h = held["5:4x5s64/g1000"], held["cv-default@5:4x5s64/g1000"]
+    ours_r = next(r for m, r in rot.items() if m != "opencv")
+    empty = {x: sum(r["corner_cells_empty"] for r in dens if r["extractor"] == x) for x in ("ours", "cv-ours")}
+    cells = sum(r["corner_cells"] for r in dens if r["extractor"] == "ours")
+    boards = []
+    for name, c in records.board["configs"].items():
+        _, j = _board_job(records, name)
+        boards.append(f"{name}: {j['lut']:,} LUT ({100 * j['lut'] / XC7Z020['lut']:.0f}%), "
+                      f"{j['bram36']:g} RAMB36, {j['dsp']} DSP48, {j['logic_delay_ns']:.2f} ns")  # fmt: skip
+    rows = [
+        ["Matching under scale change (32 held-out photographs, 0.6 to 1.0)",
+         f"**{_pct(ours_h['pooled_pct'])}**", f"{_pct(cv_h['pooled_pct'])} (OpenCV ORB, its defaults, same count)",
+         "[evaluation.md](docs/evaluation.md#scale-bench-on-the-held-out-photographs)"],
+        ["Matching under rotation (32 sectors, 72 angles)", f"**{_pct(ours_r['mean_correct_pct'])}** correct",
+         f"{_pct(rot['opencv']['mean_correct_pct'])} (OpenCV ORB, same count)",
+         "[evaluation.md](docs/evaluation.md#rotation-with-the-selection)"],
+        ["Tracking: inliers per feature, frame gap 1 / 5 (9 clips)",
+         f"**{track[('ours', 1)]['inliers_per_feature']:.3f} / {track[('ours', 5)]['inliers_per_feature']:.3f}**",
+         f"{track[('opencv', 1)]['inliers_per_feature']:.3f} / {track[('opencv', 5)]['inliers_per_feature']:.3f}",
+         "[evaluation.md](docs/evaluation.md#tracking)"],
+        ["Spread: cells with a corner left without a feature (3 sizes, 2 contrasts)",
+         f"**{empty['ours']} of {cells:,}**", f"{empty['cv-ours']:,} (OpenCV ORB, same count)",
+         "[evaluation.md](docs/evaluation.md#dense-and-sparse-scenes)"],
+        ["Board resources, yosys estimate (XC7Z020; not run in Vivado)", "<br>".join(boards), "-",
+         "[board.md](docs/board.md#resources)"],
+        ["Throughput", "one pixel per clock: 1080p60, 720p60 and 480p60 HDMI in real time (design; not run on a board)",
+         "-", "[board.md](docs/board.md)"],
+        ["`make sim`: the bundled photograph in GHDL", f"{sim['features']:,} features, bit-exact, "
+         f"{sim['dropped']} lost, {sim['sim_wall_s']:.0f} s", "-", "[fast-sim.md](docs/fast-sim.md#results)"],
+    ]  # fmt: skip
+    return _table(["", "this accelerator", "reference", "where"], rows)
+
+
+TABLES: dict[str, tuple[Path, Callable[[Records], list[str]]]] = {
+    "headline": (Path("README.md"), headline),
+    "scale-bench": (Path("docs/evaluation.md"), lambda r: scale_table(r, "scale-bench")),
+    "scale-bench-held": (Path("docs/evaluation.md"), lambda r: scale_table(r, "scale-bench-held")),
+    "rotation-bench-grid": (Path("docs/evaluation.md"), lambda r: rotation_table(r, "rotation-bench-grid")),
+    "track-bench": (Path("docs/evaluation.md"), track_tables),
+    "density-bench": (Path("docs/evaluation.md"), density_table),
+    "sim-runs": (Path("docs/fast-sim.md"), sim_table),
+    "board-resources": (Path("docs/board.md"), board_table),
+}
+
+
+def fill(text: str, name: str, lines: list[str], page: Path) -> str:
+    begin = BEGIN.format(name=name)
+    pattern = re.compile(re.escape(begin) + r"\n.*?" + re.escape(END), re.S)
+    if len(pattern.findall(text)) != 1:
+        raise ResultsError(f"{page} must hold the table {name!r} once, between `{begin}` and `{END}`")
+    return pattern.sub(lambda _: "\n".join([begin, *lines, END]), text)
+
+
+def render(root: Path = ROOT) -> dict[Path, str]:
+    records = Records(root)
+    pages: dict[Path, str] = {}
+    for name, (page, make) in TABLES.items():
+        text = pages.get(page) or (root / page).read_text()
+        pages[page] = fill(text, name, make(records), page)
+    return pages
+
+
+def main(argv: list[str] | None = None) -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--out", type=Path, default=ROOT, help="root directory of the pages (default: the repository)")
+    args = ap.parse_args(argv)
+    for rel, text in render(ROOT).items():
+        path = args.out / rel
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_bytes(text.encode())
+        print(f"wrote {path}")
+
+
+if __name__ == "__main__":
+    main()

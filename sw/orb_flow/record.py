@@ -1,0 +1,170 @@
+# SPDX-License-Identifier: MIT
+"""Keep a measurement: copy a benchmark's or a simulation's machine-readable output into the
+committed records under docs/results/ (docs/results/README.md), with the command that produced it,
+the commit, the date and the tools. The docs' results tables are generated from these records
+(orb_flow.gen.results) and byte-checked, so a figure lives in one place.
+
+    python -m orb_flow.record eval [NAME ...]          # the outputs of `make eval` under build/eval
+    python -m orb_flow.record sim NAME REPORT --command "make sim ..."   # a make sim report.json
+
+--commit / --date say when the measured tree is not the checkout's HEAD or today.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import datetime as dt
+import json
+import subprocess
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+ROOT = Path(__file__).resolve().parents[2]
+RESULTS = ROOT / "docs" / "results"
+EVAL_OUT = ROOT / "build" / "eval"
+MODEL_TOOLS = "the golden model (numpy), OpenCV (opencv-python-headless) for the OpenCV rows"
+
+
+def _csv_rows(path: Path) -> list[dict[str, Any]]:
+    def value(text: str) -> Any:
+        for kind in (int, float):
+            try:
+                return kind(text)
+            except ValueError:
+                pass
+        return text
+
+    with path.open(newline="") as f:
+        return [{k: value(v) for k, v in row.items()} for row in csv.DictReader(f)]
+
+
+def _json(path: Path) -> Any:
+    return json.loads(path.read_text())
+
+
+# name -> (the command `make eval` runs, its summary file under build/eval, reader). The Makefile's
+# eval recipe runs each command (tb/house/test_results.py checks it).
+EVAL: dict[str, tuple[str, str, Callable[[Path], Any]]] = {
+    "compare-fast": (
+        "orb-accel compare-fast build/eval/photos/*.png --threshold 15 20 25 30 35 40 --out-dir build/eval/compare-fast",
+        "compare-fast/compare_fast.csv",
+        _csv_rows,
+    ),
+    "rotation-bench": (
+        "orb-accel rotation-bench build/eval/photos/*.png --sectors 16 32 64 --step 1 --threshold 20 --scales 1 "
+        "--out-dir build/eval/rotation-bench",
+        "rotation-bench/rotation_summary.csv",
+        _csv_rows,
+    ),
+    "rotation-bench-grid": (
+        "orb-accel rotation-bench build/eval/photos/*.png --sectors 32 --step 5 --threshold 20 --scales 1 "
+        "--budget 1000 --out-dir build/eval/rotation-bench-grid",
+        "rotation-bench-grid/rotation_summary.csv",
+        _csv_rows,
+    ),
+    "scale-bench": (
+        "orb-accel scale-bench build/eval/photos/*.png --out-dir build/eval/scale-bench",
+        "scale-bench/scale_bench_summary.csv",
+        _csv_rows,
+    ),
+    "scale-bench-held": (
+        "orb-accel scale-bench build/eval/held/640x480/*.png --out-dir build/eval/scale-bench-held",
+        "scale-bench-held/scale_bench_summary.csv",
+        _csv_rows,
+    ),
+    "track-bench": (
+        "orb-accel track-bench build/eval/held/native/{Wood,Aqua,Garden,LadyBird,TwoWings,YellowFlower,Storm,"
+        "Blinds}.png build/eval/debian-cache/opencv-doc/usr/share/doc/opencv-doc/examples/data/vtest.avi "
+        "--out-dir build/eval/track-bench",
+        "track-bench/track_bench_summary.json",
+        _json,
+    ),
+    "density-bench": (
+        "orb-accel density-bench build/eval/held/native/*.png --sizes 640x480 1280x720 1920x1080 "
+        "--out-dir build/eval/density-bench",
+        "density-bench/density_bench_summary.json",
+        _json,
+    ),
+}
+
+
+def head_commit() -> str:
+    done = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True, text=True)
+    return done.stdout.strip() or "unknown"
+
+
+def load(kind: str) -> dict[str, Any]:
+    path = RESULTS / f"{kind}.json"
+    if path.exists():
+        return json.loads(path.read_text())
+    return {"about": "", "runs": {}}
+
+
+def save(kind: str, records: dict[str, Any]) -> Path:
+    RESULTS.mkdir(parents=True, exist_ok=True)
+    path = RESULTS / f"{kind}.json"
+    records["runs"] = dict(sorted(records["runs"].items()))
+    path.write_text(json.dumps(records, indent=1, ensure_ascii=False) + "\n")
+    return path
+
+
+def entry(command: str, data: Any, commit: str | None, date: str | None, tools: str, **extra: Any) -> dict:
+    return {"command": command, "commit": commit or head_commit(), "date": date or dt.date.today().isoformat(),
+            "tools": tools, **extra, "data": data}  # fmt: skip
+
+
+def record_eval(names: list[str], commit: str | None, date: str | None, out: Path = EVAL_OUT) -> list[str]:
+    records = load("eval")
+    done = []
+    for name in names or list(EVAL):
+        if name not in EVAL:
+            raise SystemExit(f"error: no evaluation named {name!r}; known: {', '.join(EVAL)}")
+        command, rel, read = EVAL[name]
+        path = out / rel
+        if not path.exists():
+            if names:
+                raise SystemExit(f"error: {path} is missing: run `{command}` (or make eval) first")
+            continue
+        records["runs"][name] = entry(command, read(path), commit, date, MODEL_TOOLS)
+        done.append(name)
+    save("eval", records)
+    return done
+
+
+def record_sim(name: str, report: Path, command: str, tools: str, commit: str | None, date: str | None) -> None:
+    records = load("sim")
+    data = json.loads(report.read_text())
+    for key in ("image", "video"):  # paths relative to the checkout, as the command names them
+        if key in data and Path(data[key]).is_absolute() and Path(data[key]).is_relative_to(ROOT):
+            data[key] = str(Path(data[key]).relative_to(ROOT))
+    records["runs"][name] = entry(command, data, commit, date, tools)
+    save("sim", records)
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    sub = ap.add_subparsers(dest="kind", required=True)
+    ev = sub.add_parser("eval", help="the outputs of make eval (build/eval) into docs/results/eval.json")
+    ev.add_argument("names", nargs="*", help=f"which (default: every one present): {', '.join(EVAL)}")
+    sim = sub.add_parser("sim", help="a make sim report.json into docs/results/sim.json")
+    sim.add_argument("name")
+    sim.add_argument("report", type=Path)
+    sim.add_argument("--command", required=True, help="the command that wrote the report")
+    sim.add_argument("--tools", default="GHDL 2.0.0 (llvm back end); Verilator 5.48.0 (FAST=1)")
+    for p in (ev, sim):
+        p.add_argument("--commit", help="the measured commit (default: HEAD)")
+        p.add_argument("--date", help="the measurement's date, YYYY-MM-DD (default: today)")
+    args = ap.parse_args(argv)
+    if args.kind == "eval":
+        print(f"recorded {', '.join(record_eval(args.names, args.commit, args.date)) or 'nothing'} "
+              f"in {RESULTS / 'eval.json'}; now `make views` (or python -m orb_flow.gen.results)")  # fmt: skip
+    else:
+        record_sim(args.name, args.report, args.command, args.tools, args.commit, args.date)
+        print(f"recorded {args.name} in {RESULTS / 'sim.json'}; now `make views` (or python -m orb_flow.gen.results)")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
