@@ -22,7 +22,7 @@ SELECTIONS = ("all", "grid")
 # told. The selection (docs/selection.md): the grid mode with a budget of RECOMMENDED_BUDGET
 # features per 640x480 frame (recommended_budget for other sizes), a grid of 8 x 6 cells over the
 # frame at every level and the low threshold 14, chosen by measurement against 7 (ORB-SLAM's
-# minThFAST), 12 and 16 (docs/evaluation.md, "Low corners in the rest").
+# minThFAST), 12 and 16 (research/selection/README.md, "Low corners in the rest").
 RECOMMENDED_NAME = "recommended-vga"
 _REC = CONFIGS[RECOMMENDED_NAME]
 RECOMMENDED_SCALES = int(_REC["scales"])

@@ -3,7 +3,7 @@
 (golden_model.select.select_grid with that cols x rows) on the 32 held-out photographs at 640x480,
 1280x720 and 1920x1080, contrast 1 and 0.25, as `orb-accel density-bench` fits and scales them:
 mean features, the frames with fewer features than OpenCV's defaults (cv2.ORB_create()), and the
-8x6 corner cells left empty (docs/evaluation.md, "The cell grid"). Run from the project root:
+8x6 corner cells left empty (research/selection/README.md, "The cell grid"). Run from the project root:
 PYTHONPATH=sw:. .venv/bin/python research/selection/grid_cells.py (about 4 minutes on 2 cores)."""
 import sys, json, collections, dataclasses
 from concurrent.futures import ProcessPoolExecutor

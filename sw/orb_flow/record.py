@@ -44,11 +44,28 @@ def _json(path: Path) -> Any:
     return json.loads(path.read_text())
 
 
+def _density(path: Path) -> dict[str, Any]:
+    """The density bench's summary, with what only its per-frame CSV holds: per size and contrast,
+    ours' budget and the frames where ours keeps fewer features than OpenCV's defaults (500)."""
+    data = _json(path)
+    frames: dict[tuple[str, str, str], dict[str, dict[str, Any]]] = {}
+    for r in _csv_rows(path.with_name("density_bench.csv")):
+        frames.setdefault((r["photo"], r["size"], str(r["contrast"])), {})[r["extractor"]] = r
+    for row in data["summary"]:
+        if row["extractor"] != "ours":
+            continue
+        mine = [f for (_, size, c), f in frames.items() if size == row["size"] and float(c) == row["contrast"]]
+        row["budget"] = mine[0]["ours"]["budget"]
+        row["frames_fewer_than_cv500"] = sum(f["ours"]["features"] < f["cv-500"]["features"] for f in mine)
+    return data
+
+
 # name -> (the command `make eval` runs, its summary file under build/eval, reader). The Makefile's
 # eval recipe runs each command (tb/house/test_results.py checks it).
 EVAL: dict[str, tuple[str, str, Callable[[Path], Any]]] = {
     "compare-fast": (
-        "orb-accel compare-fast build/eval/photos/*.png --threshold 15 20 25 30 35 40 --out-dir build/eval/compare-fast",
+        "orb-accel compare-fast build/eval/photos/*.png --threshold 15 20 25 30 35 40 "
+        "--out-dir build/eval/compare-fast",
         "compare-fast/compare_fast.csv",
         _csv_rows,
     ),
@@ -70,7 +87,8 @@ EVAL: dict[str, tuple[str, str, Callable[[Path], Any]]] = {
         _csv_rows,
     ),
     "scale-bench-held": (
-        "orb-accel scale-bench build/eval/held/640x480/*.png --out-dir build/eval/scale-bench-held",
+        "orb-accel scale-bench build/eval/held/640x480/*.png --extractors 5:4x5s64/g1000 cv-default@5:4x5s64/g1000 "
+        "--out-dir build/eval/scale-bench-held",
         "scale-bench-held/scale_bench_summary.csv",
         _csv_rows,
     ),
@@ -85,7 +103,7 @@ EVAL: dict[str, tuple[str, str, Callable[[Path], Any]]] = {
         "orb-accel density-bench build/eval/held/native/*.png --sizes 640x480 1280x720 1920x1080 "
         "--out-dir build/eval/density-bench",
         "density-bench/density_bench_summary.json",
-        _json,
+        _density,
     ),
 }
 

@@ -92,6 +92,24 @@ def extractor_label(key: str) -> str:
 # the tables
 
 
+def compare_fast_table(records: Records) -> list[str]:
+    run = records.run("eval", "compare-fast")
+    photos: dict[str, list[dict[str, Any]]] = {}
+    for r in run["data"]:
+        photos.setdefault(r["image"], []).append(r)
+    rows = []
+    for photo, rs in photos.items():
+        ts = sorted(r["threshold"] for r in rs)
+        same = sum(str(r["raw_identical"]) == "True" for r in rs)
+        co = [r["coincident_pct"] for r in rs]
+        diff = [r["mean_score_diff_pct"] for r in rs]
+        rows.append([photo, f"{same} of {len(rs)}", f"{min(co):.1f} to {max(co):.1f}%",
+                     f"{min(diff):+.1f} to {max(diff):+.1f}%"])  # fmt: skip
+    head = [f"photo (t = {ts[0]} .. {ts[-1]})", "raw corners identical to OpenCV's", "coincident after NMS",
+            "mean SAD score, ours against OpenCV's selection"]  # fmt: skip
+    return [*_table(head, rows), "", f"Measured by {_source(run)}."]
+
+
 def scale_table(records: Records, name: str) -> list[str]:
     run = records.run("eval", name)
     rows = []
@@ -133,7 +151,8 @@ def track_tables(records: Records) -> list[str]:
         by = {(r["extractor"], r["gap"]): r for r in rs}
         o1, c1, o5, c5 = by[("ours", 1)], by[("opencv", 1)], by[("ours", 5)], by[("opencv", 5)]
         clips.append([clip, f"{_int(o1['features'])} / {_int(c1['features'])}",
-                      f"{_int(o1['inliers'])} / {_int(c1['inliers'])}", f"{_int(o5['inliers'])} / {_int(c5['inliers'])}",
+                      f"{_int(o1['inliers'])} / {_int(c1['inliers'])}",
+                      f"{_int(o5['inliers'])} / {_int(c5['inliers'])}",
                       f"{100 * o1['failed_share']:.0f}% / {100 * c1['failed_share']:.0f}%",
                       f"{100 * o5['failed_share']:.0f}% / {100 * c5['failed_share']:.0f}%"])  # fmt: skip
     head = ["clip", "features, ours / OpenCV", "inliers gap 1", "inliers gap 5", "failed gap 1", "failed gap 5"]
@@ -145,23 +164,27 @@ def density_table(records: Records) -> list[str]:
     by: dict[tuple[str, float], dict[str, dict[str, Any]]] = {}
     for r in run["data"]["summary"]:
         by.setdefault((r["size"], r["contrast"]), {})[r["extractor"]] = r
+    levels = run["data"]["settings"]["scales"]
     rows = []
     for (size, contrast), rs in by.items():
         o, cv, c5 = rs["ours"], rs["cv-ours"], rs["cv-500"]
-        rows.append([f"{size}, {contrast:g}", _int(o["features"]),
+        rows.append([f"{size}, {contrast:g}", f"{_int(o['features'])} ({o['budget']:,})",
                      " / ".join(f"{x['coverage']:.3f}" for x in (o, cv, c5)),
                      " / ".join(f"{x['row_share']:.3f}" for x in (o, cv, c5)), str(o["corner_cells"]),
                      " / ".join(str(x["corner_cells_empty"]) for x in (o, cv, c5)),
-                     " / ".join(str(x["empty_with_candidates"]) for x in (o, cv, c5))])  # fmt: skip
-    head = ["size, contrast", "ours: mean features", "coverage, ours / cv-ours / cv-500",
+                     " / ".join(str(x["empty_with_candidates"]) for x in (o, cv, c5)),
+                     f"{o['frames_fewer_than_cv500']} of {o['frames']}",
+                     f"{o['unfilled_levels']} of {o['frames'] * levels}"])  # fmt: skip
+    head = ["size, contrast", "ours: mean features (budget)", "coverage, ours / cv-ours / cv-500",
             "rows with a feature", "corner cells", "left empty, ours / cv-ours / cv-500",
-            "empty frames with candidates"]  # fmt: skip
+            "empty frames with candidates", "frames where ours has fewer than cv-500",
+            "levels under their share (ours)"]  # fmt: skip
     return [*_table(head, rows), "", f"Measured by {_source(run)}."]
 
 
 def sim_table(records: Records) -> list[str]:
     rows = []
-    for name, run in records.sim.items():
+    for run in records.sim.values():
         d = run["data"]
         what = Path(d.get("image") or d.get("video", "")).name
         engine = "netlist in Verilator" if d["engine"] == "verilator-netlist" else "RTL in GHDL"
@@ -194,9 +217,9 @@ def board_table(records: Records) -> list[str]:
                      f"{j['bram36']:g} ({100 * j['bram36'] / XC7Z020['bram36']:.1f}%)",
                      f"{j['dsp']} ({100 * j['dsp'] / XC7Z020['dsp']:.1f}%)", f"{j['logic_delay_ns']:.3f} ns",
                      f"{1000 / c['core_mhz']:.2f} ns ({c['core_mhz']} MHz)",
-                     f"{j['measured']['commit']}, {j['measured']['date']}"])  # fmt: skip
+                     f"{j['measured']['commit']}, {j['measured']['date']}", "not run"])  # fmt: skip
     head = ["configuration", "device", "LUT", "FF", "RAMB36", "DSP48", "logic delay (pre-route)",
-            "core clock period", "commit, date"]  # fmt: skip
+            "core clock period", "commit, date", "Vivado"]  # fmt: skip
     return _table(head, rows)
 
 
@@ -211,7 +234,7 @@ def headline(records: Records) -> list[str]:
     empty = {x: sum(r["corner_cells_empty"] for r in dens if r["extractor"] == x) for x in ("ours", "cv-ours")}
     cells = sum(r["corner_cells"] for r in dens if r["extractor"] == "ours")
     boards = []
-    for name, c in records.board["configs"].items():
+    for name in records.board["configs"]:
         _, j = _board_job(records, name)
         boards.append(f"{name}: {j['lut']:,} LUT ({100 * j['lut'] / XC7Z020['lut']:.0f}%), "
                       f"{j['bram36']:g} RAMB36, {j['dsp']} DSP48, {j['logic_delay_ns']:.2f} ns")  # fmt: skip
