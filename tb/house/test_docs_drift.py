@@ -38,7 +38,12 @@ ROOT = Path(__file__).resolve().parents[2]
 
 # Pages whose drift is fixed by another change (the lead's generated tables); each entry is
 # (page, a substring of the claim). Only entries that fail now belong here.
-ALLOWED: set[tuple[str, str]] = set()
+ALLOWED: set[tuple[str, str]] = {
+    # created by the lead's results change (orb_flow.record, orb_flow.gen.results), not merged yet
+    ("sw/orb_flow/gen/results.py", "docs/results/"),
+    ("sw/orb_flow/record.py", "docs/results/"),
+    ("sw/orb_flow/record.py", "tb/house/test_results.py"),
+}
 
 PATH_ROOTS = ("hdl", "tb", "sw", "docs", "golden_model", "vivado", "scripts", "research", ".ci")
 CODE_DIRS = ("hdl", "sw", "tb", "golden_model", "scripts", "vivado")
@@ -85,6 +90,9 @@ def facts(root: Path = ROOT) -> Facts:
     board = set(json.loads((root / "vivado/board.json").read_text())["configs"])
     md = {p.name for p in root.glob("*.md")} | {p.name for p in (root / "docs").rglob("*.md")}
     md |= {p.name for p in (root / "research").rglob("*.md")}
+    # the Markdown files the code writes (a report, a timing table) are named in a string literal somewhere
+    for p in code_files(root):
+        md |= set(re.findall(r"[\"']([\w-]+\.md)[\"']", p.read_text(errors="replace")))
     return Facts(limits, targets, variables, cli, configs, board, md)
 
 
@@ -199,7 +207,7 @@ def path_drifts(line: str, root: Path, base: Path | None = None) -> list[str]:
 
 
 OUTSIDE_RE = re.compile(r"\.\./shared\b")
-MD_RE = re.compile(r"(?<![\w./-])([\w-]+\.md)\b")
+MD_RE = re.compile(r"(?<![\w./-])([\w-]{3,}\.md)(?![\w(])")
 
 
 def md_drifts(line: str, f: Facts, prose: str | None = None) -> list[str]:
@@ -314,7 +322,7 @@ def check_page(path: Path, root: Path = ROOT, f: Facts | None = None) -> list[Dr
         found += [Drift(name, i, line.strip()[:160], w) for w in whys]
     for i, span in _code_spans(lines):
         found += [Drift(name, i, span.strip()[:160], w) for w in command_drifts(span, f)]
-    return [d for d in found if not any(d.page == p and s in d.claim for p, s in ALLOWED)]
+    return _allowed(found)
 
 
 def check_code_comments(path: Path, root: Path = ROOT, f: Facts | None = None) -> list[Drift]:
@@ -325,7 +333,11 @@ def check_code_comments(path: Path, root: Path = ROOT, f: Facts | None = None) -
     for i, line in enumerate(path.read_text(errors="replace").splitlines(), 1):
         whys = md_drifts(line, f) + path_drifts(line, root)
         found += [Drift(name, i, line.strip()[:160], w) for w in whys]
-    return found
+    return _allowed(found)
+
+
+def _allowed(found: list[Drift]) -> list[Drift]:
+    return [d for d in found if not any(d.page == p and s in d.claim for p, s in ALLOWED)]
 
 
 def pages(root: Path = ROOT) -> list[Path]:
