@@ -146,7 +146,7 @@ synth:
 		$(if $(filter 1 yes true,$(STA)),--sta)
 
 # The cocotb tests of docs/netlist-sim.md on `ghdl synth --out=vhdl` netlists (~15 min); K=orb_overlay runs one
-# entity, QUICK=1 leaves out the two slow cases (~3 min).
+# entity, QUICK=1 leaves out the cases marked slow (~3 min).
 K ?=
 netlist-sim: $(STAMP)
 	@sh scripts/flow/check_tools.sh ghdl
