@@ -4,8 +4,10 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 IMAGE  ?=
-# CONFIG: a named configuration (docs/configurations.md); empty: recommended-vga (make sim),
-# board-720p (make bitstream). SCALES, PYRAMID, SECTORS, THRESHOLD, SIZE replace single values.
+# CONFIG: for make sim and make ros-sim a named configuration (docs/configurations.md; empty: recommended-vga,
+# sim-qvga); for make bitstream and make board-dryrun a board configuration of vivado/board.json (640x480,
+# 1280x720, 1920x1080; empty: 1280x720 for make bitstream, all three for make board-dryrun). SCALES, PYRAMID,
+# SECTORS, THRESHOLD, SIZE replace single values.
 CONFIG ?=
 SCALES ?=
 PYRAMID ?=
@@ -145,7 +147,7 @@ synth:
 		$(if $(filter 1 yes true,$(STA)),--sta)
 
 # The cocotb tests of docs/netlist-sim.md on `ghdl synth --out=vhdl` netlists (~15 min); K=orb_overlay runs one
-# entity, QUICK=1 leaves out the two slow cases (~3 min).
+# entity, QUICK=1 leaves out the cases marked slow (~3 min).
 K ?=
 netlist-sim: $(STAMP)
 	@sh scripts/flow/check_tools.sh ghdl

@@ -76,7 +76,7 @@ CONFIGS: dict[str, dict[str, int | str | tuple[str, ...]]] = {
         "budget": 1000,
         "cols": 8,
         "rows": 6,
-        "used_by": ("make bitstream CONFIG=board-vga",),
+        "used_by": ("make bitstream CONFIG=640x480",),
         "verified_by": (
             "make board-estimate (yosys)",
             "make board-dryrun",
@@ -129,7 +129,7 @@ CONFIGS: dict[str, dict[str, int | str | tuple[str, ...]]] = {
         "budget": 1023,
         "cols": 8,
         "rows": 6,
-        "used_by": ("make bitstream CONFIG=board-1080p",),
+        "used_by": ("make bitstream CONFIG=1920x1080",),
         "verified_by": (
             "make board-estimate (yosys)",
             "make board-dryrun",

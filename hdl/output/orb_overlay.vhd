@@ -1,6 +1,6 @@
 -- SPDX-License-Identifier: MIT
 -- orb_overlay: marks the previous frame's features on a passing RGB video stream (HDMI demo,
--- docs/spec.md section 13, docs/overlay.md). The feature stream (s_axis_feat, 320-bit words of
+-- docs/spec.md section 13, docs/overlay.md). The feature stream (s_axis_feat, 352-bit words of
 -- orb_feat_pkg; only scale, x, y and tlast are used) sets one bit per (block, scale) in the fill
 -- bank of two block-RAM bitmap banks: a feature of scale s at (x, y) marks the block of the frame's
 -- 2^b x 2^b blocks (b = BLOCK_LOG2_g) that holds its full-resolution centre (x + 0.5) r^s - 0.5,

@@ -67,7 +67,7 @@ class AccelBench:
         self.video.idle()
         dut.m_axis_video_tready.value = 1
         cocotb.start_soon(Clock(self.clk, PERIOD_NS, unit="ns").start(start_high=False))
-        # the bus model only once reset is asserted and the clock starts low (toolchain.md)
+        # the bus model only once reset is asserted and the clock starts low
         bus = AxiLiteBus.from_prefix(dut, self.axil_prefix)
         self.axil = AxiLiteMaster(bus, self.clk, self.reset, reset_active_level=bool(self.reset_active))
         set_axil_pauses(self.axil, pause_prob, seed)

@@ -54,7 +54,7 @@ class Bench:
         dut.s_axis_video_tdata.value = 0
         dut.m_axis_feat_tready.value = 0
         cocotb.start_soon(Clock(dut.clk, PERIOD_NS, unit="ns").start(start_high=False))
-        # bus models only once reset is asserted and the clock starts low (toolchain.md)
+        # bus models only once reset is asserted and the clock starts low
         self.source = AxiStreamSource(AxiStreamBus.from_prefix(dut, "s_axis_video"), dut.clk, dut.rst)
         self.sink = AxiStreamSink(
             AxiStreamBus.from_prefix(dut, "m_axis_feat"), dut.clk, dut.rst, byte_size=FEATURE_BYTE_SIZE

@@ -175,7 +175,7 @@ class Bench:
         dut.error_pulse.value = 0
         dut.mem_rd_data.value = 0
         cocotb.start_soon(Clock(dut.clk, PERIOD_NS, unit="ns").start(start_high=False))
-        # bus model only once reset is asserted and the clock starts low (toolchain.md)
+        # bus model only once reset is asserted and the clock starts low
         self.axil = AxiLiteMaster(AxiLiteBus.from_prefix(dut, "s_axil"), dut.clk, dut.rst)
         self.set_pauses(pause_prob, seed)
         self.mon = Monitor(self.latency, seed=seed)
