@@ -264,6 +264,8 @@ def headline(records: Records) -> list[str]:
 
 TABLES: dict[str, tuple[Path, Callable[[Records], list[str]]]] = {
     "headline": (Path("README.md"), headline),
+    "compare-fast": (Path("docs/evaluation.md"), compare_fast_table),
+    "rotation-bench": (Path("docs/evaluation.md"), lambda r: rotation_table(r, "rotation-bench")),
     "scale-bench": (Path("docs/evaluation.md"), lambda r: scale_table(r, "scale-bench")),
     "scale-bench-held": (Path("docs/evaluation.md"), lambda r: scale_table(r, "scale-bench-held")),
     "rotation-bench-grid": (Path("docs/evaluation.md"), lambda r: rotation_table(r, "rotation-bench-grid")),
