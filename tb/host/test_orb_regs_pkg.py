@@ -31,7 +31,12 @@ from orbtb.views import assert_deterministic, assert_view_fresh
 ROOT = Path(__file__).resolve().parents[2]
 DATA = ROOT / "golden_model" / "data" / "regmap.json"
 VIEWS = (Path("hdl") / "host" / "orb_regs_pkg.vhd", Path("golden_model") / "regs.py", Path("docs") / "registers.md")
-GHDL_FILES = ("common/orb_limits_pkg.vhd", "host/orb_regs_pkg.vhd", "host/orb_axil_regs.vhd")  # hdl/, in order
+GHDL_FILES = (
+    "common/orb_limits_pkg.vhd",
+    "host/orb_regs_types_pkg.vhd",
+    "host/orb_regs_pkg.vhd",
+    "host/orb_axil_regs.vhd",
+)
 
 
 @pytest.mark.parametrize("view", VIEWS, ids=lambda p: p.name)
