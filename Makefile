@@ -15,7 +15,7 @@ SECTORS ?=
 THRESHOLD ?=
 JOBS   ?= 2
 
-.PHONY: setup test test-all sim bench bench-sim bench-driver eval figures lint synth netlist-sim tools pattern docs clean \
+.PHONY: setup test test-all sim bench bench-sim bench-driver eval figures lint synth netlist-sim tools pattern docs views clean \
 	help bitstream board-estimate board-dryrun ros-sim
 
 help:
@@ -38,6 +38,7 @@ help:
 	@echo "             SIZE=1920x1080x2 TOP=orb_accel_top|orb_accel_zynq: also the logic-delay pass + worst paths (STA=0: not);"
 	@echo "             GENERICS=\"STEP_NUM_g=5 STEP_DEN_g=4 SECTORS_g=64\": more generics of the top)"
 	@echo "make netlist-sim  unit tests on GHDL's synthesised netlists (~15 min; K=entity, QUICK=1; docs/netlist-sim.md)"
+	@echo "make views   regenerate every generated view from its data (orb_flow.gen.views; docs/conventions.md)"
 	@echo "make tools   which of ghdl, yosys, python3 are installed, and how to install the rest"
 	@echo "make docs    regenerate docs/entities/, docs/img/architecture.svg and docs/tools.md (orb_flow.gen)"
 	@echo "make bitstream  the Zybo Z7-20 design in Vivado (CONFIG=640x480|1280x720|1920x1080, VIVADO_LIBRARY=DIR,"
@@ -69,7 +70,7 @@ test-all: $(STAMP)
 FAST ?=
 VIDEO ?=
 sim: $(STAMP)
-	$(BIN)/python scripts/flow/sim_accel.py $(if $(IMAGE),--image $(IMAGE)) $(if $(VIDEO),--video $(VIDEO)) \
+	$(BIN)/orb-accel sim $(if $(IMAGE),--image $(IMAGE)) $(if $(VIDEO),--video $(VIDEO)) \
 		$(if $(CONFIG),--config $(CONFIG)) $(if $(SIZE),--size $(SIZE)) \
 		$(if $(SCALES),--scales $(SCALES)) $(if $(PYRAMID),--step $(PYRAMID)) $(if $(SECTORS),--sectors $(SECTORS)) \
 		$(if $(SELECTION),--selection $(SELECTION)) $(if $(BUDGET),--budget $(BUDGET)) \
@@ -127,12 +128,12 @@ lint: $(STAMP)
 	$(BIN)/ruff format --check golden_model sw tb scripts
 	PYTHONPATH=tb $(BIN)/lint-imports
 	@sh scripts/flow/check_tools.sh ghdl
-	$(BIN)/python scripts/flow/lint_hdl.py
-	$(BIN)/tclint vivado scripts/board/vivado_stub.tcl
+	$(BIN)/python -m orb_flow.lint_hdl
+	$(BIN)/tclint vivado sw/orb_flow/board/vivado_stub.tcl
 	@sh scripts/flow/check_tools.sh tclsh
-	$(BIN)/python scripts/board/dryrun.py
+	$(BIN)/python -m orb_flow.board.dryrun
 
-# Resource estimate (GHDL + yosys, no Vivado; docs/synthesis.md), checked against scripts/flow/synth_expected.json.
+# Resource estimate (GHDL + yosys, no Vivado; docs/synthesis.md), checked against sw/orb_flow/synth_expected.json.
 # SIZE=1920x1080x2 (WxHxSCALES, or a list) runs those sizes, TOP= another top; STA=1 adds the logic-delay pass
 # and its worst-paths report (build/synth/<top>/<config>/timing.md), the default when SIZE is given (STA=0: not);
 # GENERICS="STEP_NUM_g=5 STEP_DEN_g=4 SECTORS_g=64" sets more generics of the top (the recommended 1080p build).
@@ -142,7 +143,7 @@ GENERICS ?=
 STA ?= $(if $(SIZE),1,)
 synth:
 	@sh scripts/flow/check_tools.sh ghdl yosys python3
-	$(PYTHON) scripts/flow/synth.py --jobs $(JOBS) $(if $(TOP),--top $(TOP)) $(foreach c,$(SIZE),--config $(c)) \
+	PYTHONPATH=sw $(PYTHON) -m orb_flow.synth --jobs $(JOBS) $(if $(TOP),--top $(TOP)) $(foreach c,$(SIZE),--config $(c)) \
 		$(foreach g,$(GENERICS),--generic $(g)) \
 		$(if $(filter 1 yes true,$(STA)),--sta)
 
@@ -151,14 +152,18 @@ synth:
 K ?=
 netlist-sim: $(STAMP)
 	@sh scripts/flow/check_tools.sh ghdl
-	$(BIN)/python scripts/flow/netlist_sim.py $(foreach k,$(K),-k $(k)) $(if $(QUICK),--quick)
+	$(BIN)/python -m orb_flow.netlist_sim $(foreach k,$(K),-k $(k)) $(if $(QUICK),--quick)
 
 tools:
 	@sh scripts/flow/check_tools.sh
 
 pattern: $(STAMP)
-	$(BIN)/python scripts/gen/gen_pattern.py
-	$(BIN)/python scripts/gen/gen_pattern_vhdl.py
+	$(BIN)/python -m orb_flow.gen.pattern
+	$(BIN)/python -m orb_flow.gen.pattern_vhdl
+
+# every generated view from its data (orb_flow.gen.views: the registry of the generators; docs/conventions.md)
+views: $(STAMP)
+	$(BIN)/python -m orb_flow.gen.views
 
 docs: $(STAMP)
 	$(BIN)/python -m orb_flow.gen.entities
@@ -173,17 +178,17 @@ VIVADO_LIBRARY ?=
 BOARD_REPO ?=
 VIVADO ?= vivado
 bitstream:
-	@$(PYTHON) scripts/board/bitstream.py $(if $(CONFIG),--config $(CONFIG)) --vivado $(VIVADO) \
+	@PYTHONPATH=sw $(PYTHON) -m orb_flow.board.bitstream $(if $(CONFIG),--config $(CONFIG)) --vivado $(VIVADO) \
 		$(if $(VIVADO_LIBRARY),--vivado-library $(VIVADO_LIBRARY)) $(if $(BOARD_REPO),--board-repo $(BOARD_REPO)) \
 		--jobs $(JOBS)
 
 board-dryrun:
 	@sh scripts/flow/check_tools.sh tclsh
-	$(PYTHON) scripts/board/dryrun.py --table $(foreach c,$(CONFIG),--config $(c))
+	PYTHONPATH=sw $(PYTHON) -m orb_flow.board.dryrun --table $(foreach c,$(CONFIG),--config $(c))
 
 board-estimate:
 	@sh scripts/flow/check_tools.sh ghdl yosys python3
-	$(PYTHON) scripts/board/estimate.py --jobs $(JOBS)
+	PYTHONPATH=sw $(PYTHON) -m orb_flow.board.estimate --jobs $(JOBS)
 
 clean:
 	rm -rf build .pytest_cache

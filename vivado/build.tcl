@@ -5,13 +5,13 @@
 # Written for Vivado 2025.1 (ML Standard, the free edition that supports the XC7Z020); IP is created
 # by version-less VLNVs so a newer release picks its own IP versions (the build warns on another
 # version). NOT RUN HERE: no Vivado on the machines this was written on; the TCL runs in plain tclsh
-# against recording stubs (scripts/board/dryrun.py, tb/board) and the first user with Vivado
+# against recording stubs (sw/orb_flow/board/dryrun.py, tb/board) and the first user with Vivado
 # compares (docs/board.md).
 #
 # vivado -mode batch -source vivado/build.tcl -tclargs --config 1280x720 --vivado-library DIR
 #        --out build/vivado/1280x720 [--board-repo DIR] [--jobs N] [--stop-after project|bd|synth]
-# `make bitstream CONFIG=1280x720 VIVADO_LIBRARY=DIR` runs this, then scripts/board/bit2bin.py and
-# scripts/board/vivado_summary.py.
+# `make bitstream CONFIG=1280x720 VIVADO_LIBRARY=DIR` runs this, then sw/orb_flow/board/bit2bin.py and
+# sw/orb_flow/board/vivado_summary.py.
 
 set orb_vivado_dir [file dirname [file normalize [info script]]]
 set orb_repo_root [file dirname $orb_vivado_dir]

@@ -34,6 +34,7 @@ use ieee.std_logic_1164.all;
 use ieee.numeric_std.all;
 
 use work.orb_regs_pkg.all;
+use work.orb_regs_types_pkg.all;
 use work.orb_limits_pkg.all;
 
 entity orb_axil_regs is

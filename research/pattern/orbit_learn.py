@@ -2,15 +2,15 @@
 # SPDX-License-Identifier: MIT
 """Learn rotation-closed ("orbit") rBRIEF seeds, one set per sector count (docs/pattern.md).
 
-Writes the seed data golden_model/data/orbit_seeds.json, from which scripts/gen/gen_pattern.py
+Writes the seed data golden_model/data/orbit_seeds.json, from which sw/orb_flow/gen/pattern.py
 (``make pattern``) generates golden_model/pattern_data.py. Research code: nothing in the model, the
 tools or the tests imports it. Same code path and defaults as the experiment of 2026-11-22
 (research/pattern/, README.md there), so ``--method orbit-dprime`` reproduces that run's
 ``orbit-dprime`` seeds. Run from the repository with the project's venv (golden_model installed):
 
-    .venv/bin/python research/pattern/orbit_learn.py                  # orbit-dprime, about 3 min
-    .venv/bin/python research/pattern/orbit_learn.py --method orbit-random --out /tmp/seeds.json
-    make pattern                                                     # or gen_pattern.py --seeds ...
+    .venv/bin/python -m research.pattern.orbit_learn                  # orbit-dprime, about 3 min
+    .venv/bin/python -m research.pattern.orbit_learn --method orbit-random --out /tmp/seeds.json
+    make pattern                                                     # or python -m orb_flow.gen.pattern --seeds ...
 
 A pattern for 4N sectors is M = 256 / 4N orbits; orbit j has a real-valued seed test q_j = (p1, p2)
 and member k of orbit j in sector s is round(R(((k + s) mod 4N) * 360 / 4N) q_j) (both points
@@ -49,8 +49,7 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-from pattern_learn import (
+from .pattern_learn import (
     TRAINING_IMAGES,
     GreedyParams,
     disc_points,
@@ -369,7 +368,7 @@ def random_seeds(sector_counts: tuple[int, ...], seed: int = 1001) -> tuple[dict
 
 
 # ---------------------------------------------------------------------------------------------
-# the seed data file (read by scripts/gen/gen_pattern.py)
+# the seed data file (read by sw/orb_flow/gen/pattern.py)
 # ---------------------------------------------------------------------------------------------
 
 
@@ -402,7 +401,7 @@ def seeds_json(method: str, source: str, seeds: dict[int, np.ndarray]) -> str:
 DESCRIPTION = (
     "rBRIEF orbit seeds (docs/pattern.md, spec section 10): seeds[4N] holds the 256 / 4N seed tests "
     "[x1, y1, x2, y2] (multiples of 1/16, both points inside radius 15) for 4N = 16, 32, 64 sectors. "
-    "Written by research/pattern/orbit_learn.py; scripts/gen/gen_pattern.py (make pattern) generates "
+    "Written by research/pattern/orbit_learn.py; sw/orb_flow/gen/pattern.py (make pattern) generates "
     "golden_model/pattern_data.py from it."
 )
 
@@ -417,7 +416,7 @@ def main() -> None:
     else:
         seeds, source = random_seeds(SECTOR_COUNTS)
     args.out.write_text(seeds_json(args.method, source, seeds))
-    print(f"wrote {args.out}; now run `make pattern` (or scripts/gen/gen_pattern.py --seeds {args.out} --out ...)")
+    print(f"wrote {args.out}; now run `make pattern` (or sw/orb_flow/gen/pattern.py --seeds {args.out} --out ...)")
 
 
 if __name__ == "__main__":

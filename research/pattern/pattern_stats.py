@@ -11,25 +11,24 @@ largest absolute pairwise correlation between tests.
 from __future__ import annotations
 
 import argparse
-import importlib.util
+import runpy
 from pathlib import Path
 
 import numpy as np
-import pattern_learn as pl
 
 from golden_model.images import to_luma
+
+from . import pattern_learn as pl
 
 LIVE = Path(__file__).resolve().parents[2] / "golden_model" / "pattern_data.py"
 
 
 def load_pattern(path: Path) -> np.ndarray:
-    spec = importlib.util.spec_from_file_location("pattern_file", path)
-    if spec is None or spec.loader is None:
+    if path.suffix != ".py":
         raise SystemExit(f"{path}: not a Python pattern file")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    if hasattr(module, "PATTERN"):  # a plain 256-test table (older or candidate patterns)
-        return np.array(module.PATTERN, dtype=np.int64)
+    data = runpy.run_path(str(path))  # a pattern file is data written as Python
+    if "PATTERN" in data:  # a plain 256-test table (older or candidate patterns)
+        return np.array(data["PATTERN"], dtype=np.int64)
     if path.resolve() == LIVE.resolve():  # the live orbit pattern: its sector-0 table at 32 sectors
         from golden_model.pattern import rotated_patterns
 

@@ -15,12 +15,10 @@ from pathlib import Path
 import numpy as np
 
 HERE = Path(__file__).resolve().parent
-sys.path.insert(0, str(HERE))
-import lib  # noqa: E402
-import photos  # noqa: E402
-from variants import VARIANTS  # noqa: E402
+from orb_tools import scale_bench as sb
 
-from orb_tools import scale_bench as sb  # noqa: E402
+from . import lib, photos
+from .variants import VARIANTS
 
 
 def cv_default(img, n):

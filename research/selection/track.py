@@ -1,6 +1,6 @@
 """Tracking benchmark of selection variants on synthetic camera-motion clips (issue 24 research).
 
-PYTHONPATH=sw:.:research/selection .venv/bin/python research/selection/track.py VARIANT...
+.venv/bin/python -m research.selection.track VARIANT...   (from the repository root)
 """
 
 from __future__ import annotations
@@ -16,12 +16,10 @@ import cv2
 import numpy as np
 
 HERE = Path(__file__).resolve().parent
-sys.path.insert(0, str(HERE))
-import lib  # noqa: E402
-import photos  # noqa: E402
-from variants import VARIANTS  # noqa: E402
+from orb_tools import scale_bench as sb
 
-from orb_tools import scale_bench as sb  # noqa: E402
+from . import lib, photos
+from .variants import VARIANTS
 
 
 def clip(img: np.ndarray, frames: int, seed: int, w: int = 640, h: int = 480) -> list[np.ndarray]:

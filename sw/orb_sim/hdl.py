@@ -3,16 +3,50 @@
 
 The one list of sources that simulation, lint, the synthesis estimate, the FuseSoC core and the
 Vivado TCL read. One entity (or package) per file, named after the file.
+
+Where the HDL is (docs/conventions.md, "The installed package"), one rule: when this module runs
+from a source checkout (sw/orb_sim/hdl.py with hdl/manifest.txt two folders up: `make setup`'s
+editable install, PYTHONPATH=sw), the checkout's hdl/; otherwise (an installed wheel) the copy the
+wheel carries as package data, orb_sim/data/hdl/ (hdl/manifest.txt and every hdl/*/*.vhd).
+Outputs (simulation builds, the fast path's libraries) go to BUILD: the checkout's build/, or for
+an installed package $XDG_CACHE_HOME/orb-accel (~/.cache/orb-accel); ORB_ACCEL_BUILD overrides both.
 """
 
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass
+from importlib.resources import files
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[2]
+
+def _checkout() -> Path | None:
+    """The source checkout this module runs from, or None for an installed package."""
+    root = Path(__file__).resolve().parents[2]
+    here = Path(__file__).resolve().parent
+    return root if here == root / "sw" / "orb_sim" and (root / "hdl" / "manifest.txt").is_file() else None
+
+
+def _package_data() -> Path:
+    """orb_sim/data, where the wheel puts hdl/ (a folder on disk: GHDL and Verilator read the files)."""
+    return Path(str(files(__package__ or "orb_sim") / "data"))
+
+
+CHECKOUT = _checkout()
+ROOT = CHECKOUT if CHECKOUT is not None else _package_data()  # the folder holding hdl/
 HDL = ROOT / "hdl"
 MANIFEST = HDL / "manifest.txt"
+
+
+def _build() -> Path:
+    if os.environ.get("ORB_ACCEL_BUILD"):
+        return Path(os.environ["ORB_ACCEL_BUILD"]).resolve()
+    if CHECKOUT is not None:
+        return CHECKOUT / "build"
+    return Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "orb-accel"
+
+
+BUILD = _build()
 
 
 @dataclass(frozen=True)

@@ -8,7 +8,8 @@ luma, or 24-bit RGB for a colour array), and the driver reads the features back 
 feature memory (MEM_DEPTH_g = 4096 slots per bank: a frame with more than 4,095 features is
 truncated, and the report says how many). `top="core"` runs orb_core alone (orb_sim.jobs.
 core_job: its feature stream monitored directly; the simulation-speed benchmark uses it). Needs
-the source checkout (hdl/) and GHDL; generics come from the image size and the options.
+the HDL (the checkout's hdl/, or the copy an installed wheel carries: orb_sim.hdl) and GHDL;
+generics come from the image size and the options.
 """
 
 from __future__ import annotations
@@ -25,12 +26,12 @@ from golden_model.features import Features, read_csv
 from golden_model.overlay import marker_block_log2
 
 from .core_inputs import selection_text
-from .hdl import HDL, MANIFEST, ROOT
+from .hdl import BUILD, HDL, MANIFEST
 from .runner import ToolMissing, run
 
 
 class RtlUnavailable(RuntimeError):
-    """The RTL backend cannot run here (no source checkout, no simulator, a failed simulation)."""
+    """The RTL backend cannot run here (no HDL, no simulator, a failed simulation)."""
 
 
 # feature slots per bank of the simulated orb_accel_top when not told: the recommended configuration's
@@ -40,7 +41,7 @@ ACCEL_MEM_DEPTH = named(RECOMMENDED_NAME).mem_depth
 def _simulate(toplevel: str, module: str, generics: dict, env: dict[str, str], log: Path) -> None:
     """Run a job module of orb_sim.jobs on an RTL top; RtlUnavailable when it cannot."""
     if not MANIFEST.is_file():
-        raise RtlUnavailable(f"the RTL backend needs the source checkout ({HDL} with its manifest)")
+        raise RtlUnavailable(f"the RTL backend needs the HDL ({HDL} with its manifest)")
     log.parent.mkdir(parents=True, exist_ok=True)
     try:
         run(toplevel, module, generics, env=env, log_file=log)
@@ -101,7 +102,7 @@ def extract_rtl(img: np.ndarray, cfg: Config, log_dir: Path | None = None, top: 
     the accelerator top. `top`: "accel" (orb_accel_top) or "core" (orb_core)."""
     if top not in ("accel", "core"):
         raise ValueError(f"unknown RTL top {top!r} (accel or core)")
-    log = (log_dir or ROOT / "build" / "rtl") / "sim.log"
+    log = (log_dir or BUILD / "rtl") / "sim.log"
     what = f"{cfg.width}x{cfg.height}, {cfg.scales} scale(s), {cfg.mode} mode"
     toplevel = "orb_accel_top" if top == "accel" else "orb_core"
     print(f"simulating {toplevel} {what} in GHDL (log: {log}) ...", flush=True)

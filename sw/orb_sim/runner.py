@@ -22,10 +22,11 @@ import shutil
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
-from .hdl import ROOT, packages, sources
+from .hdl import BUILD as BUILD_ROOT
+from .hdl import packages, sources
 from .netlist import synth_netlist
 
-BUILD = ROOT / "build" / "sim_build"
+BUILD = BUILD_ROOT / "sim_build"
 
 
 class ToolMissing(RuntimeError):

@@ -102,7 +102,7 @@ class SimServer:
     def start(self, timeout_s: float = 900.0) -> str:
         """Build and start the simulation; returns its address once it listens."""
         if not MANIFEST.is_file():
-            raise SimServerError(f"the simulator needs the source checkout ({MANIFEST} is missing)")
+            raise SimServerError(f"the simulator needs the HDL ({MANIFEST} is missing)")
         if self.job is None:
             self._tmp = tempfile.TemporaryDirectory(prefix="orb-sim-server-")
             self.job = Path(self._tmp.name)

@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: MIT
 """GHDL's synthesised Verilog of a top (`ghdl synth --out=verilog`), repaired where GHDL 2.0's
 Verilog writer prints something that is not Verilog. One implementation for the two readers: the
-yosys estimate (scripts/flow/synth.py, docs/synthesis.md) and the fast simulation in Verilator
+yosys estimate (sw/orb_flow/synth.py, docs/synthesis.md) and the fast simulation in Verilator
 (orb_sim.fast, docs/fast-sim.md).
 
 Repairs, each recorded in the returned record's "workarounds":

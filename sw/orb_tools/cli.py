@@ -311,6 +311,9 @@ def build_parser() -> argparse.ArgumentParser:
     db.add_argument("--out-dir", type=Path, default=Path("build/density-bench"))
     _add_model_options(db)  # fmt: skip
     board_cli.add_parsers(sub)
+    # `make sim`: its options are orb_tools.sim_accel's own parser (main() hands the arguments on)
+    sub.add_parser("sim", add_help=False, help="the complete accelerator in GHDL (or Verilator: --fast) on one image, "
+                   "checked against the model (make sim; orb-accel sim --help)")  # fmt: skip
     return p
 
 
@@ -537,6 +540,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     from orb_sim.sim_server import SimServerError
 
     argv = list(sys.argv[1:] if argv is None else argv)
+    if argv[:1] == ["sim"]:
+        from . import sim_accel
+
+        return sim_accel.main(argv[1:])
     board_like = argv[:1] in (["board"], ["ros"], ["sim-server"], ["bag"], ["ros-env"])
     try:
         return _run(argv)

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: MIT
-"""Checks of scripts/board/bit2bin.py, the .bit -> byte-swapped .bit.bin converter for the Zynq
+"""Checks of sw/orb_flow/board/bit2bin.py, the .bit -> byte-swapped .bit.bin converter for the Zynq
 fpga_manager, on a synthetic .bit built here: header parsing, the word swap, the sync word, the CLI
 and the error messages on bad input."""
 
@@ -12,13 +12,9 @@ from pathlib import Path
 
 import pytest
 
-from orbtb.views import load_script
+from orb_flow.board import bit2bin as b2b
 
 ROOT = Path(__file__).resolve().parents[2]
-SCRIPT = ROOT / "scripts" / "board" / "bit2bin.py"
-
-
-b2b = load_script(SCRIPT)
 
 # raw configuration data as Vivado writes it (big-endian words)
 WORDS = [
@@ -134,7 +130,9 @@ def test_too_short_for_the_preamble() -> None:
 
 
 def run(*args: str) -> subprocess.CompletedProcess[str]:
-    return subprocess.run([sys.executable, str(SCRIPT), *args], capture_output=True, text=True, timeout=60)
+    return subprocess.run(
+        [sys.executable, "-m", "orb_flow.board.bit2bin", *args], capture_output=True, text=True, timeout=60
+    )
 
 
 def test_cli_converts_and_prints_one_line(tmp_path: Path) -> None:

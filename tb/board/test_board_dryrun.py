@@ -5,7 +5,7 @@
   carry the address map and the interrupt;
 - tclint passes over every TCL and XDC file with the Vivado command spec;
 - vivado/build.tcl runs in tclsh against the recording stubs for every configuration, with and
-  without board files, and every check of scripts/board/dryrun.py passes on the record (sources =
+  without board files, and every check of sw/orb_flow/board/dryrun.py passes on the record (sources =
   hdl/manifest.txt, accelerator ports read from the VHDL, IP facts, nets, pins = Digilent's master
   XDC, clocks, addresses, overlay, documented VLNVs); docs/board.md's table is this dry run;
 - the checks can fail: a wrong pin, a connection to a port the wrapper does not have, an
@@ -28,11 +28,11 @@ from pathlib import Path
 
 import pytest
 
-from orbtb.views import assert_view_fresh, load_script
+from orb_flow.board import dryrun
+from orb_flow.gen import board as gen_board
+from orbtb.views import assert_view_fresh
 
 ROOT = Path(__file__).resolve().parents[2]
-dryrun = load_script(ROOT / "scripts" / "board" / "dryrun.py")
-GEN = ROOT / "scripts" / "gen" / "gen_board.py"
 BOARD = json.loads((ROOT / "vivado" / "board.json").read_text())
 CONFIGS = list(BOARD["configs"])
 BOARD_PART = BOARD["vivado_boards"]["board_part"]
@@ -51,8 +51,8 @@ def need(tool: str, package: str) -> str:
     "view",
     ["vivado/gen/board.tcl", "docs/board-configs.md", *(f"vivado/linux/orb-accel-{c}.dtso" for c in CONFIGS)],
 )
-def test_board_views_fresh(view: str, tmp_path: Path) -> None:
-    assert_view_fresh(GEN, Path(view), ROOT, tmp_path)
+def test_board_views_fresh(view: str) -> None:
+    assert_view_fresh(gen_board, Path(view), ROOT)
 
 
 @pytest.mark.parametrize("config", CONFIGS)
@@ -72,7 +72,7 @@ def test_overlay_compiles_with_address_and_interrupt(config: str, tmp_path: Path
 
 
 def test_board_json_rules(tmp_path: Path) -> None:
-    gen = load_script(GEN)
+    gen = gen_board
     bad = json.loads(json.dumps(BOARD))
     bad["accel"]["range"] = "0x00080000"
     (tmp_path / "b.json").write_text(json.dumps(bad))
@@ -101,7 +101,7 @@ def test_board_json_rules(tmp_path: Path) -> None:
 def test_tclint_clean() -> None:
     tclint = Path(sys.executable).parent / "tclint"
     proc = subprocess.run(
-        [str(tclint), "vivado", "scripts/board/vivado_stub.tcl"], cwd=ROOT, capture_output=True, text=True
+        [str(tclint), "vivado", "sw/orb_flow/board/vivado_stub.tcl"], cwd=ROOT, capture_output=True, text=True
     )
     assert proc.returncode == 0, proc.stdout + proc.stderr
 
@@ -141,7 +141,7 @@ def test_dry_run_checks(config: str, board_files: bool, tmp_path: Path) -> None:
 def test_dry_run_table_in_docs(tmp_path: Path) -> None:
     need("tclsh", "tcl")
     doc = (ROOT / "docs" / "board.md").read_text()
-    assert dryrun.doc_section(doc) == dryrun.doc_table(), "docs/board.md: run scripts/board/dryrun.py --update-doc"
+    assert dryrun.doc_section(doc) == dryrun.doc_table(), "docs/board.md: run sw/orb_flow/board/dryrun.py --update-doc"
 
 
 def test_accel_sources_from_manifest(tmp_path: Path) -> None:
@@ -291,7 +291,7 @@ def test_manifest_reader_matches_python() -> None:
 def test_bitstream_without_vivado_stops_at_once(tmp_path: Path) -> None:
     env = {**os.environ, "VIVADO_LIBRARY": "", "PATH": "/usr/bin:/bin"}
     proc = subprocess.run(
-        [sys.executable, str(ROOT / "scripts" / "board" / "bitstream.py"), "--vivado", "no-vivado-here"],
+        [sys.executable, "-m", "orb_flow.board.bitstream", "--vivado", "no-vivado-here"],
         capture_output=True, text=True, env=env, timeout=30,
     )  # fmt: skip
     assert proc.returncode == 2

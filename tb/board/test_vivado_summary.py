@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: MIT
-"""Checks of scripts/board/vivado_summary.py on small report texts in the layouts Vivado writes
+"""Checks of sw/orb_flow/board/vivado_summary.py on small report texts in the layouts Vivado writes
 (report_utilization, report_timing_summary, report_power; the public examples are named in the
 script's docstring): the figures, the timing verdict and exit codes, a missing or unparsable report,
 and the yosys estimate beside Vivado's figures."""
@@ -14,13 +14,10 @@ from typing import Any
 
 import pytest
 
-from orbtb.views import load_script
+from orb_flow.board import vivado_summary as vs
 
 ROOT = Path(__file__).resolve().parents[2]
-SCRIPT = ROOT / "scripts" / "board" / "vivado_summary.py"
-
-
-vs = load_script(SCRIPT)
+COMMAND = [sys.executable, "-m", "orb_flow.board.vivado_summary"]
 
 # report_utilization, Vivado 2022+ layout (Fixed and Prohibited columns), placed design
 UTILIZATION = """\
@@ -398,13 +395,9 @@ def test_estimate_single_record_and_no_match() -> None:
 
 def test_cli_exit_codes_through_the_interpreter(tmp_path: Path) -> None:
     d = reports(tmp_path, tim=TIMING_HOLD_FAILS)
-    r = subprocess.run(
-        [sys.executable, str(SCRIPT), str(d), "--config", "640x480x2"], capture_output=True, text=True, timeout=60
-    )
+    r = subprocess.run([*COMMAND, str(d), "--config", "640x480x2"], capture_output=True, text=True, timeout=60)
     assert r.returncode == 1, r.stderr
     (d / "utilization.rpt").unlink()
-    r = subprocess.run(
-        [sys.executable, str(SCRIPT), str(d), "--config", "640x480x2"], capture_output=True, text=True, timeout=60
-    )
+    r = subprocess.run([*COMMAND, str(d), "--config", "640x480x2"], capture_output=True, text=True, timeout=60)
     assert r.returncode == 2
     assert r.stderr.startswith(f"error: {d / 'utilization.rpt'}: missing report")

@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: MIT
 """The configuration limits' generated views against their one definition, golden_model/data/limits.json.
 
-No simulator: scripts/gen/gen_limits.py regenerated into a temporary directory must give the committed
+No simulator: sw/orb_flow/gen/limits.py regenerated into a temporary directory must give the committed
 hdl/common/orb_limits_pkg.vhd, golden_model/limits.py and docs/limits.md byte for byte (a stale view
 fails); the generator must refuse inconsistent data; the VHDL constants, parsed from the text, must
 equal golden_model.limits; Config and the CLI's option checks must accept exactly the legal values
@@ -21,19 +21,18 @@ import re
 import subprocess
 from collections.abc import Callable
 from pathlib import Path
-from types import ModuleType
 from typing import Any
 
 import pytest
 
 from golden_model import limits
 from golden_model.config import Config, ConfigError
+from orb_flow.gen import limits as gen_limits
 from orbtb.runner import ghdl_path_env
-from orbtb.views import assert_view_fresh, load_script
+from orbtb.views import assert_view_fresh
 
 ROOT = Path(__file__).resolve().parents[2]
 HDL = ROOT / "hdl"
-SCRIPT = ROOT / "scripts" / "gen" / "gen_limits.py"
 DATA = ROOT / "golden_model" / "data" / "limits.json"
 VIEWS = (Path("hdl") / "common" / "orb_limits_pkg.vhd", Path("golden_model") / "limits.py", Path("docs") / "limits.md")
 RAW: dict[str, dict[str, Any]] = {r["name"]: r for r in json.loads(DATA.read_text())["limits"]}
@@ -45,10 +44,6 @@ STEP_PARTNER: dict[str, tuple[dict[str, int], Callable[[int], bool]]] = {
     "step_num": ({"step_den": 8}, lambda v: 8 < v <= 16),
     "step_den": ({"step_num": 5}, lambda v: v < 5 <= 2 * v),
 }
-
-
-def gen_module() -> ModuleType:
-    return load_script(SCRIPT)
 
 
 def legal_in_data(name: str, value: int) -> bool:
@@ -72,8 +67,8 @@ def probe(name: str) -> range:
 
 
 @pytest.mark.parametrize("view", VIEWS, ids=lambda p: p.name)
-def test_views_are_what_the_generator_writes(tmp_path: Path, view: Path) -> None:
-    assert_view_fresh(SCRIPT, view, ROOT, tmp_path)
+def test_views_are_what_the_generator_writes(view: Path) -> None:
+    assert_view_fresh(gen_limits, view, ROOT)
 
 
 def _broken(raw: dict, what: str) -> dict:
@@ -121,7 +116,7 @@ def _broken(raw: dict, what: str) -> dict:
     ],
 )
 def test_generator_refuses_inconsistent_data(tmp_path: Path, what: str) -> None:
-    gen = gen_module()
+    gen = gen_limits
     path = tmp_path / "limits.json"
     path.write_text(json.dumps(_broken(json.loads(DATA.read_text()), what)))
     with pytest.raises(gen.LimitsError):

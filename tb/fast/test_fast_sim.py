@@ -173,9 +173,8 @@ def test_fault_campaign_quick(photos: list[np.ndarray]) -> None:
 def test_make_sim_fast_and_cli(tmp_path: Path, photos: list[np.ndarray]) -> None:
     img = tmp_path / "photo.png"
     cv2.imwrite(str(img), cv2.cvtColor(photos[3], cv2.COLOR_RGB2BGR))
-    r = subprocess.run([sys.executable, str(ROOT / "scripts/flow/sim_accel.py"), "--fast", "--image", str(img),
-                        "--size", "native", "--out-dir", str(tmp_path / "sim")],
-                       capture_output=True, text=True, timeout=900)  # fmt: skip
+    r = subprocess.run([sys.executable, "-m", "orb_tools.cli", "sim", "--fast", "--image", str(img), "--size", "native",
+                        "--out-dir", str(tmp_path / "sim")], capture_output=True, text=True, timeout=900)  # fmt: skip
     assert r.returncode == 0, r.stdout + r.stderr
     report = json.loads((tmp_path / "sim" / "report.json").read_text())
     assert report["bit_exact"] and report["overlay_bit_exact"] and report["engine"] == "verilator-netlist"

@@ -1,32 +1,19 @@
 # SPDX-License-Identifier: MIT
-"""Fast checks of the synthesis-estimate flow (scripts/flow/synth.py) without running GHDL or yosys:
+"""Fast checks of the synthesis-estimate flow (sw/orb_flow/synth.py) without running GHDL or yosys:
 the expected-values comparison, the cache key, the committed expected values and the time estimates."""
 
 from __future__ import annotations
 
-import importlib.util
 import json
-import sys
 from pathlib import Path
-from types import ModuleType
 from typing import Any
 
 import pytest
 
+from orb_flow import synth
+from orb_flow.board import estimate
+
 ROOT = Path(__file__).resolve().parents[2]
-SCRIPT = ROOT / "scripts" / "flow" / "synth.py"
-
-
-def _load() -> ModuleType:
-    spec = importlib.util.spec_from_file_location("orb_synth_flow_script", SCRIPT)
-    assert spec is not None and spec.loader is not None
-    mod = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = mod  # dataclasses look their module up while the class is built
-    spec.loader.exec_module(mod)
-    return mod
-
-
-synth = _load()
 
 EXPECTED: dict[str, Any] = {
     "tolerance_pct": 2,
@@ -109,9 +96,7 @@ def test_expected_file_parses_and_names_known_jobs() -> None:
 
 def test_board_jobs_are_estimate_pys_runs() -> None:
     """make board-estimate runs exactly the jobs whose names synth_expected.json holds for the board."""
-    from orbtb.views import load_script
-
-    cmds = load_script(ROOT / "scripts" / "board" / "estimate.py").commands(2, False)
+    cmds = estimate.commands(2, False)
     names = set()
     for cmd in cmds:
         top = cmd[cmd.index("--top") + 1]

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: MIT
-"""The worst-paths report (scripts/flow/timing.py) against yosys's own `sta` on a small design.
+"""The worst-paths report (sw/orb_flow/timing.py) against yosys's own `sta` on a small design.
 
 A hand-written Verilog module with four kinds of path (a 16-bit adder: a carry chain; a 64:1
 multiplexer: LUT levels and MUXF7/F8; a 16x16 product: a DSP48E1 with its output register; a
@@ -14,16 +14,14 @@ from __future__ import annotations
 import re
 import shutil
 import subprocess
-import sys
 from pathlib import Path
 from typing import Any
 
 import pytest
 
+from orb_flow import synth, timing
+
 ROOT = Path(__file__).resolve().parents[2]
-sys.path.insert(0, str(ROOT / "scripts" / "flow"))
-import synth  # noqa: E402
-import timing  # noqa: E402
 
 TINY_V = """
 module tiny(input clk, input [15:0] a, input [15:0] b, input [5:0] sel, input [63:0] wide,

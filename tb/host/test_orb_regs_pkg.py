@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: MIT
 """The register map's generated views against their one definition, golden_model/data/regmap.json.
 
-No cocotb: scripts/gen/gen_regmap.py regenerated into a temporary directory must give the committed
+No cocotb: sw/orb_flow/gen/regmap.py regenerated into a temporary directory must give the committed
 hdl/host/orb_regs_pkg.vhd, golden_model/regs.py and docs/registers.md byte for byte (a stale view
 fails); the generator must refuse inconsistent data; the VHDL constants and the register-file tables
 REGS_c and REG_LIMITS_c, parsed from the text, must equal golden_model.regs; GHDL must synthesise
@@ -19,33 +19,33 @@ import re
 import subprocess
 import sys
 from pathlib import Path
-from types import ModuleType
 
 import pytest
 
 from golden_model import regs
 from golden_model.config import MODES
+from orb_flow.gen import regmap as gen_regmap
 from orbtb.runner import ghdl_path_env
-from orbtb.views import assert_deterministic, assert_view_fresh, load_script
+from orbtb.views import assert_deterministic, assert_view_fresh
 
 ROOT = Path(__file__).resolve().parents[2]
-SCRIPT = ROOT / "scripts" / "gen" / "gen_regmap.py"
 DATA = ROOT / "golden_model" / "data" / "regmap.json"
 VIEWS = (Path("hdl") / "host" / "orb_regs_pkg.vhd", Path("golden_model") / "regs.py", Path("docs") / "registers.md")
-GHDL_FILES = ("common/orb_limits_pkg.vhd", "host/orb_regs_pkg.vhd", "host/orb_axil_regs.vhd")  # hdl/, in order
-
-
-def gen_module() -> ModuleType:
-    return load_script(SCRIPT)
+GHDL_FILES = (
+    "common/orb_limits_pkg.vhd",
+    "host/orb_regs_types_pkg.vhd",
+    "host/orb_regs_pkg.vhd",
+    "host/orb_axil_regs.vhd",
+)
 
 
 @pytest.mark.parametrize("view", VIEWS, ids=lambda p: p.name)
-def test_views_are_what_the_generator_writes(tmp_path: Path, view: Path) -> None:
-    assert_view_fresh(SCRIPT, view, ROOT, tmp_path)
+def test_views_are_what_the_generator_writes(view: Path) -> None:
+    assert_view_fresh(gen_regmap, view, ROOT)
 
 
 def test_generator_is_deterministic(tmp_path: Path) -> None:
-    assert_deterministic(SCRIPT, VIEWS, tmp_path)
+    assert_deterministic(gen_regmap, VIEWS, tmp_path)
 
 
 def _broken(raw: dict, what: str) -> dict:
@@ -87,7 +87,7 @@ def _broken(raw: dict, what: str) -> dict:
     ],
 )
 def test_generator_refuses_inconsistent_data(tmp_path: Path, what: str) -> None:
-    gen = gen_module()
+    gen = gen_regmap
     path = tmp_path / "regmap.json"
     path.write_text(json.dumps(_broken(json.loads(DATA.read_text()), what)))
     with pytest.raises(gen.RegMapError):
@@ -326,7 +326,8 @@ def test_a_register_added_to_the_map_needs_no_decode_code(tmp_path: Path) -> Non
         },
     ]
     (tmp_path / "map.json").write_text(json.dumps(raw))
-    gen = [sys.executable, str(SCRIPT), "--data", str(tmp_path / "map.json"), "--out", str(tmp_path / "gen")]
+    gen = [sys.executable, "-m", "orb_flow.gen.regmap", "--data", str(tmp_path / "map.json"), "--out"]
+    gen.append(str(tmp_path / "gen"))
     subprocess.run(gen, check=True, capture_output=True)
     files = [str(tmp_path / "gen" / "hdl" / f if f.endswith("regs_pkg.vhd") else ROOT / "hdl" / f) for f in GHDL_FILES]
     (tmp_path / "tb.vhd").write_text(ADDED_TB)

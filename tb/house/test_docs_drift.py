@@ -72,6 +72,7 @@ def _subparsers(p: argparse.ArgumentParser) -> dict[str, argparse.ArgumentParser
 @cache
 def facts(root: Path = ROOT) -> Facts:
     from orb_tools.cli import build_parser
+    from orb_tools.sim_accel import build_parser as sim_parser
 
     limits = {d["name"]: d for d in json.loads((root / "golden_model/data/limits.json").read_text())["limits"]}
     mk = (root / "Makefile").read_text()
@@ -82,6 +83,7 @@ def facts(root: Path = ROOT) -> Facts:
         cli[name] = sp
         for sub, ssp in _subparsers(sp).items():
             cli[f"{name} {sub}"] = ssp
+    cli["sim"] = sim_parser()  # `orb-accel sim` hands its arguments to orb_tools.sim_accel's own parser
     configs = set(json.loads((root / "golden_model/data/configs.json").read_text())["configs"])
     board = set(json.loads((root / "vivado/board.json").read_text())["configs"])
     md = {p.name for p in root.glob("*.md")} | {p.name for p in (root / "docs").rglob("*.md")}

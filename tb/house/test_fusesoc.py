@@ -15,7 +15,6 @@ import pytest
 from orb_sim.hdl import ROOT, read_manifest
 
 CORE = ROOT / "orb_accel.core"
-GEN = ROOT / "scripts" / "gen" / "gen_core.py"
 FUSESOC = Path(sys.executable).with_name("fusesoc")
 
 
@@ -36,8 +35,8 @@ def cores(tmp_path: Path) -> Path:
 
 def test_core_is_what_the_generator_writes(tmp_path: Path) -> None:
     out = tmp_path / "orb_accel.core"
-    subprocess.run([sys.executable, str(GEN), "--out", str(out)], check=True, capture_output=True)
-    assert out.read_bytes() == CORE.read_bytes(), "orb_accel.core is stale: run scripts/gen/gen_core.py"
+    subprocess.run([sys.executable, "-m", "orb_flow.gen.core", "--out", str(out)], check=True, capture_output=True)
+    assert out.read_bytes() == CORE.read_bytes(), "orb_accel.core is stale: run `make views`"
 
 
 def test_core_lists_every_manifest_file_in_order() -> None:

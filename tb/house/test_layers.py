@@ -32,3 +32,24 @@ def test_nothing_outside_tb_reaches_into_tb() -> None:
             if re.search(r"(?m)^\s*(from|import)\s+orbtb\b", text) or re.search(r"""["']tb["']\s*\)""", text):
                 bad.append(str(f.relative_to(ROOT)))
     assert not bad, f"files outside tb/ that import orbtb or put tb/ on the path: {bad}"
+
+
+# the runtime needs of the ROS node: Debian's dist-packages appended for rospy, and the folder of the
+# messages it generates at run time put first (sw/orb_ros/msgs.py)
+SYS_PATH_ALLOWED = {"sw/orb_ros/msgs.py": 2}
+
+
+def test_no_sys_path_inserts_or_loaded_scripts() -> None:
+    """Code imports code as packages: no sys.path insert (python -m, a package, relative imports)
+    and no script loaded from its file (orb_flow's modules import normally)."""
+    bad = []
+    for folder in ("golden_model", "sw", "scripts", "research", "vivado", "tb"):
+        for f in sorted((ROOT / folder).rglob("*.py")):
+            rel = str(f.relative_to(ROOT))
+            if rel == "tb/house/test_layers.py":
+                continue
+            text = f.read_text()
+            n = len(re.findall(r"sys\.path\.(insert|append)\(|spec_from_file_location|load_script", text))
+            if n > SYS_PATH_ALLOWED.get(rel, 0):
+                bad.append(rel)
+    assert not bad, f"sys.path inserts or scripts loaded from their files: {bad}"

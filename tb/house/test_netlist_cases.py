@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: MIT
-"""The cases of scripts/flow/netlist_sim.py (`make netlist-sim`) name pytest nodes that exist and
+"""The cases of sw/orb_flow/netlist_sim.py (`make netlist-sim`) name pytest nodes that exist and
 entities of the manifest: a renamed test or parameter fails here, not in a 15-minute run."""
 
 from __future__ import annotations
@@ -7,13 +7,12 @@ from __future__ import annotations
 import subprocess
 import sys
 
+from orb_flow import netlist_sim
 from orb_sim.hdl import ROOT, entities
-from orbtb.views import load_script
 
 
 def test_netlist_cases_name_real_tests_and_entities() -> None:
-    mod = load_script(ROOT / "scripts" / "flow" / "netlist_sim.py")
-    cases = list(mod.CASES)
+    cases = list(netlist_sim.CASES)
     assert cases, "no netlist cases"
     unknown = sorted({c.entity for c in cases} - set(entities()))
     assert not unknown, f"netlist cases of entities not in the manifest: {unknown}"

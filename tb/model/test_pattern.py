@@ -177,7 +177,7 @@ def test_seed_count_must_fill_256_tests() -> None:
 
 def test_pattern_data_is_what_the_generator_writes(tmp_path: Path) -> None:
     out = tmp_path / "pattern_data.py"
-    subprocess.run([sys.executable, str(ROOT / "scripts" / "gen" / "gen_pattern.py"), "--out", str(out)], check=True)
+    subprocess.run([sys.executable, "-m", "orb_flow.gen.pattern", "--out", str(out)], check=True)
     committed = (ROOT / "golden_model" / "pattern_data.py").read_bytes()
     assert out.read_bytes() == committed, "golden_model/pattern_data.py is stale: run `make pattern`"
 

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: MIT
-"""`make sim`'s script (scripts/flow/sim_accel.py) end to end on a small colour photograph (in GHDL,
+"""`make sim`'s command (`orb-accel sim`, sw/orb_tools/sim_accel.py) end to end on a small colour photograph (in GHDL,
 and with `--fast`) and on a bad argument: the report says bit-exact (features and overlay),
 nothing lost, one clock per pixel, and the features CSV equals the model's (the grid selection;
 every feature with a small bank: the truncation reported and the stored features checked against
@@ -22,16 +22,15 @@ from golden_model.luma import rgb_to_luma
 from golden_model.select import truncation_difference
 from orbtb.images import colour_photo
 
-ROOT = Path(__file__).resolve().parents[2]
+SIM = [sys.executable, "-m", "orb_tools.cli", "sim"]  # orb-accel sim, make sim's command
 
 
 def _sim(tmp_path: Path, rgb, *extra: str) -> tuple[Path, dict]:
     image = tmp_path / "coffee.png"
     cv2.imwrite(str(image), cv2.cvtColor(rgb, cv2.COLOR_RGB2BGR))
     out = tmp_path / "sim"
-    cmd = [sys.executable, str(ROOT / "scripts" / "flow" / "sim_accel.py"), "--image", str(image), "--size", "native",
-           "--scales", "3", "--step", "5:4", "--sectors", "16", "--threshold", "15",
-           "--out-dir", str(out), *extra]  # fmt: skip
+    cmd = [*SIM, "--image", str(image), "--size", "native", "--scales", "3",
+           "--step", "5:4", "--sectors", "16", "--threshold", "15", "--out-dir", str(out), *extra]  # fmt: skip
     done = subprocess.run(cmd, capture_output=True, text=True, timeout=900)
     assert done.returncode == 0, done.stdout + done.stderr
     return out, json.loads((out / "report.json").read_text())
@@ -72,10 +71,9 @@ def test_sim_accel_every_feature_truncated(tmp_path: Path) -> None:
 
 
 def test_sim_accel_bad_arguments(tmp_path: Path) -> None:
-    script = str(ROOT / "scripts" / "flow" / "sim_accel.py")
-    missing = subprocess.run([sys.executable, script, "--image", str(tmp_path / "none.png"), "--out-dir",
+    missing = subprocess.run([*SIM, "--image", str(tmp_path / "none.png"), "--out-dir",
                               str(tmp_path)], capture_output=True, text=True, timeout=120)  # fmt: skip
     assert missing.returncode == 2 and "no such file" in missing.stderr, missing.stderr
-    bad = subprocess.run([sys.executable, script, "--sectors", "12", "--out-dir", str(tmp_path)],
+    bad = subprocess.run([*SIM, "--sectors", "12", "--out-dir", str(tmp_path)],
                          capture_output=True, text=True, timeout=120)  # fmt: skip
     assert bad.returncode == 2 and "error" in bad.stderr, bad.stderr

@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: MIT
 # Command-line arguments of vivado/build.tcl and the reader of hdl/manifest.txt (docs/board.md).
-# Plain TCL 8.6: also runs in tclsh (the dry run of scripts/board/dryrun.py).
+# Plain TCL 8.6: also runs in tclsh (the dry run of sw/orb_flow/board/dryrun.py).
 
 proc orb_usage {} {
   return "usage: build.tcl --config NAME --vivado-library DIR --out DIR\

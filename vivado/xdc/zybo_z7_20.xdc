@@ -4,7 +4,7 @@
 # commit are in vivado/facts/zybo_z7_master_xdc.json, and tb/board checks every line against them).
 # Port names are the block-design wrapper's: interface ports expand to <port>_<member>, so the
 # master XDC's hdmi_rx_p[0] is hdmi_rx_data_p[0] here and hdmi_rx_scl is hdmi_rx_ddc_scl_io (the
-# names Digilent's own HDMI demo uses); scripts/board/dryrun.py maps them back for the check.
+# names Digilent's own HDMI demo uses); sw/orb_flow/board/dryrun.py maps them back for the check.
 
 ## HDMI RX (J10 "HDMI IN"): TMDS in bank 34
 set_property -dict { PACKAGE_PIN U18 IOSTANDARD TMDS_33 } [get_ports { hdmi_rx_clk_p }]

@@ -2,7 +2,7 @@
 """Generate the docs' results tables from the measurement records, the one place of every figure.
 
 The records: docs/results/eval.json and docs/results/sim.json (written by orb_flow.record from the
-benches' and make sim's outputs) and scripts/flow/synth_expected.json (the synthesis estimates,
+benches' and make sim's outputs) and sw/orb_flow/synth_expected.json (the synthesis estimates,
 written by make synth). Each table sits in a page between the lines
 ``<!-- generated: NAME (orb_flow.gen.results) -->`` and ``<!-- end generated -->``; this module
 replaces what is between them and leaves the rest of the page alone. A page that lacks a
@@ -23,7 +23,7 @@ ROOT = Path(__file__).resolve().parents[3]
 GENERATOR = "orb_flow.gen.results"
 BEGIN = "<!-- generated: {name} (" + GENERATOR + ") -->"
 END = "<!-- end generated -->"
-SYNTH = Path("scripts") / "flow" / "synth_expected.json"
+SYNTH = Path("sw") / "orb_flow" / "synth_expected.json"
 BOARD = Path("vivado") / "board.json"
 XC7Z020 = {"lut": 53200, "ff": 106400, "bram36": 140, "dsp": 220}  # the device's resources (DS190)
 

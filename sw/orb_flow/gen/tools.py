@@ -2,7 +2,7 @@
 """Generate docs/tools.md: every tool version the project names, in one place, from the files that
 hold them (pyproject.toml's requirements, .ci/run's and sw/orb_ros/debian-packages.txt's Debian
 packages, vivado/board.json's Vivado release and Digilent repositories, the IP facts of
-vivado/facts/ip/ and the tools each expected synthesis figure of scripts/flow/synth_expected.json
+vivado/facts/ip/ and the tools each expected synthesis figure of sw/orb_flow/synth_expected.json
 was measured with). The page says which versions are pinned and which are whatever is installed.
 
 A generated view: committed, byte-checked by tb/house/test_docs_gen.py. It holds no version of
@@ -33,7 +33,7 @@ SOURCES = (
     "sw/orb_ros/debian-packages.txt",
     "vivado/board.json",
     "vivado/facts/ip/*.json",
-    "scripts/flow/synth_expected.json",
+    "sw/orb_flow/synth_expected.json",
 )
 
 _REQ = re.compile(r"^(?P<name>[A-Za-z0-9_.-]+)(?:\[(?P<extras>[^\]]*)\])?\s*(?P<spec>[^;#]*)")
@@ -127,7 +127,7 @@ def render(root: Path) -> dict[Path, str]:
     board = json.loads((root / "vivado" / "board.json").read_text())
     facts = [json.loads(p.read_text()) for p in sorted((root / "vivado" / "facts" / "ip").glob("*.json"))]
     tcl = "\n".join(p.read_text() for p in sorted((root / "vivado" / "lib").glob("*.tcl")))
-    expected = json.loads((root / "scripts" / "flow" / "synth_expected.json").read_text())
+    expected = json.loads((root / "sw" / "orb_flow" / "synth_expected.json").read_text())
     sources = ", ".join(f"`{s}`" for s in SOURCES)
     out = [
         "# Tool versions",
@@ -163,7 +163,7 @@ def render(root: Path) -> dict[Path, str]:
         "|---|---|---|",
         *vivado_rows(board, facts, tcl),
         "",
-        "## What the recorded figures were measured with (`scripts/flow/synth_expected.json`)",
+        "## What the recorded figures were measured with (`sw/orb_flow/synth_expected.json`)",
         "",
         "The expected synthesis estimates of `make synth` and the board configurations, by the tools",
         "each entry records (`measured.tools`):",

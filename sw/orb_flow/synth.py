@@ -27,7 +27,7 @@ Results: build/synth/report.json (one record per top and configuration; records 
 already there are kept) and build/synth/report.md (table), both rewritten as soon as a pass of a
 job finishes, not at the end.
 
-Expected values: scripts/flow/synth_expected.json holds, per "<top> <W>x<H>x<S>", the lut, ff,
+Expected values: sw/orb_flow/synth_expected.json holds, per "<top> <W>x<H>x<S>", the lut, ff,
 bram36, dsp (and optionally logic_delay_ns) measured at a given commit, and a tolerance in percent.
 Every record produced or reused is compared against them; a figure outside the tolerance (higher:
 a regression; lower: an improvement, or logic optimised away; either way the expectation is out of
@@ -50,7 +50,7 @@ Work-arounds for tool bugs, each recorded in the record's "workarounds" list:
     every carry chain; the cell models are read again with their specify blocks before `sta`.
     LUT-RAM cells stay untimed (listed in the record's sta.untimed_cell_types).
 
-Usage: scripts/flow/synth.py [--top T] [--config WxHxS ...] [--sta] [--jobs N] [--timeout S] [--out D]
+Usage: python3 -m orb_flow.synth [--top T] [--config WxHxS ...] [--sta] [--jobs N] [--timeout S] [--out D]
 """
 
 from __future__ import annotations
@@ -73,14 +73,11 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-ROOT = Path(__file__).resolve().parents[2]
-# orb_sim of this checkout, also with a plain python3 (make synth needs no `make setup`)
-sys.path.insert(0, str(ROOT / "sw"))
-from orb_sim.hdl import sources  # noqa: E402  (the one list of hdl files: hdl/manifest.txt)
-from orb_sim.verilog_netlist import VerilogError, ghdl_verilog  # noqa: E402  (GHDL's Verilog, repaired)
+from orb_flow import timing  # the worst-paths report of the timing pass's netlist
+from orb_sim.hdl import sources  # the one list of hdl files: hdl/manifest.txt
+from orb_sim.verilog_netlist import VerilogError, ghdl_verilog  # GHDL's Verilog, repaired
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import timing  # noqa: E402  (the worst-paths report of the timing pass's netlist)
+ROOT = Path(__file__).resolve().parents[2]
 
 OUT = ROOT / "build" / "synth"
 EXPECTED = Path(__file__).resolve().with_name("synth_expected.json")
@@ -241,7 +238,7 @@ def parse_job_name(name: str) -> Job:
 
 
 def board_jobs() -> list[Job]:
-    """The board's configurations (vivado/board.json) as scripts/board/estimate.py runs them: the
+    """The board's configurations (vivado/board.json) as sw/orb_flow/board/estimate.py runs them: the
     whole accelerator orb_accel_zynq with each configuration's generics, those equal to the top's
     defaults left out (so the names and the cache keys are estimate.py's)."""
     board = json.loads((ROOT / "vivado" / "board.json").read_text())
@@ -502,7 +499,7 @@ def synth_sta(yosys: str, top: str, cdir: Path, rec: dict[str, Any], timeout: fl
 
 
 def timing_report(top: str, cdir: Path, rec: dict[str, Any]) -> None:
-    """The worst paths of the timing pass's netlist (scripts/flow/timing.py): timing.json and
+    """The worst paths of the timing pass's netlist (sw/orb_flow/timing.py): timing.json and
     timing.md in the job's directory, and in the record the ten worst paths (distinct endpoint
     registers) with their logic depth, the worst per block, and the endpoint bits over the goal."""
     rep = timing.report(timing.load(cdir / "net.json", top), TIMING_GOAL_NS, 10)
@@ -777,7 +774,7 @@ def main(argv: list[str] | None = None) -> int:
     started = datetime.datetime.now().astimezone()
     date = started.strftime("%Y-%m-%d")
     t_start = time.monotonic()
-    cmd = "scripts/flow/synth.py " + " ".join(argv if argv is not None else sys.argv[1:])
+    cmd = "python3 -m orb_flow.synth " + " ".join(argv if argv is not None else sys.argv[1:])
     wanted = ["stat", *(["sta"] if args.sta else [])]
     run = Run(
         args.out,

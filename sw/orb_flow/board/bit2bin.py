@@ -16,8 +16,8 @@ so that the bytes 66 55 99 AA appear at a 4-byte aligned offset, and a length th
 of 4. This script checks the header and the raw data, swaps the words and writes the result.
 
 Usage:
-    python3 scripts/board/bit2bin.py IN.bit OUT.bit.bin
-    python3 scripts/board/bit2bin.py --check FILE.bit.bin
+    python3 sw/orb_flow/board/bit2bin.py IN.bit OUT.bit.bin
+    python3 sw/orb_flow/board/bit2bin.py --check FILE.bit.bin
 
 Prints one line (design, part, byte count, or the sync word's offset for --check); on bad input
 prints one line `error: ...` to stderr and exits 1.

@@ -8,7 +8,7 @@ golden_model/regs.py (the same as Python dataclasses for the
 on-target driver and the testbenches) and docs/registers.md (the table). Deterministic: the same
 data gives byte-identical files. The data is checked first (aligned unique offsets below MEM_BASE,
 fields inside 32 bits and not overlapping, resets and maxima that fit their fields, known reset
-names). Usage: scripts/gen/gen_regmap.py [--out DIR] (DIR gets hdl/, golden_model/ and docs/ below it;
+names). Usage: python3 -m orb_flow.gen.regmap [--out DIR] (DIR gets hdl/, golden_model/ and docs/ below it;
 default: the repository; tb/host/test_orb_regs_pkg.py regenerates into a temporary directory).
 """
 
@@ -19,9 +19,10 @@ import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from orb_tools.codegen import align_colons, generator_main, pystr
+from golden_model._fields import RegField, Register
+from orb_flow.gen.codegen import align_colons, generator_main, pystr, render_views
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 DATA = ROOT / "golden_model" / "data" / "regmap.json"
 OUTPUTS = {
     "vhdl": Path("hdl") / "host" / "orb_regs_pkg.vhd",
@@ -44,47 +45,25 @@ class Const:
 
 
 @dataclass(frozen=True)
-class Fld:
-    name: str
-    msb: int
-    lsb: int
-    reset: int | str  # an integer, a constant's name or a generic's name (ending _g)
-    description: str
-    port: str | None = None
-    max: int | None = None
-    pulse: bool = False
+class Fld(RegField):
+    """A field of the data (golden_model._fields.RegField, the class of the view): its reset is an
+    integer, a constant's name or a generic's name (ending _g); values names some of its values;
+    max_generic: the largest legal written value is this generic of orb_axil_regs minus 1."""
+
+    reset: int | str  # type: ignore[assignment]
     values: dict[int, str] = field(default_factory=dict)
-    min: int | None = None
-    max_generic: str | None = None  # the largest legal written value is this generic of orb_axil_regs minus 1
 
     @property
     def limited(self) -> bool:
         """Whether a written value of this field is checked against a minimum or a maximum."""
         return self.max is not None or self.min is not None or self.max_generic is not None
 
-    @property
-    def width(self) -> int:
-        return self.msb - self.lsb + 1
-
-    @property
-    def mask(self) -> int:
-        return ((1 << self.width) - 1) << self.lsb
-
 
 @dataclass(frozen=True)
-class Reg:
-    name: str
-    offset: int
-    access: str
-    description: str
-    fields: tuple[Fld, ...]
+class Reg(Register):
+    """A register of the data (golden_model._fields.Register, the class of the view)."""
 
-    @property
-    def mask(self) -> int:
-        m = 0
-        for f in self.fields:
-            m |= f.mask
-        return m
+    fields: tuple[Fld, ...]  # type: ignore[assignment]
 
 
 @dataclass(frozen=True)
@@ -117,20 +96,21 @@ def load(path: Path = DATA) -> RegMap:
             values = {int(k): str(v) for k, v in f.get("values", {}).items()}
             fields.append(
                 Fld(
-                    f["name"],
-                    int(msb),
-                    int(lsb),
-                    f["reset"],
-                    str(f["description"]),
-                    f.get("port"),
-                    f.get("max"),
-                    bool(f.get("pulse", False)),
-                    values,
-                    f.get("min"),
-                    f.get("max_generic"),
+                    name=f["name"],
+                    lsb=int(lsb),
+                    width=int(msb) - int(lsb) + 1,
+                    reset=f["reset"],
+                    description=str(f["description"]),
+                    port=f.get("port"),
+                    max=f.get("max"),
+                    pulse=bool(f.get("pulse", False)),
+                    values=values,
+                    min=f.get("min"),
+                    max_generic=f.get("max_generic"),
                 )
             )
-        regs.append(Reg(r["name"], int(r["offset"]), r["access"], str(r["description"]), tuple(fields)))
+        regs.append(Reg(name=r["name"], offset=int(r["offset"]), access=r["access"], fields=tuple(fields),
+                        description=str(r["description"])))  # fmt: skip
     rm = RegMap(raw["name"], raw["description"], consts, tuple(raw.get("notes", ())), tuple(regs))
     check(rm)
     return rm
@@ -246,45 +226,8 @@ def pulse_mask(r: Reg) -> int:
     return m
 
 
-VHDL_TYPES = """\
-  -- The register file orb_axil_regs decodes: REGS_c(REG_<NAME>_IDX_c) describes register <NAME>:
-  -- offset, access, defined bits (mask), reset value of its stored bits or, for a ro register, the
-  -- constant value of its fields (reset; 0 in live fields), the bits that follow a generic or an
-  -- input port, wired by hand in orb_axil_regs (live), and the pulse fields, which read 0 (pulse).
-  -- REG_LIMITS_c lists the fields with a minimum or a maximum: a write of a value outside them
-  -- answers SLVERR (mask: the field's bits; min, max: the smallest and largest legal values in
-  -- place; depth: the largest legal value is MEM_DEPTH_g - 1 instead of max, which orb_axil_regs
-  -- puts in place with lsb; a map without such fields gets one entry with mask 0, which never
-  -- refuses).
-  type reg_access_t is (access_ro, access_rw, access_w1c, access_wo);
-
-  type reg_desc_t is record
-    offset : natural;
-    acc    : reg_access_t;
-    mask   : std_logic_vector(31 downto 0);
-    reset  : std_logic_vector(31 downto 0);
-    live   : std_logic_vector(31 downto 0);
-    pulse  : std_logic_vector(31 downto 0);
-  end record reg_desc_t;
-
-  type reg_desc_array_t is array (natural range <>) of reg_desc_t;
-
-  type reg_limit_t is record
-    reg   : natural;
-    mask  : std_logic_vector(31 downto 0);
-    min   : std_logic_vector(31 downto 0);
-    max   : std_logic_vector(31 downto 0);
-    depth : boolean;
-    lsb   : natural;
-  end record reg_limit_t;
-
-  type reg_limit_array_t is array (natural range <>) of reg_limit_t;
-"""
-
-
 def render_vhdl_tables(rm: RegMap) -> list[str]:
-    out = VHDL_TYPES.rstrip("\n").split("\n")
-    out += ["", f"  constant REG_COUNT_c : positive := {len(rm.registers)};", ""]
+    out = [f"  constant REG_COUNT_c : positive := {len(rm.registers)};", ""]
     out.append("  constant REGS_c : reg_desc_array_t(0 to REG_COUNT_c - 1) :=")
     out.append("  (")
     width = max(len(f"REG_{r.name}_IDX_c") for r in rm.registers)
@@ -325,11 +268,14 @@ def render_vhdl(rm: RegMap) -> str:
         "-- defined-bits mask REG_<NAME>_MASK_c and, when no field follows a generic or an input port,",
         "-- its reset value REG_<NAME>_RESET_c; per field <REG>_<FIELD>_LSB_c, _MSB_c, _RESET_c (integer",
         "-- or constant resets) and _MAX_c (largest legal written value). REGS_c and REG_LIMITS_c are",
-        "-- the tables orb_axil_regs decodes with, so a new register needs no decode code there.",
-        f"-- Generated by scripts/gen/gen_regmap.py from {SOURCE}: do not edit.",
+        "-- the tables orb_axil_regs decodes with, so a new register needs no decode code there; their",
+        "-- types are orb_regs_types_pkg's.",
+        f"-- Generated by sw/orb_flow/gen/regmap.py from {SOURCE}: do not edit.",
         "",
         "library ieee;",
         "use ieee.std_logic_1164.all;",
+        "",
+        "use work.orb_regs_types_pkg.all;",
         "",
         "package orb_regs_pkg is",
         "",
@@ -403,105 +349,13 @@ PY_HEADER = '''\
 # SPDX-License-Identifier: MIT
 """The accelerator's register map (docs/registers.md), for the on-target driver and the testbenches.
 
-Generated by scripts/gen/gen_regmap.py from golden_model/data/regmap.json: do not edit.
+Generated by sw/orb_flow/gen/regmap.py from golden_model/data/regmap.json: do not edit.
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping
-from dataclasses import dataclass
-
-'''
-
-PY_CLASSES = '''
-
-@dataclass(frozen=True)
-class Field:
-    """Bits lsb .. lsb + width - 1 of a register. reset is None when the value is a generic of
-    orb_axil_regs (generic names it); port names the input a ro field shows; min and max are the
-    smallest and largest legal written values (others answer SLVERR), max_generic a generic of
-    orb_axil_regs whose value minus 1 is the largest; pulse fields read 0."""
-
-    name: str
-    lsb: int
-    width: int
-    reset: int | None
-    description: str
-    generic: str | None = None
-    port: str | None = None
-    max: int | None = None
-    pulse: bool = False
-    min: int | None = None
-    max_generic: str | None = None
-
-    @property
-    def mask(self) -> int:
-        return ((1 << self.width) - 1) << self.lsb
-
-    def legal_value(self, value: int, generics: Mapping[str, int] | None = None) -> bool:
-        """Whether value may be written to this field (generics: NAME_g values for max_generic; a
-        missing one leaves only the field's width as the maximum)."""
-        top = (1 << self.width) - 1 if self.max is None else self.max
-        if self.max_generic is not None and generics is not None and self.max_generic in generics:
-            top = min(top, generics[self.max_generic] - 1)
-        return (self.min or 0) <= value <= top
-
-    def get(self, word: int) -> int:
-        """This field's value in a register word."""
-        return (word & self.mask) >> self.lsb
-
-    def put(self, value: int, word: int = 0) -> int:
-        """word with this field set to value."""
-        if not 0 <= value < 1 << self.width:
-            raise ValueError(f"{self.name}: {value} does not fit {self.width} bits")
-        return (word & ~self.mask) | (value << self.lsb)
-
-
-@dataclass(frozen=True)
-class Register:
-    """A 32-bit register at byte offset `offset`; access is ro, rw, w1c or wo."""
-
-    name: str
-    offset: int
-    access: str
-    fields: tuple[Field, ...]
-    description: str
-
-    @property
-    def mask(self) -> int:
-        """The defined bits (reserved bits read 0; setting one in a rw or wo write answers SLVERR)."""
-        m = 0
-        for f in self.fields:
-            m |= f.mask
-        return m
-
-    def field(self, name: str) -> Field:
-        for f in self.fields:
-            if f.name == name:
-                return f
-        raise KeyError(f"{self.name} has no field {name}")
-
-    def reset_value(self, generics: Mapping[str, int] | None = None, ports: Mapping[str, int] | None = None) -> int:
-        """The value read after reset; generic fields from `generics` (NAME_g keys), port fields
-        from `ports` (default 0), pulse fields read 0."""
-        word = 0
-        for f in self.fields:
-            if f.generic is not None:
-                value = (generics or {})[f.generic]
-            elif f.port is not None:
-                value = (ports or {}).get(f.port, 0)
-            else:
-                value = 0 if f.pulse else f.reset or 0
-            word |= (value << f.lsb) & f.mask
-        return word
-
-    def legal(self, word: int, generics: Mapping[str, int] | None = None) -> bool:
-        """Whether a rw or wo write of word is accepted (no reserved bit set, every field within its
-        minimum and maximum; generics: NAME_g values for the max_generic fields)."""
-        if word & ~self.mask & 0xFFFFFFFF:
-            return False
-        return all(f.legal_value(f.get(word), generics) for f in self.fields)
-
+from golden_model._fields import RegField as Field
+from golden_model._fields import Register
 '''
 
 
@@ -510,7 +364,6 @@ def render_python(rm: RegMap) -> str:
     for c in rm.constants:
         value = f"0x{c.value:X}" if c.hex else str(c.value)
         out.append(f"{c.name} = {value}  # {c.description}")
-    out.append(PY_CLASSES.rstrip("\n"))
     out.append("")
     for r in rm.registers:
         out.append("")
@@ -556,7 +409,7 @@ def render_markdown(rm: RegMap) -> str:
     out = [
         "# Registers of orb_axil_regs",
         "",
-        f"<!-- Generated by scripts/gen/gen_regmap.py from {SOURCE}: do not edit. -->",
+        f"<!-- Generated by sw/orb_flow/gen/regmap.py from {SOURCE}: do not edit. -->",
         "",
         rm.description,
         "The entity, its ports and the design decisions: [axil-regs.md](axil-regs.md).",
@@ -605,12 +458,16 @@ def render_markdown(rm: RegMap) -> str:
     return "\n".join(out)
 
 
-def render_all(rm: RegMap) -> dict[str, str]:
-    return {"vhdl": render_vhdl(rm), "python": render_python(rm), "markdown": render_markdown(rm)}
+RENDERERS = {"vhdl": render_vhdl, "python": render_python, "markdown": render_markdown}
+
+
+def render(root: Path = ROOT, data: Path | None = None) -> dict[Path, str]:
+    """The views of root's register map (or of `data`), keyed by their repository-relative paths."""
+    return render_views(load(data or root / SOURCE), OUTPUTS, RENDERERS)
 
 
 def main() -> None:
-    generator_main(__doc__ or "", "register map", DATA, ROOT, OUTPUTS, lambda data: render_all(load(data)))
+    generator_main(__doc__ or "", "register map", DATA, ROOT, lambda data: render(ROOT, data))
 
 
 if __name__ == "__main__":

@@ -1,6 +1,5 @@
-#!/usr/bin/env python3
 # SPDX-License-Identifier: MIT
-"""`make sim`: the complete accelerator (orb_accel_top) in GHDL on one image, driven as the CPU
+"""`make sim` (`orb-accel sim`): the complete accelerator (orb_accel_top) in GHDL on one image, driven as the CPU
 drives it: registers written and the features read back over AXI4-Lite from the feature memory.
 `--fast` (`make sim FAST=1`): the same on GHDL's synthesised netlist in Verilator
 (orb_sim.fast, docs/fast-sim.md), with the same outputs. `--video FILE` (`make sim VIDEO=...`):
@@ -32,6 +31,7 @@ import shutil
 import sys
 import threading
 import time
+from collections.abc import Sequence
 from pathlib import Path
 
 import cv2
@@ -60,8 +60,6 @@ from orb_sim.fast.sim import FastSimError
 from orb_sim.rtl_backend import RtlUnavailable, run_accel_job
 from orb_sim.runner import ToolMissing
 from orb_tools.images import load_rgb_or_grey
-
-ROOT = Path(__file__).resolve().parents[2]
 
 
 def progress_loop(path: Path, stop: threading.Event) -> None:
@@ -133,8 +131,10 @@ def compare(got: Features, img: np.ndarray, cfg: Config, truncated: int, capacit
     return first_difference(got, expected)
 
 
-def main() -> int:
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+def build_parser() -> argparse.ArgumentParser:
+    """The options of `orb-accel sim` (`make sim`)."""
+    ap = argparse.ArgumentParser(prog="orb-accel sim", description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)  # fmt: skip
     ap.add_argument("--image", type=Path, help="image file (default: the bundled 640x480 photograph)")
     ap.add_argument("--config", choices=NAMES,
                     help=f"a named configuration (docs/configurations.md), the image resized to its size; default: "
@@ -151,12 +151,16 @@ def main() -> int:
     ap.add_argument("--cells", help="grid: COLSxROWS cells over the frame")
     ap.add_argument("--mem-depth", type=int, help="slots per bank of the simulated accelerator")
     ap.add_argument("--threshold-lo", type=int, help="grid: low FAST threshold")
-    ap.add_argument("--out-dir", type=Path, default=ROOT / "build" / "sim")
+    ap.add_argument("--out-dir", type=Path, default=Path("build") / "sim")
     ap.add_argument("--fast", action="store_true", help="the netlist in Verilator instead of the RTL in GHDL")
     ap.add_argument("--seed", type=int, default=0, help="--fast: random initial state from this seed (0: zeros)")
     ap.add_argument("--video", type=Path, help="a video file: all its frames through the netlist (implies --fast)")
     ap.add_argument("--max-frames", type=int, default=300, help="--video: at most this many frames (300)")
-    args = ap.parse_args()
+    return ap
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
     if args.video is not None:
         return main_video(args)
     path = args.image or DEFAULT_IMAGE
@@ -296,7 +300,3 @@ def main_video(args: argparse.Namespace) -> int:
     print(f"{len(results)} of {n} frames published, {exact} bit-exact with the model, {report['features']} features; "
           f"{run['wall_s']} s ({run['clocks_per_s']:,} clocks/s) -> {out / 'report.json'}")  # fmt: skip
     return 0 if exact == n == len(results) else 1
-
-
-if __name__ == "__main__":
-    sys.exit(main())

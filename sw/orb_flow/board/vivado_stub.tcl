@@ -1,10 +1,10 @@
 # SPDX-License-Identifier: MIT
 # tclint-disable redefined-builtin
 # Recording stubs of the Vivado TCL commands that vivado/build.tcl uses, for a dry run in plain
-# tclsh (scripts/board/dryrun.py, docs/board.md "Checked without Vivado"). Each command checks its
+# tclsh (sw/orb_flow/board/dryrun.py, docs/board.md "Checked without Vivado"). Each command checks its
 # switches the way UG835 documents them (an unknown switch is an error), returns what the build
 # needs to go on (object names, "100%" for a run's PROGRESS, ...) and appends one JSON object per
-# call to the record file. Nothing here knows the design: the checks are in scripts/board/dryrun.py
+# call to the record file. Nothing here knows the design: the checks are in sw/orb_flow/board/dryrun.py
 # and tb/board, against facts read from the VHDL and from the IPs' published definitions.
 #
 # Settings before sourcing: ::orb_stub::record (path of the JSON-lines record), ::orb_stub::board_part
@@ -43,7 +43,7 @@ proc ::orb_stub::emit {cmd args} {
 }
 
 # Switches of each command from vivado/tclint/vivado_commands.json, the command spec tclint uses too
-# (::orb_stub::spec: command -> switch -> 1 takes a value / 0 flag, set by scripts/board/dryrun.py).
+# (::orb_stub::spec: command -> switch -> 1 takes a value / 0 flag, set by sw/orb_flow/board/dryrun.py).
 # Returns {opts positionals}.
 proc ::orb_stub::parse {cmd argv} {
   if {![dict exists $::orb_stub::spec $cmd]} {

@@ -1,11 +1,9 @@
 """Per-photograph pooled scores (full benchmark) of named variants and cv-default at their budget."""
 import sys
-from pathlib import Path
-sys.path.insert(0, str(Path(__file__).resolve().parent))
 import cv2, numpy as np
-import lib
 from orb_tools import scale_bench as sb
-from variants import VARIANTS
+from . import lib
+from .variants import VARIANTS
 for name in sys.argv[1:]:
     o = VARIANTS[name]
     out = []

@@ -3,11 +3,11 @@
 """HDL lint for hdl/: GHDL analysis and synthesis check, and the vsg style check.
 
 1. `ghdl -a --std=08` of every hdl/*.vhd (in sw/orb_sim/runner.py's dependency order; a file missing
-   from that list is reported, since the testbenches and scripts/flow/synth.py would not see it);
+   from that list is reported, since the testbenches and sw/orb_flow/synth.py would not see it);
 2. `ghdl synth --std=08 --out=none` of every entity on its own, with its default generics
    (packages are only analysed); fails on errors and on GHDL crashes, reports warnings;
 3. vsg with the repository's vsg.yaml over every file, all phases (-ap).
-Exit status 1 if any check failed. Usage: scripts/flow/lint_hdl.py [--no-ghdl] [--no-vsg]
+Exit status 1 if any check failed. Usage: python3 -m orb_flow.lint_hdl [--no-ghdl] [--no-vsg]
 """
 
 from __future__ import annotations

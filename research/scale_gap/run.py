@@ -1,9 +1,7 @@
-"""Run named variants: PYTHONPATH=sw:. .venv/bin/python research/scale-gap/run.py [--screen] NAME... (from the repository root)."""
+"""Run named variants: .venv/bin/python -m research.scale_gap.run [--screen] NAME... (from the repository root)."""
 import argparse, sys
-from pathlib import Path
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import lib
-from variants import VARIANTS
+from . import lib
+from .variants import VARIANTS
 
 ap = argparse.ArgumentParser()
 ap.add_argument("--screen", action="store_true", help="perspective 0 only")

@@ -40,9 +40,9 @@ The failing verdict "Timing constraints are not met." is the text that public bu
 for in routed timing summaries.
 
 Usage:
-    python3 scripts/board/vivado_summary.py REPORT_DIR --config NAME [--estimate ESTIMATE.json]
+    PYTHONPATH=sw python3 -m orb_flow.board.vivado_summary REPORT_DIR --config NAME [--estimate ESTIMATE.json]
                                             [--out summary.json]
---estimate takes a yosys estimate (scripts/flow/synth.py's report.json, a list of records, or one
+--estimate takes a yosys estimate (sw/orb_flow/synth.py's report.json, a list of records, or one
 record); the record whose <W>x<H>x<S> (and top, if NAME names one) matches NAME is kept, its lut,
 ff, bram36 and dsp written under "yosys_estimate". --out defaults to REPORT_DIR/summary.json.
 Exit status: 0 timing met, 1 timing not met, 2 a report (or the estimate) missing or unparsable,

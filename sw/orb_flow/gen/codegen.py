@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: MIT
-"""Shared helpers of the generators in scripts/gen/ (one source per shared fact, several views):
+"""Shared helpers of the generators in orb_flow.gen (one source per shared fact, several views):
 text formatting for the VHDL and Python views, and the common command line that writes every
 view of a source under a root folder (the repository, or a temporary folder for the byte checks
 of the tests)."""
@@ -10,6 +10,9 @@ import argparse
 import json
 from collections.abc import Callable, Mapping
 from pathlib import Path
+from typing import TypeVar
+
+T = TypeVar("T")
 
 
 def align_colons(lines: list[str]) -> list[str]:
@@ -40,20 +43,36 @@ def pystr(s: str) -> str:
     return json.dumps(s, ensure_ascii=False)
 
 
-def write_views(texts: Mapping[str, str], outputs: Mapping[str, Path], root: Path) -> None:
-    """Write each view `texts[key]` to root / outputs[key] (byte for byte, UTF-8)."""
-    for key, rel in outputs.items():
+def write_views(views: Mapping[Path, str], root: Path) -> None:
+    """Write each view (text keyed by its repository-relative path) under root, byte for byte, UTF-8."""
+    for rel, text in views.items():
         path = root / rel
         path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_bytes(texts[key].encode())
+        path.write_bytes(text.encode())
         print(f"wrote {path}")
 
 
-def generator_main(doc: str, what: str, data: Path, root: Path, outputs: Mapping[str, Path],
-                   render: Callable[[Path], Mapping[str, str]]) -> None:  # fmt: skip
-    """The command line of a generator: --data (the source) and --out (root of the views)."""
+def render_views(data: T, outputs: Mapping[str, Path], renderers: Mapping[str, Callable[[T], str]]) -> dict[Path, str]:
+    """The views of one source's loaded data: outputs[key] (a repository-relative path) gets
+    renderers[key](data)."""
+    return {outputs[key]: render(data) for key, render in renderers.items()}
+
+
+def file_main(doc: str, out: Path, text: Callable[[], str]) -> None:
+    """The command line of a generator of one file: --out FILE (default: the view in the repository)."""
+    ap = argparse.ArgumentParser(description=doc, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--out", type=Path, default=out, help="the file to write (default: the view in the repository)")
+    args = ap.parse_args()
+    args.out.write_text(text())
+    print(f"wrote {args.out}")
+
+
+def generator_main(doc: str, what: str, data: Path, root: Path,
+                   render: Callable[[Path], Mapping[Path, str]]) -> None:  # fmt: skip
+    """The command line of a generator: --data (the source) and --out (root of the views);
+    render(data) gives the views keyed by their repository-relative paths."""
     ap = argparse.ArgumentParser(description=doc.split("\n\n")[0])
     ap.add_argument("--data", type=Path, default=data, help=f"{what} data (JSON)")
     ap.add_argument("--out", type=Path, default=root, help="root directory of the outputs (default: the repository)")
     args = ap.parse_args()
-    write_views(render(args.data), outputs, args.out)
+    write_views(render(args.data), args.out)

@@ -6,12 +6,12 @@
    Digilent's vivado-library at VIVADO_LIBRARY (with the exact commands to fetch the pinned commit),
    a known configuration.
 2. vivado -mode batch -source vivado/build.tcl (log: build/vivado/<config>/vivado.log).
-3. scripts/board/bit2bin.py: the byte-swapped .bit.bin that Linux's fpga_manager loads.
+3. sw/orb_flow/board/bit2bin.py: the byte-swapped .bit.bin that Linux's fpga_manager loads.
 4. The yosys estimate of the same orb_accel_zynq (build/vivado/estimate/report.json, from
    `make board-estimate`) beside Vivado's figures, if it has been run.
-5. scripts/board/vivado_summary.py: summary.json, printed; exit 1 when timing is not met.
+5. sw/orb_flow/board/vivado_summary.py: summary.json, printed; exit 1 when timing is not met.
 
-Usage: scripts/board/bitstream.py [--config NAME] [--vivado-library DIR] [--board-repo DIR]
+Usage: python3 -m orb_flow.board.bitstream [--config NAME] [--vivado-library DIR] [--board-repo DIR]
        [--vivado PATH] [--jobs N]   (plain python3)
 """
 
@@ -26,7 +26,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 BOARD = ROOT / "vivado" / "board.json"
 OUT = ROOT / "build" / "vivado"
 ESTIMATE = OUT / "estimate" / "report.json"
@@ -105,11 +105,11 @@ def main(argv: list[str] | None = None) -> int:
         return 1
     base = f"{b['design_name']}_{args.config}"
     rc = subprocess.run(
-        [sys.executable, str(HERE / "bit2bin.py"), str(out / f"{base}.bit"), str(out / f"{base}.bit.bin")]
+        [sys.executable, "-m", "orb_flow.board.bit2bin", str(out / f"{base}.bit"), str(out / f"{base}.bit.bin")]
     )
     if rc.returncode != 0:
         return 1
-    summary = [sys.executable, str(HERE / "vivado_summary.py"), str(out / "reports"), "--config", args.config]
+    summary = [sys.executable, "-m", "orb_flow.board.vivado_summary", str(out / "reports"), "--config", args.config]
     summary += ["--out", str(out / "summary.json")]
     est = write_estimate(args.config, out / "estimate.json")
     if est is not None:

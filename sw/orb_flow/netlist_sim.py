@@ -14,7 +14,7 @@ ports exist there); they are listed in SKIPPED with the reason and printed as SK
 Results: a table on stdout, build/netlist_sim/report.md and report.json; one log per case in
 build/netlist_sim/logs/. Exit status 1 when a case fails.
 
-Usage: scripts/flow/netlist_sim.py [-k SUBSTRING ...] [--quick] [--rtl] [--timeout S] [--list]
+Usage: python3 -m orb_flow.netlist_sim [-k SUBSTRING ...] [--quick] [--rtl] [--timeout S] [--list]
   -k      run only the cases whose entity or test contains one of the substrings
   --quick leave out the cases marked slow (orb_desc_path, orb_accel_top: 6 to 8 minutes each)
   --rtl   also run each case on the RTL, for the time comparison

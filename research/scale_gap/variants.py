@@ -1,4 +1,4 @@
-from lib import Opt
+from .lib import Opt
 G7_64 = (5, 8, 12, 14, 12, 8, 5)      # ~ Gaussian sigma 2, 7 taps, sum 64
 G7_40 = (1, 4, 9, 12, 9, 4, 1)        # brief's suggestion, sum 40
 G7_32 = (2, 4, 6, 8, 6, 4, 2)         # sum 32
