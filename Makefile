@@ -41,7 +41,7 @@ help:
 	@echo "make views   regenerate every generated view from its data (orb_flow.gen.views; docs/conventions.md)"
 	@echo "make tools   which of ghdl, yosys, python3 are installed, and how to install the rest"
 	@echo "make docs    regenerate docs/entities/, docs/img/architecture.svg and docs/tools.md (orb_flow.gen)"
-	@echo "make bitstream  the Zybo Z7-20 design in Vivado (CONFIG=640x480|1280x720|1920x1080, VIVADO_LIBRARY=DIR,"
+	@echo "make bitstream  the Zybo Z7-20 design in Vivado (CONFIG=board-vga|board-720p|board-1080p, VIVADO_LIBRARY=DIR,"
 	@echo "             BOARD_REPO=DIR, VIVADO=; outputs in build/vivado/<config>; docs/board.md)"
 	@echo "make board-dryrun  the Vivado build's TCL in tclsh against recording stubs, checked, with its table"
 	@echo "make board-estimate  yosys estimate of orb_accel_zynq for each board configuration (slow, cached)"
@@ -170,8 +170,8 @@ docs: $(STAMP)
 	$(BIN)/python -m orb_flow.gen.architecture
 	$(BIN)/python -m orb_flow.gen.tools
 
-# The Zybo Z7-20 build (docs/board.md). CONFIG here is a board configuration (vivado/board.json), default
-# 1280x720; VIVADO_LIBRARY is a checkout of Digilent's vivado-library (the pinned commit is in board.json);
+# The Zybo Z7-20 build (docs/board.md). CONFIG is a board build's named configuration (board-vga,
+# board-720p, board-1080p; or its vivado/board.json key 640x480, ...), default board-720p; VIVADO_LIBRARY is a checkout of Digilent's vivado-library (the pinned commit is in board.json);
 # BOARD_REPO optionally Digilent's vivado-boards board_files. Plain python3: stops at once, one line, when
 # Vivado or the library is missing.
 VIVADO_LIBRARY ?=

@@ -76,7 +76,7 @@ CONFIGS: dict[str, dict[str, int | str | tuple[str, ...]]] = {
         "budget": 1000,
         "cols": 8,
         "rows": 6,
-        "used_by": ("make bitstream CONFIG=640x480",),
+        "used_by": ("make bitstream CONFIG=board-vga",),
         "verified_by": (
             "make board-estimate (yosys)",
             "make board-dryrun",
@@ -102,7 +102,7 @@ CONFIGS: dict[str, dict[str, int | str | tuple[str, ...]]] = {
         "budget": 1500,
         "cols": 8,
         "rows": 6,
-        "used_by": ("make bitstream (default)",),
+        "used_by": ("make bitstream (default, CONFIG=board-720p)",),
         "verified_by": (
             "make board-estimate (yosys)",
             "make board-dryrun",
@@ -129,7 +129,7 @@ CONFIGS: dict[str, dict[str, int | str | tuple[str, ...]]] = {
         "budget": 1023,
         "cols": 8,
         "rows": 6,
-        "used_by": ("make bitstream CONFIG=1920x1080",),
+        "used_by": ("make bitstream CONFIG=board-1080p",),
         "verified_by": (
             "make board-estimate (yosys)",
             "make board-dryrun",

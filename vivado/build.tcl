@@ -10,7 +10,7 @@
 #
 # vivado -mode batch -source vivado/build.tcl -tclargs --config 1280x720 --vivado-library DIR
 #        --out build/vivado/1280x720 [--board-repo DIR] [--jobs N] [--stop-after project|bd|synth]
-# `make bitstream CONFIG=1280x720 VIVADO_LIBRARY=DIR` runs this, then sw/orb_flow/board/bit2bin.py and
+# `make bitstream CONFIG=board-720p VIVADO_LIBRARY=DIR` runs this, then sw/orb_flow/board/bit2bin.py and
 # sw/orb_flow/board/vivado_summary.py.
 
 set orb_vivado_dir [file dirname [file normalize [info script]]]

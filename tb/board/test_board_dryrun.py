@@ -93,6 +93,15 @@ def test_board_json_rules(tmp_path: Path) -> None:
     (tmp_path / "b.json").write_text(json.dumps(bad))
     with pytest.raises(ValueError, match="640x480: block_log2: block size 8 too small for 5"):
         gen.load(tmp_path / "b.json")
+    bad = json.loads(json.dumps(BOARD))
+    bad["configs"]["640x480"]["sectors"] = 64  # the generics are the named configuration's
+    (tmp_path / "b.json").write_text(json.dumps(bad))
+    with pytest.raises(ValueError, match="640x480: sectors 64 is not board-vga's 32"):
+        gen.load(tmp_path / "b.json")
+    bad["configs"]["640x480"]["config"] = "board-qvga"
+    (tmp_path / "b.json").write_text(json.dumps(bad))
+    with pytest.raises(ValueError, match="640x480: 'config' must name a configuration"):
+        gen.load(tmp_path / "b.json")
 
 
 # --- tclint -----------------------------------------------------------------------------------------

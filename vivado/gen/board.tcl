@@ -21,6 +21,7 @@ namespace eval ::orb_board {
   ]
   variable configs [dict create \
     640x480 [dict create \
+      config board-vga \
       width 640 \
       height 480 \
       scales 4 \
@@ -37,6 +38,7 @@ namespace eval ::orb_board {
       patched_clk_range 1 \
     ] \
     1280x720 [dict create \
+      config board-720p \
       width 1280 \
       height 720 \
       scales 4 \
@@ -53,6 +55,7 @@ namespace eval ::orb_board {
       patched_clk_range 0 \
     ] \
     1920x1080 [dict create \
+      config board-1080p \
       width 1920 \
       height 1080 \
       scales 4 \

@@ -26,6 +26,8 @@ import sys
 from pathlib import Path
 from typing import Any
 
+from orb_flow.board import config_key
+
 ROOT = Path(__file__).resolve().parents[3]
 BOARD = ROOT / "vivado" / "board.json"
 OUT = ROOT / "build" / "vivado"
@@ -77,7 +79,8 @@ def write_estimate(config: str, path: Path) -> Path | None:
 def main(argv: list[str] | None = None) -> int:
     b = board()
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--config", default=b["default_config"], help=f"one of {', '.join(b['configs'])}")
+    names = ", ".join(f"{k} ({c['config']})" for k, c in b["configs"].items())
+    ap.add_argument("--config", default=b["default_config"], help=f"one of {names}: a size or its named configuration")
     ap.add_argument("--vivado-library", default=os.environ.get("VIVADO_LIBRARY", ""))
     ap.add_argument(
         "--board-repo", default=os.environ.get("BOARD_REPO", ""), help="Digilent vivado-boards/new/board_files"
@@ -85,6 +88,10 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--vivado", default=os.environ.get("VIVADO", "vivado"))
     ap.add_argument("--jobs", type=int, default=2)
     args = ap.parse_args(argv)
+    try:
+        args.config = config_key(b, args.config)
+    except ValueError:
+        pass  # missing() names the known ones
 
     stop = missing(args.config, args.vivado, args.vivado_library)
     if stop:

@@ -33,6 +33,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from orb_flow.board import config_key
+
 ROOT = Path(__file__).resolve().parents[3]
 VIVADO = ROOT / "vivado"
 STUB = Path(__file__).resolve().parent / "vivado_stub.tcl"
@@ -649,7 +651,11 @@ def main(argv: list[str] | None = None) -> int:
         update_doc()
         print(f"wrote the dry-run table of {BOARD_DOC.relative_to(ROOT)}")
         return 0
-    configs = args.config or list(board()["configs"])
+    try:
+        configs = [config_key(board(), c) for c in args.config] if args.config else list(board()["configs"])
+    except ValueError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
     part = board()["vivado_boards"]["board_part"] if args.board_files else ""
     failed = 0
     for cfg in configs:
