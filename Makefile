@@ -35,7 +35,7 @@ help:
 	@echo "make figures make eval, then copy its figures into docs/img (docs/img/README.md)"
 	@echo "make lint    ruff, the import-layer contracts (lint-imports); GHDL synth check and vsg style of hdl/"
 	@echo "make synth   LUT/FF/BRAM/DSP estimate of orb_core 640x480x1 + 1920x1080x2, checked (GHDL + yosys; 4-7 min, cached;"
-	@echo "             SIZE=1920x1080x2 TOP=orb_accel_top|orb_accel_zynq: also the logic-delay pass + worst paths (STA=0: not);"
+	@echo "             SIZE=1920x1080x2 or CONFIG=board-720p, TOP=orb_accel_top|orb_accel_zynq: also the logic-delay pass + worst paths (STA=0: not);"
 	@echo "             GENERICS=\"STEP_NUM_g=5 STEP_DEN_g=4 SECTORS_g=64\": more generics of the top)"
 	@echo "make netlist-sim  unit tests on GHDL's synthesised netlists (~15 min; K=entity, QUICK=1; docs/netlist-sim.md)"
 	@echo "make views   regenerate every generated view from its data (orb_flow.gen.views; docs/conventions.md)"
@@ -134,16 +134,18 @@ lint: $(STAMP)
 	$(BIN)/python -m orb_flow.board.dryrun
 
 # Resource estimate (GHDL + yosys, no Vivado; docs/synthesis.md), checked against sw/orb_flow/synth_expected.json.
-# SIZE=1920x1080x2 (WxHxSCALES, or a list) runs those sizes, TOP= another top; STA=1 adds the logic-delay pass
-# and its worst-paths report (build/synth/<top>/<config>/timing.md), the default when SIZE is given (STA=0: not);
+# SIZE=1920x1080x2 (WxHxSCALES, or a list) runs those sizes, CONFIG=board-720p (or a list) named configurations
+# (docs/configurations.md), TOP= another top; STA=1 adds the logic-delay pass and its worst-paths report
+# (build/synth/<top>/<config>/timing.md), the default when SIZE or CONFIG is given (STA=0: not);
 # GENERICS="STEP_NUM_g=5 STEP_DEN_g=4 SECTORS_g=64" sets more generics of the top (the recommended 1080p build).
 # Plain python3 (no `make setup` needed); records are cached under build/synth.
 TOP ?=
 GENERICS ?=
-STA ?= $(if $(SIZE),1,)
+STA ?= $(if $(SIZE)$(CONFIG),1,)
 synth:
 	@sh scripts/flow/check_tools.sh ghdl yosys python3
 	PYTHONPATH=sw $(PYTHON) -m orb_flow.synth --jobs $(JOBS) $(if $(TOP),--top $(TOP)) $(foreach c,$(SIZE),--config $(c)) \
+		$(foreach c,$(CONFIG),--named $(c)) \
 		$(foreach g,$(GENERICS),--generic $(g)) \
 		$(if $(filter 1 yes true,$(STA)),--sta)
 

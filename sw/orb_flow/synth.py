@@ -237,23 +237,33 @@ def parse_job_name(name: str) -> Job:
     return Job(j.top, j.cfg, tuple(parse_generic(g) for g in generics))
 
 
+def generics_job(top: str, c: dict[str, Any]) -> Job:
+    """A configuration's job (a board configuration of vivado/board.json or a named configuration of
+    golden_model/data/configs.json): WxHxS and MEM_DEPTH_g, and the generics that differ from the
+    tops' defaults (so that the names and the cache keys are sw/orb_flow/board/estimate.py's)."""
+    extra = [("MEM_DEPTH_g", str(c["mem_depth"]))]
+    if c["sectors"] != 32:
+        extra.append(("SECTORS_g", str(c["sectors"])))
+    if (c["step_num"], c["step_den"]) != (2, 1):
+        extra += [("STEP_NUM_g", str(c["step_num"])), ("STEP_DEN_g", str(c["step_den"]))]
+    if c["block_log2"] != 3:
+        extra.append(("BLOCK_LOG2_g", str(c["block_log2"])))
+    return Job(top, parse_config(f"{c['width']}x{c['height']}x{c['scales']}"), tuple(extra))
+
+
 def board_jobs() -> list[Job]:
     """The board's configurations (vivado/board.json) as sw/orb_flow/board/estimate.py runs them: the
-    whole accelerator orb_accel_zynq with each configuration's generics, those equal to the top's
-    defaults left out (so the names and the cache keys are estimate.py's)."""
+    whole accelerator orb_accel_zynq with each configuration's generics."""
     board = json.loads((ROOT / "vivado" / "board.json").read_text())
-    out = []
-    for c in board["configs"].values():
-        extra = [("MEM_DEPTH_g", str(c["mem_depth"]))]
-        if c["sectors"] != 32:
-            extra.append(("SECTORS_g", str(c["sectors"])))
-        if (c["step_num"], c["step_den"]) != (2, 1):
-            extra += [("STEP_NUM_g", str(c["step_num"])), ("STEP_DEN_g", str(c["step_den"]))]
-        if c["block_log2"] != 3:
-            extra.append(("BLOCK_LOG2_g", str(c["block_log2"])))
-        out.append(Job(board["accel"]["entity"], parse_config(f"{c['width']}x{c['height']}x{c['scales']}"),
-                       tuple(extra)))  # fmt: skip
-    return out
+    return [generics_job(board["accel"]["entity"], c) for c in board["configs"].values()]
+
+
+def named_job(top: str, name: str) -> Job:
+    """`--named NAME`: the named configuration's generics (docs/configurations.md) on `top`."""
+    configs = json.loads((ROOT / "golden_model" / "data" / "configs.json").read_text())["configs"]
+    if name not in configs:
+        raise ValueError(f"no configuration named {name!r}; known: {', '.join(configs)}")
+    return generics_job(top, configs[name])
 
 
 def cache_key(top: str, generics: dict[str, int | str], files: Sequence[Path], tools: dict[str, str]) -> str:
@@ -735,6 +745,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--top", choices=tuple(TOPS), default=DEFAULT_TOP, help=f"entity (default {DEFAULT_TOP}; {extra})")
     default_cfgs = ", ".join(c for _, c in DEFAULT_JOBS)
     ap.add_argument("--config", type=parse_config, action="append", help=f"WxHxS, repeatable (default: {default_cfgs})")
+    ap.add_argument("--named", action="append", metavar="NAME",
+                    help="a named configuration (docs/configurations.md): its WxHxS and generics")  # fmt: skip
     ap.add_argument(
         "--sta",
         action=argparse.BooleanOptionalAction,
@@ -760,12 +772,16 @@ def main(argv: list[str] | None = None) -> int:
     except (OSError, ValueError) as exc:
         print(f"error: expected values: {exc}", file=sys.stderr)
         return 2
-    default_set = not args.config and args.top == DEFAULT_TOP
-    jobs = (
-        [Job(args.top, c, tuple(args.generic)) for c in args.config]
-        if args.config
-        else [Job(args.top, job(t, c).cfg, tuple(args.generic)) for t, c in DEFAULT_JOBS]
-    )
+    default_set = not args.config and not args.named and args.top == DEFAULT_TOP
+    try:
+        named = [named_job(args.top, n) for n in args.named or ()]
+    except ValueError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+    named = [Job(j.top, j.cfg, tuple(dict([*j.extra, *args.generic]).items())) for j in named]
+    jobs = [Job(args.top, c, tuple(args.generic)) for c in args.config or ()] + named
+    if not jobs:
+        jobs = [Job(args.top, job(t, c).cfg, tuple(args.generic)) for t, c in DEFAULT_JOBS]
     jobs = list(dict.fromkeys(jobs))
     ghdl, yosys = find_tools()
     tools = {"ghdl": tool_version([ghdl, "--version"]), "yosys": tool_version([yosys, "-V"])}

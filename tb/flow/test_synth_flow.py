@@ -238,3 +238,15 @@ def test_parse_stat_and_counting() -> None:
     s = synth.summarise(synth.parse_stat(stat, "orb_core"))
     assert (s["lut"], s["lut_logic"], s["srl"], s["lutram"]) == (8, 3, 1, 4)
     assert (s["ff"], s["bram36"], s["dsp"]) == (4, 2.5, 1)
+
+
+def test_named_jobs_are_the_board_builds() -> None:
+    """`make synth CONFIG=board-720p TOP=orb_accel_zynq` runs the job (name, generics, cache key) that
+    make board-estimate runs for the build of that named configuration, and an unknown name is refused."""
+    board = json.loads((synth.ROOT / "vivado" / "board.json").read_text())
+    by_config = {c["config"]: j.name for c, j in zip(board["configs"].values(), synth.board_jobs(), strict=True)}
+    for name, job_name in by_config.items():
+        assert synth.named_job("orb_accel_zynq", name).name == job_name, name
+    assert int(synth.named_job("orb_core", "recommended-vga").generics["SECTORS_g"]) == 64
+    with pytest.raises(ValueError, match="no configuration named 'board-qvga'"):
+        synth.named_job("orb_accel_zynq", "board-qvga")
