@@ -27,7 +27,7 @@ FEAT_SELECT_LAT = 5
 FEAT_FIFO_LAT = 2
 FEAT_MERGE_LAT = 3
 FEAT_MEM_READ_LAT = 3
-AXIL_IRQ_LAT = 1
+AXIL_IRQ_LAT = 2
 OVERLAY_VIDEO_LAT = 3
 OVERLAY_FEAT_LAT = 6
 CORE_SPLIT_LAT_PER_LEVEL = 3
@@ -186,7 +186,7 @@ FEAT_MEM_READ = Latency(
 AXIL_IRQ = Latency(
     name="axil_irq",
     entity="orb_axil_regs",
-    meaning="frame_done_pulse or error_pulse (enabled) to irq: IRQ_STATUS set at that edge, irq one later",
+    meaning="frame_done_pulse or error_pulse (enabled) to irq (IRQ_STATUS, then the irq register)",
     page="registers.md",
     clocks=AXIL_IRQ_LAT,
 )

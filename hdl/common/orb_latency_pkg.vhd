@@ -82,9 +82,9 @@ package orb_latency_pkg is
   -- (docs/feature-memory.md)
   constant FEAT_MEM_READ_LAT_c : natural := 3;
 
-  -- orb_axil_regs: frame_done_pulse or error_pulse (enabled) to irq: IRQ_STATUS set at that edge,
-  -- irq one later (docs/registers.md)
-  constant AXIL_IRQ_LAT_c : natural := 1;
+  -- orb_axil_regs: frame_done_pulse or error_pulse (enabled) to irq (IRQ_STATUS, then the irq
+  -- register) (docs/registers.md)
+  constant AXIL_IRQ_LAT_c : natural := 2;
 
   -- orb_overlay: a pixel accepted on s_axis_video to m_axis_video (no back-pressure)
   -- (docs/overlay.md)
