@@ -24,9 +24,6 @@ SCALE_COLOURS = ((0, 255, 0), (0, 220, 255), (255, 0, 255), (255, 220, 0), (255,
 MARKER_BLOCK_LOG2 = 3  # default block size 8 x 8
 MARKER_BLOCK_LOG2_RANGE = (2, 5)
 MARKER_MAX_SCALES = 8
-# Clock edges from a feature beat's acceptance at the overlay's port to the edge its event counts
-# at in marker_schedule (spec 13.3): the block pipeline of hdl/output/orb_overlay.vhd (FEAT_LAT_c).
-FEAT_LATENCY = 6
 
 
 def marker_block_log2(scales: int) -> int:

@@ -19,11 +19,6 @@ package orb_util_pkg is
   -- the cell map's fraction bits: a level coordinate v lies in cell (v K + O) >> CELL_SHIFT_c.
   constant GRID_BITS_c  : positive := 4;
   constant CELL_SHIFT_c : positive := 24;
-  -- orb_desc_path shows a described feature this many clocks before it leaves (its selection's
-  -- decision is ready by then)
-  constant CAND_LEAD_c : positive := 14;
-  -- orb_feat_select's latency: a candidate's decision, in clocks
-  constant SELECT_LAT_c : positive := 5;
 
   -- '1' for true
   function bool2sl (b : boolean) return std_logic;

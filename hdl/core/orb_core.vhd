@@ -16,8 +16,9 @@
 -- descriptor paths leave their tests unrotated and one orb_desc_rotate after the merge applies
 -- every feature's orbit rotation. The FAST thresholds, the mode and the selection's parameters
 -- are sampled with each frame's first pixel (tuser) and hold for every scale of that frame; the
--- budget's split is computed from the sampled budget in the 3 SCALES_g + 1 clocks after it and
--- the scale paths take their share at their pixel (0, 1). Pixels
+-- budget's split is computed from the sampled budget in the core_split_lat(SCALES_g) =
+-- 3 SCALES_g + 1 clocks after it (orb_latency_pkg, docs/latency.md) and the scale paths take
+-- their share at their pixel (0, 1). Pixels
 -- outside the configured WIDTH_g x HEIGHT_g frame (a long line or extra lines) are ignored and
 -- counted in bad_pixels; features the descriptor path had to discard (only on a malformed frame)
 -- are counted in desc_lost.
@@ -28,6 +29,7 @@ use ieee.std_logic_1164.all;
 use ieee.numeric_std.all;
 
 use work.orb_util_pkg.all;
+use work.orb_latency_pkg.all;
 use work.orb_feat_pkg.all;
 use work.orb_limits_pkg.all;
 
@@ -120,13 +122,16 @@ architecture rtl of orb_core is
 
   constant FRACTIONS_c : fraction_t  := fractions;
 
+  -- the split's phases per level (process split: the product, its rounding, the share)
+  subtype split_phase_t is natural range 0 to 2;
+
   signal split_live : split_t := (others => (others => '0'));
   signal split_work : split_t := (others => (others => '0'));
   -- the budget of the frame (sampled with its start of frame), and the split's restart on it
   signal budget_frm : std_logic_vector(SEL_SLOT_BITS_c - 1 downto 0) := (others => '0');
   signal sp_restart : std_logic := '0';
   signal sp_k       : natural range 0 to SCALES_g - 1 := 0;
-  signal sp_phase   : natural range 0 to 2 := 0;
+  signal sp_phase   : split_phase_t := 0;
   signal sp_n       : unsigned(SEL_SLOT_BITS_c - 1 downto 0) := (others => '0');  -- the budget being split
   signal sp_rem     : unsigned(SEL_SLOT_BITS_c - 1 downto 0) := (others => '0');  -- N - the levels before
   signal sp_round   : unsigned(SEL_SLOT_BITS_c + 1 downto 0) := (others => '0');   -- (N F_k + 2^15) >> 16
@@ -157,8 +162,13 @@ begin
            & "STEP_DEN_g < STEP_NUM_g <= 2 * STEP_DEN_g"
     severity failure;
 
-  assert WIDTH_g > 3 * SCALES_g + 1
+  assert WIDTH_g > core_split_lat(SCALES_g)
     report "orb_core: the budget's split must be ready before level 0's pixel (0, 1)"
+    severity failure;
+
+  -- the split takes split_phase_t's phases per level after one clock to restart
+  assert core_split_lat(SCALES_g) = (split_phase_t'high + 1) * SCALES_g + 1
+    report "orb_core: core_split_lat (orb_latency_pkg) must be the split's clocks"
     severity failure;
 
   assert sectors_legal(SECTORS_g)
@@ -229,8 +239,8 @@ begin
   -- over: n_k = min((N F_k + 2^15) >> 16, N - the levels before), the last level the rest; a whole
   -- new split replaces split_live at once. N is the frame's budget (sampled with its start of
   -- frame, at most BUDGET_MAX_g); the split restarts on every start of frame, so split_live holds
-  -- the frame's split 3 SCALES_g + 1 clocks after it, before any level's pixel (0, 1) (the scale
-  -- paths take their budget there: orb_scale_path).
+  -- the frame's split core_split_lat(SCALES_g) clocks after it, before any level's pixel (0, 1)
+  -- (the scale paths take their budget there: orb_scale_path).
   split : process (clk) is
     variable n     : unsigned(SEL_SLOT_BITS_c - 1 downto 0);
     variable share : unsigned(SEL_SLOT_BITS_c - 1 downto 0);

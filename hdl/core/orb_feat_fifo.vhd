@@ -3,7 +3,8 @@
 -- DATA_BITS_g bits, one write and one read port on one clock. The words live in an orb_sdp_ram
 -- (latency 1: LUT RAM or block RAM by size); the RAM's read register is the FIFO's output, so
 -- the head word is on rd_data while rd_valid is high and rd_en = '1' takes it, one word per clock.
--- A word written into an empty FIFO appears on rd_data two clocks later. A write is accepted
+-- A word written into an empty FIFO appears on rd_data FEAT_FIFO_LAT_c = 2 clocks later
+-- (orb_latency_pkg, docs/latency.md). A write is accepted
 -- when the FIFO holds fewer than DEPTH_g words (level < DEPTH_g) or a word is read in the same
 -- clock (rd_en = '1' with rd_valid = '1'); a write into a full FIFO without a read is ignored.
 -- level counts every word held, the one on rd_data included. rst resets pointers and counters.
@@ -14,6 +15,7 @@ use ieee.std_logic_1164.all;
 use ieee.numeric_std.all;
 
 use work.orb_util_pkg.all;
+use work.orb_latency_pkg.all;
 
 entity orb_feat_fifo is
   generic (
@@ -46,6 +48,11 @@ architecture rtl of orb_feat_fifo is
   signal load   : std_logic;
 
 begin
+
+  -- the registers from input to output: the RAM write, its read register
+  assert FEAT_FIFO_LAT_c = 2
+    report "orb_feat_fifo: FEAT_FIFO_LAT_c (orb_latency_pkg) must be this pipeline's 2 clocks"
+    severity failure;
 
   assert DEPTH_g = 2 ** PTR_BITS_c
     report "orb_feat_fifo: DEPTH_g must be a power of two"

@@ -15,9 +15,9 @@
 -- per waiting frame one clock later and added to its frame's count the clock after. An
 -- end-of-frame beat never misses a loss of its own frame: a scale whose FIFO is full still holds
 -- at least FIFO_DEPTH_g >= 2 features of that frame, so the beat goes at the third clock after the
--- loss at the earliest (docs/synthesis.md, "Timing"). Latency: a feature sampled at one edge
--- leaves the output register after the second edge after it (FIFO write, FIFO output register,
--- output).
+-- loss at the earliest (docs/synthesis.md, "Timing"). Latency FEAT_MERGE_LAT_c = 3 clocks
+-- (orb_latency_pkg, docs/latency.md): a feature sampled at one edge leaves the output register
+-- after the second edge after it (FIFO write, FIFO output register, output).
 -- Per-scale input vectors are flat, scale s in bits (s + 1) * W - 1 downto s * W (W = COORD_BITS_c,
 -- SCORE_BITS_c, FEAT_SECTOR_BITS_c or DESC_BITS_c); in_sector and in_desc are ignored without
 -- DESC_g.

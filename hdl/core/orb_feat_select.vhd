@@ -25,7 +25,7 @@
 -- clocks for the cell (multiply and add, DSP48), then D1 (reads: cell table, bucket heads, the next
 -- non-empty bucket; and the decision's predicates: the rank against the floor's, the keys
 -- against the lowest bucket's) and D2 (decision from those registers, writes); a decision leaves
--- SELECT_LAT_c = 5 clocks after its candidate. In `all`
+-- FEAT_SELECT_LAT_c = 5 clocks after its candidate (orb_latency_pkg, docs/latency.md). In `all`
 -- mode (grid = 0) every main candidate is kept (new), low ones are dropped, and no state changes.
 -- The parameters (grid, budget, cols, rows) must hold from the frame's first candidate to in_done;
 -- in_done (after the frame's last candidate has left) clears the frame's state.
@@ -36,6 +36,7 @@ use ieee.std_logic_1164.all;
 use ieee.numeric_std.all;
 
 use work.orb_util_pkg.all;
+use work.orb_latency_pkg.all;
 use work.orb_fast_pkg.all;
 use work.orb_limits_pkg.all;
 
@@ -245,8 +246,9 @@ architecture rtl of orb_feat_select is
 
 begin
 
-  assert SELECT_LAT_c = 5
-    report "orb_feat_select: SELECT_LAT_c (orb_util_pkg) must be this pipeline's 5 clocks"
+  -- the pipeline's registers from in_valid to out_valid: v_m0, v_m1, v_m2, v_d1, v_out
+  assert FEAT_SELECT_LAT_c = 5
+    report "orb_feat_select: FEAT_SELECT_LAT_c (orb_latency_pkg) must be this pipeline's 5 registers"
     severity failure;
 
   assert COLS_MAX_c < 2 ** GRID_BITS_c and ROWS_MAX_c < 2 ** GRID_BITS_c

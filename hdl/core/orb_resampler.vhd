@@ -10,7 +10,8 @@
 -- tap (a balanced shift-add, no DSP48) or one adder of three terms behind a register
 -- (docs/synthesis.md, "Timing"): the taps, their weights, the horizontal sum, the line RAM, the
 -- RAM's word registered, the vertical products, their sum and the rounding. Latency: the output
--- leaves 7 clocks after the input pixel that completes it. For NUM:DEN = 2:1 it is the 2x2 box of orb_scaler, bit for bit;
+-- leaves RESAMPLER_LAT_c = 7 clocks after the input pixel that completes it (orb_latency_pkg,
+-- docs/latency.md). For NUM:DEN = 2:1 it is the 2x2 box of orb_scaler, bit for bit;
 -- orb_core uses orb_scaler for 2:1 and this entity for every other step.
 -- Ports and generics: docs/entities/orb_resampler.md
 
@@ -19,6 +20,7 @@ use ieee.std_logic_1164.all;
 use ieee.numeric_std.all;
 
 use work.orb_util_pkg.all;
+use work.orb_latency_pkg.all;
 
 entity orb_resampler is
   generic (
@@ -145,6 +147,11 @@ architecture rtl of orb_resampler is
   end function weigh;
 
 begin
+
+  -- the seven stages of processes horizontal, hsum, line and vertical (the header lists them)
+  assert RESAMPLER_LAT_c = 7
+    report "orb_resampler: RESAMPLER_LAT_c (orb_latency_pkg) must be this pipeline's 7 clocks"
+    severity failure;
 
   assert NUM_g > DEN_g
     report "orb_resampler: NUM_g must be larger than DEN_g (a reduction)"

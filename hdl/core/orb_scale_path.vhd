@@ -11,12 +11,13 @@
 -- each path's output whether its current frame is to be reported and what the selection applies,
 -- so a change never mixes or loses frames (the fast path reports a frame about 4 lines after its
 -- pixels, the descriptor path 18 lines after). The selection decides on each candidate before the
--- candidate leaves: orb_desc_path shows its features CAND_LEAD_c clocks early, and the fast
--- path's survivors wait CAND_LEAD_c clocks. The candidates pass a two-entry queue that gives the
+-- candidate leaves: orb_desc_path shows its features CAND_LEAD_LAT_c clocks early, and the fast
+-- path's survivors wait CAND_LEAD_LAT_c clocks. The candidates pass a two-entry queue that gives the
 -- selection at most one every second clock (two survivors can leave the NMS in consecutive clocks
 -- at a line's end), and the decisions wait in a small FIFO for their features (one decision per
--- feature, in order; a decision is at most SELECT_LAT_c + 2 clocks old when its feature comes
--- CAND_LEAD_c clocks after its candidate). A feature leaves only when the selection
+-- feature, in order; a decision is at most FEAT_SELECT_LAT_c + 2 clocks old when its feature comes
+-- CAND_LEAD_LAT_c clocks after its candidate; both in orb_latency_pkg, docs/latency.md). A feature
+-- leaves only when the selection
 -- keeps it, with its slot (BASE_g + the level's slot) and whether it replaces that slot's occupant;
 -- in `all` mode every main feature leaves (slot BASE_g, a new slot: replace 0). frame_done pulses once per frame,
 -- after the frame's last reported feature.
@@ -27,6 +28,7 @@ use ieee.std_logic_1164.all;
 use ieee.numeric_std.all;
 
 use work.orb_util_pkg.all;
+use work.orb_latency_pkg.all;
 use work.orb_limits_pkg.all;
 use work.orb_fast_pkg.all;
 use work.orb_feat_pkg.all;
@@ -82,14 +84,14 @@ architecture rtl of orb_scale_path is
   type budgets_t is array (0 to 3) of std_logic_vector(SEL_SLOT_BITS_c - 1 downto 0);
   type cells_t is array (0 to 3) of std_logic_vector(2 * GRID_BITS_c - 1 downto 0);
 
-  -- a fast-path survivor (x, y, score, low, code) waiting CAND_LEAD_c clocks
+  -- a fast-path survivor (x, y, score, low, code) waiting CAND_LEAD_LAT_c clocks
   constant FW_c : positive := 2 * COORD_BITS_c + SCORE_BITS_c + 1 + RESPONSE_BITS_c;
   -- a decision waiting for its feature: keep, new, slot
   constant DW_c : positive := 2 + SEL_SLOT_BITS_c;
   -- a candidate waiting for the selection: x, y, low, code
   constant CW_c : positive := 2 * COORD_BITS_c + 1 + RESPONSE_BITS_c;
 
-  type fast_dly_t is array (1 to CAND_LEAD_c) of std_logic_vector(FW_c - 1 downto 0);
+  type fast_dly_t is array (1 to CAND_LEAD_LAT_c) of std_logic_vector(FW_c - 1 downto 0);
   type dec_fifo_t is array (0 to 15) of std_logic_vector(DW_c - 1 downto 0);
   type cand_q_t is array (0 to 1) of std_logic_vector(CW_c - 1 downto 0);
 
@@ -106,9 +108,9 @@ architecture rtl of orb_scale_path is
   signal w_x,     w_y    : std_logic_vector(COORD_BITS_c - 1 downto 0);
   signal w_win           : std_logic_vector(49 * PIXEL_BITS_c - 1 downto 0);
 
-  -- the fast path's survivors CAND_LEAD_c clocks later (fd_done: its frame end as late)
-  signal fd_valid : std_logic_vector(1 to CAND_LEAD_c) := (others => '0');
-  signal fd_done  : std_logic_vector(1 to CAND_LEAD_c) := (others => '0');
+  -- the fast path's survivors CAND_LEAD_LAT_c clocks later (fd_done: its frame end as late)
+  signal fd_valid : std_logic_vector(1 to CAND_LEAD_LAT_c) := (others => '0');
+  signal fd_done  : std_logic_vector(1 to CAND_LEAD_LAT_c) := (others => '0');
   signal fd_data  : fast_dly_t := (others => (others => '0'));
 
   signal o_valid, o_done : std_logic := '0';
@@ -331,7 +333,7 @@ begin
   q_low   <= cq(0)(RESPONSE_BITS_c);
   q_code  <= cq(0)(RESPONSE_BITS_c - 1 downto 0);
 
-  -- the fast path's survivors and frame ends wait CAND_LEAD_c clocks (a fixed latency in clocks);
+  -- the fast path's survivors and frame ends wait CAND_LEAD_LAT_c clocks (a fixed latency in clocks);
   -- the candidates' queue; the decisions' FIFO, pushed by the selection, popped by each feature
   waits : process (clk) is
     variable word : std_logic_vector(CW_c - 1 downto 0);
@@ -339,9 +341,9 @@ begin
     variable q    : cand_q_t;
   begin
     if rising_edge(clk) then
-      fd_valid <= d_valid & fd_valid(1 to CAND_LEAD_c - 1);
-      fd_done  <= d_done & fd_done(1 to CAND_LEAD_c - 1);
-      fd_data  <= std_logic_vector'(d_x & d_y & d_score & d_low & d_code) & fd_data(1 to CAND_LEAD_c - 1);
+      fd_valid <= d_valid & fd_valid(1 to CAND_LEAD_LAT_c - 1);
+      fd_done  <= d_done & fd_done(1 to CAND_LEAD_LAT_c - 1);
+      fd_data  <= std_logic_vector'(d_x & d_y & d_score & d_low & d_code) & fd_data(1 to CAND_LEAD_LAT_c - 1);
       word     := e_x & e_y & e_low & e_code;
       q        := cq;
       n        := cq_n;
@@ -399,22 +401,22 @@ begin
           end if;
         end loop;
       end if;
-      -- (the fast path's frame ends when its last survivor has left, CAND_LEAD_c clocks late)
-      if fd_done(CAND_LEAD_c) = '1' then
+      -- (the fast path's frame ends when its last survivor has left, CAND_LEAD_LAT_c clocks late)
+      if fd_done(CAND_LEAD_LAT_c) = '1' then
         mode_rd_d <= mode_rd_d + 1;
       end if;
       if o_done = '1' then
         mode_rd_o <= mode_rd_o + 1;
       end if;
-      -- the frame's features: the descriptor path's, or the survivors CAND_LEAD_c clocks late;
+      -- the frame's features: the descriptor path's, or the survivors CAND_LEAD_LAT_c clocks late;
       -- each leaves when its decision (met here) keeps it
-      fw   := fd_data(CAND_LEAD_c);
+      fw   := fd_data(CAND_LEAD_LAT_c);
       dw   := dq(to_integer(dq_rd));
-      feat := (fd_valid(CAND_LEAD_c) and fast_on) or (o_valid and orb_on);
+      feat := (fd_valid(CAND_LEAD_LAT_c) and fast_on) or (o_valid and orb_on);
       if feat = '1' then
         dq_rd <= dq_rd + 1;
       end if;
-      done := (fd_done(CAND_LEAD_c) and fast_on) or (o_done and orb_on);
+      done := (fd_done(CAND_LEAD_LAT_c) and fast_on) or (o_done and orb_on);
       f_valid <= feat and dw(DW_c - 1);
       f_done  <= done;
       f_repl  <= not dw(DW_c - 2);
@@ -441,7 +443,7 @@ begin
       end if;
       -- pragma translate_off
       assert feat = '0' or dq_rd /= dq_wr
-        report "orb_scale_path: a feature without its selection's decision (CAND_LEAD_c is wrong)"
+        report "orb_scale_path: a feature without its selection's decision (CAND_LEAD_LAT_c is wrong)"
         severity failure;
       assert not (c_valid = '1' and orb_on = '1' and d_valid = '1' and fast_on = '1')
         report "orb_scale_path: candidates of both paths in one clock"

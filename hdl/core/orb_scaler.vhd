@@ -5,7 +5,9 @@
 -- on odd input lines. Horizontal pair sums of even lines wait in one block-RAM line of
 -- LINE_WIDTH_g / 2 words; the upper pair's sum, read at the block's lower left pixel, is
 -- registered once more before the final addition (no adder behind the block RAM's
--- clock-to-output time: docs/synthesis.md, "Timing"). Latency 2 clocks. An odd last column or line of the input is not used. The output carries
+-- clock-to-output time: docs/synthesis.md, "Timing"). Latency SCALER_LAT_c = 2 clocks
+-- (orb_latency_pkg, docs/latency.md). An odd last column or line of the input is not used. The
+-- output carries
 -- its position in the reduced image, so scalers chain for further scales.
 -- Ports and generics: docs/entities/orb_scaler.md
 
@@ -14,6 +16,7 @@ use ieee.std_logic_1164.all;
 use ieee.numeric_std.all;
 
 use work.orb_util_pkg.all;
+use work.orb_latency_pkg.all;
 
 entity orb_scaler is
   generic (
@@ -53,6 +56,11 @@ architecture rtl of orb_scaler is
   signal o_data  : unsigned(PIXEL_BITS_c - 1 downto 0) := (others => '0');
 
 begin
+
+  -- the registers from input to output: the upper pair's sum (p_valid), the average (o_valid)
+  assert SCALER_LAT_c = 2
+    report "orb_scaler: SCALER_LAT_c (orb_latency_pkg) must be this pipeline's 2 clocks"
+    severity failure;
 
   scale : process (clk) is
     variable x, y  : unsigned(COORD_BITS_c - 1 downto 0);

@@ -18,8 +18,10 @@
 -- carries its score, response code and low flag (docs/spec.md sections 14 and 15) through; the
 -- queue holds them in 36 bits (the window tag's x in 11 bits: at most 1919; its y modulo 64: a
 -- waiting feature is never 32 lines or more from the window), and the full tag is the window's
--- own at the match. cand_* shows every described feature CAND_LEAD_c = 14 clocks before it
--- leaves on feat_*, for the level's selection (orb_feat_select). Page: docs/rtl-description.md.
+-- own at the match. cand_* shows every described feature CAND_LEAD_LAT_c = 14 clocks (the
+-- latency of the orientation, ORIENT_MOMENTS_LAT_c + ORIENT_SECTOR_LAT_c: orb_latency_pkg,
+-- docs/latency.md) before it leaves on feat_*, for the level's selection (orb_feat_select).
+-- Page: docs/rtl-description.md.
 -- Ports and generics: docs/entities/orb_desc_path.md
 
 library ieee;
@@ -27,6 +29,7 @@ use ieee.std_logic_1164.all;
 use ieee.numeric_std.all;
 
 use work.orb_util_pkg.all;
+use work.orb_latency_pkg.all;
 use work.orb_pattern_pkg.all;
 use work.orb_limits_pkg.all;
 use work.orb_fast_pkg.all;
@@ -54,7 +57,7 @@ entity orb_desc_path is
     det_score : in    std_logic_vector(SCORE_BITS_c - 1 downto 0);
     det_low   : in    std_logic;
     det_code  : in    std_logic_vector(RESPONSE_BITS_c - 1 downto 0);
-    -- the described features, CAND_LEAD_c clocks ahead of feat_*
+    -- the described features, CAND_LEAD_LAT_c clocks ahead of feat_*
     cand_valid : out   std_logic;
     cand_x     : out   std_logic_vector(COORD_BITS_c - 1 downto 0);
     cand_y     : out   std_logic_vector(COORD_BITS_c - 1 downto 0);
@@ -99,11 +102,10 @@ architecture rtl of orb_desc_path is
   constant PAY_c   : positive := SCORE_BITS_c + RESPONSE_BITS_c + 1;  -- score & code & low
   constant ENTRY_c : positive := QX_c + QY_c + PAY_c;
   constant INFO_c  : positive := 2 * COORD_BITS_c + PAY_c;
-  -- clocks from the column stage to the sector: orb_orient_moments (9) + orb_orient_sector (5);
-  -- the tests are registered 2 clocks after the column stage, so they wait 12 clocks
-  constant MOMENTS_LAT_c : positive := 9;
-  constant ORIENT_LAT_c  : positive := MOMENTS_LAT_c + 5;
-  constant WAIT_c        : positive := ORIENT_LAT_c - 2;
+  -- clocks from the column stage to the sector: orb_orient_moments, then orb_orient_sector; the
+  -- tests are registered 2 clocks after the column stage, so they wait 2 clocks less
+  constant ORIENT_LAT_c : positive := ORIENT_MOMENTS_LAT_c + ORIENT_SECTOR_LAT_c;
+  constant WAIT_c       : positive := ORIENT_LAT_c - 2;
 
   subtype coord_t is unsigned(COORD_BITS_c - 1 downto 0);
   subtype entry_t is std_logic_vector(ENTRY_c - 1 downto 0);
@@ -165,7 +167,7 @@ architecture rtl of orb_desc_path is
 
   -- the feature flag of each column beside the moments pipeline (the sector is only computed for
   -- features), and the frame's last column beside the whole orientation pipeline
-  signal feat_dly : std_logic_vector(1 to MOMENTS_LAT_c) := (others => '0');
+  signal feat_dly : std_logic_vector(1 to ORIENT_MOMENTS_LAT_c) := (others => '0');
   signal last_dly : std_logic_vector(1 to ORIENT_LAT_c)  := (others => '0');
   signal sec_in   : std_logic;
 
@@ -241,8 +243,9 @@ begin
     report "orb_desc_path: LINE_WIDTH_g must be at most 2048 (the queue's 11-bit tag x)"
     severity failure;
 
-  assert WAIT_c + 2 = CAND_LEAD_c
-    report "orb_desc_path: CAND_LEAD_c (orb_util_pkg) must be WAIT_c + 2"
+  -- cand_* is shown at the column stage, feat_* leaves with the sector: the lead is ORIENT_LAT_c
+  assert CAND_LEAD_LAT_c = ORIENT_LAT_c
+    report "orb_desc_path: CAND_LEAD_LAT_c (orb_latency_pkg) must be the orientation's latency"
     severity failure;
 
   lines : entity work.orb_line_buffer
@@ -459,7 +462,7 @@ begin
   flags : process (clk) is
   begin
     if rising_edge(clk) then
-      feat_dly <= match & feat_dly(1 to MOMENTS_LAT_c - 1);
+      feat_dly <= match & feat_dly(1 to ORIENT_MOMENTS_LAT_c - 1);
       if col_valid = '1' and col_x = LINE_WIDTH_g - 1 and col_y = FRAME_HEIGHT_g - 1 then
         last_dly <= '1' & last_dly(1 to ORIENT_LAT_c - 1);
       else
@@ -471,7 +474,7 @@ begin
     end if;
   end process flags;
 
-  sec_in <= m_valid and feat_dly(MOMENTS_LAT_c);
+  sec_in <= m_valid and feat_dly(ORIENT_MOMENTS_LAT_c);
 
   sector : entity work.orb_orient_sector
     generic map (

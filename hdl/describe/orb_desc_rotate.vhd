@@ -7,7 +7,8 @@
 -- end-of-frame word (tlast = 1) passes unchanged. One orb_desc_rotate after orb_feat_merge
 -- replaces a rotator per scale (orb_desc_path with ROTATE_g = false). AXI4-Stream register
 -- slice: s_axis_feat_tready = not m_axis_feat_tvalid or m_axis_feat_tready (full throughput, no
--- bubble); latency 1 clock. Page: docs/rtl-description.md.
+-- bubble); latency DESC_ROTATE_LAT_c = 1 clock (orb_latency_pkg, docs/latency.md). Page:
+-- docs/rtl-description.md.
 -- Ports and generics: docs/entities/orb_desc_rotate.md
 
 library ieee;
@@ -15,6 +16,7 @@ use ieee.std_logic_1164.all;
 use ieee.numeric_std.all;
 
 use work.orb_util_pkg.all;
+use work.orb_latency_pkg.all;
 use work.orb_feat_pkg.all;
 use work.orb_limits_pkg.all;
 
@@ -47,6 +49,11 @@ architecture rtl of orb_desc_rotate is
   signal take    : std_logic;
 
 begin
+
+  -- the registers from input to output: the register slice
+  assert DESC_ROTATE_LAT_c = 1
+    report "orb_desc_rotate: DESC_ROTATE_LAT_c (orb_latency_pkg) must be this pipeline's 1 clocks"
+    severity failure;
 
   assert sectors_legal(SECTORS_g)
     report "orb_desc_rotate: SECTORS_g (sectors in all) must be " & SECTORS_TEXT_c

@@ -15,8 +15,9 @@
 -- column are the moments of the patch whose rightmost column it is (centre 15 inputs back, row 15
 -- of the column); columns before the first count as zero and nothing is cleared between lines or
 -- by rst. Nine pipeline stages (pair sums, weighted differences, band sums into the delay lines,
--- registered taps, band terms, two adder-tree stages, C and A, B): fixed latency LATENCY_c = 9
--- clocks, input gaps allowed.
+-- registered taps, band terms, two adder-tree stages, C and A, B): fixed latency
+-- ORIENT_MOMENTS_LAT_c = 9 clocks (orb_latency_pkg, docs/latency.md; the valid flags and tags are
+-- a delay line of that length), input gaps allowed.
 -- Ports and generics: docs/entities/orb_orient_moments.md
 
 library ieee;
@@ -24,6 +25,7 @@ use ieee.std_logic_1164.all;
 use ieee.numeric_std.all;
 
 use work.orb_util_pkg.all;
+use work.orb_latency_pkg.all;
 
 entity orb_orient_moments is
   port (
@@ -43,9 +45,7 @@ end entity orb_orient_moments;
 
 architecture rtl of orb_orient_moments is
 
-  -- Latency in clocks from in_valid to out_valid (documentation; the stages below define it).
-  constant LATENCY_c : positive := 9;
-  constant RADIUS_c  : positive := 15;
+  constant RADIUS_c : positive := 15;
 
   type nat_array_t is array (natural range <>) of natural;
 
@@ -163,7 +163,7 @@ architecture rtl of orb_orient_moments is
   type d_array_t is array (1 to RADIUS_c) of dif_t;
   type w_array_t is array (1 to RADIUS_c) of w_t;
   type t_array_t is array (natural range <>) of term_t;
-  type tag_t is array (1 to LATENCY_c) of std_logic_vector(2 * COORD_BITS_c - 1 downto 0);
+  type tag_t is array (1 to ORIENT_MOMENTS_LAT_c) of std_logic_vector(2 * COORD_BITS_c - 1 downto 0);
 
   constant GROUPS_c : positive := (BANDS_c + 3) / 4;
 
@@ -184,7 +184,7 @@ architecture rtl of orb_orient_moments is
     return to_integer(unsigned(col(col'low + (k + 1) * PIXEL_BITS_c - 1 downto col'low + k * PIXEL_BITS_c)));
   end function pixel;
 
-  signal valid : std_logic_vector(1 to LATENCY_c) := (others => '0');
+  signal valid : std_logic_vector(1 to ORIENT_MOMENTS_LAT_c) := (others => '0');
   signal tags  : tag_t                            := (others => (others => '0'));
 
   -- stage 1: pair sums and differences; stage 2: weighted differences
@@ -213,14 +213,14 @@ begin
     report "orb_orient_moments: UMAX_c must start at the patch radius of the 31-pixel column"
     severity failure;
 
-  -- valid bits and (x, y) tags: a plain delay line of LATENCY_c clocks. rst does not clear it: a
-  -- column that has entered a delay line must also reach the sums, or they would stay wrong for
-  -- good, so columns already inside complete (and come out) through a reset.
+  -- valid bits and (x, y) tags: a plain delay line of ORIENT_MOMENTS_LAT_c clocks. rst does not
+  -- clear it: a column that has entered a delay line must also reach the sums, or they would stay
+  -- wrong for good, so columns already inside complete (and come out) through a reset.
   control : process (clk) is
   begin
     if rising_edge(clk) then
-      valid <= in_valid & valid(1 to LATENCY_c - 1);
-      tags  <= std_logic_vector'(in_x & in_y) & tags(1 to LATENCY_c - 1);
+      valid <= in_valid & valid(1 to ORIENT_MOMENTS_LAT_c - 1);
+      tags  <= std_logic_vector'(in_x & in_y) & tags(1 to ORIENT_MOMENTS_LAT_c - 1);
     end if;
   end process control;
 
@@ -366,9 +366,9 @@ begin
     end if;
   end process sums;
 
-  out_valid <= valid(LATENCY_c);
-  out_x     <= tags(LATENCY_c)(2 * COORD_BITS_c - 1 downto COORD_BITS_c);
-  out_y     <= tags(LATENCY_c)(COORD_BITS_c - 1 downto 0);
+  out_valid <= valid(ORIENT_MOMENTS_LAT_c);
+  out_x     <= tags(ORIENT_MOMENTS_LAT_c)(2 * COORD_BITS_c - 1 downto COORD_BITS_c);
+  out_y     <= tags(ORIENT_MOMENTS_LAT_c)(COORD_BITS_c - 1 downto 0);
   out_m10   <= std_logic_vector(to_signed(acc_b, 24));
   out_m01   <= std_logic_vector(to_signed(m01_9, 24));
 

@@ -11,7 +11,8 @@
 -- Five pipeline stages (signs and magnitudes, products, products again, comparisons, count): the
 -- product is registered twice so that it can use both the DSP48's M and P registers and the
 -- comparison starts from a short clock-to-output (docs/synthesis.md, "Timing"). Fixed latency
--- LATENCY_c = 5 clocks, input gaps allowed; (x, y) tags pass through unchanged.
+-- ORIENT_SECTOR_LAT_c = 5 clocks (orb_latency_pkg, docs/latency.md; the valid flags and tags are a
+-- delay line of that length), input gaps allowed; (x, y) tags pass through unchanged.
 -- Ports and generics: docs/entities/orb_orient_sector.md
 
 library ieee;
@@ -20,6 +21,7 @@ use ieee.numeric_std.all;
 use ieee.math_real.all;
 
 use work.orb_util_pkg.all;
+use work.orb_latency_pkg.all;
 use work.orb_limits_pkg.all;
 
 entity orb_orient_sector is
@@ -44,9 +46,7 @@ end entity orb_orient_sector;
 architecture rtl of orb_orient_sector is
 
   -- The sectors per quadrant (the thesis's N).
-  constant N_c : positive := SECTORS_g / 4;
-  -- Latency in clocks from in_valid to out_valid (documentation; the stages below define it).
-  constant LATENCY_c  : positive := 5;
+  constant N_c        : positive := SECTORS_g / 4;
   constant TAN_BITS_c : positive := 16;
   constant MAG_BITS_c : positive := 24;                        -- |m| of any 24-bit input
   constant K_BITS_c   : positive := TAN_BITS_c + 1;             -- constants < 2^16, signed
@@ -54,7 +54,7 @@ architecture rtl of orb_orient_sector is
 
   type const_array_t is array (1 to N_c) of natural;
   type prod_array_t is array (1 to N_c) of unsigned(P_BITS_c - 1 downto 0);
-  type tag_t is array (1 to LATENCY_c) of std_logic_vector(2 * COORD_BITS_c - 1 downto 0);
+  type tag_t is array (1 to ORIENT_SECTOR_LAT_c) of std_logic_vector(2 * COORD_BITS_c - 1 downto 0);
 
   -- Boundary k uses the cotangent form when beta_k > 45 degrees.
   function uses_cot (k : positive) return boolean is
@@ -114,7 +114,7 @@ architecture rtl of orb_orient_sector is
     return c(0);
   end function popcount;
 
-  signal valid : std_logic_vector(1 to LATENCY_c) := (others => '0');
+  signal valid : std_logic_vector(1 to ORIENT_SECTOR_LAT_c) := (others => '0');
   signal tags  : tag_t                            := (others => (others => '0'));
 
   -- stage 1: quadrant and magnitudes
@@ -150,8 +150,8 @@ begin
   control : process (clk) is
   begin
     if rising_edge(clk) then
-      valid <= in_valid & valid(1 to LATENCY_c - 1);
-      tags  <= std_logic_vector'(in_x & in_y) & tags(1 to LATENCY_c - 1);
+      valid <= in_valid & valid(1 to ORIENT_SECTOR_LAT_c - 1);
+      tags  <= std_logic_vector'(in_x & in_y) & tags(1 to ORIENT_SECTOR_LAT_c - 1);
       if rst = '1' then
         valid <= (others => '0');
       end if;
@@ -243,9 +243,9 @@ begin
     end if;
   end process stages;
 
-  out_valid  <= valid(LATENCY_c);
-  out_x      <= tags(LATENCY_c)(2 * COORD_BITS_c - 1 downto COORD_BITS_c);
-  out_y      <= tags(LATENCY_c)(COORD_BITS_c - 1 downto 0);
+  out_valid  <= valid(ORIENT_SECTOR_LAT_c);
+  out_x      <= tags(ORIENT_SECTOR_LAT_c)(2 * COORD_BITS_c - 1 downto COORD_BITS_c);
+  out_y      <= tags(ORIENT_SECTOR_LAT_c)(COORD_BITS_c - 1 downto 0);
   out_sector <= std_logic_vector(sector5);
 
 end architecture rtl;

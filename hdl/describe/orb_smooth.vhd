@@ -6,7 +6,9 @@
 -- multiplies, no DSP; in two halves, then their sum) and the seven weighted column sums slide in
 -- a register row beside the window; then the weighted row of column sums in two halves (three
 -- partial sums, their total), then the rounding shift: no stage adds more than five terms
--- (docs/synthesis.md "Timing"), five pipeline stages, latency 5. The newest column is at (in_x, in_y), so the output is the smoothed value of
+-- (docs/synthesis.md "Timing"): five pipeline stages, latency SMOOTH_LAT_c = 5 clocks (orb_latency_pkg,
+-- docs/latency.md; the valid flags are a delay line of that length). The newest column is at
+-- (in_x, in_y), so the output is the smoothed value of
 -- (in_x - 3, in_y - 3) and carries the input's (x, y) tag; positions whose window wraps around a
 -- line or frame edge (in_x < 6 or in_y < 6) give 0, so a column sum from an earlier line, frame
 -- or reset never reaches an output. The sums are ranged integers (their ranges set the hardware
@@ -18,6 +20,7 @@ use ieee.std_logic_1164.all;
 use ieee.numeric_std.all;
 
 use work.orb_util_pkg.all;
+use work.orb_latency_pkg.all;
 
 entity orb_smooth is
   port (
@@ -47,23 +50,22 @@ architecture rtl of orb_smooth is
 
   type halves_t is array (0 to 1) of col_sum_t;
 
-  signal va         : std_logic := '0';
-  signal xa, ya     : std_logic_vector(COORD_BITS_c - 1 downto 0) := (others => '0');
-  signal innera     : std_logic := '0';
-  signal halfa      : halves_t := (others => 0);
-  signal v1, v2, v3 : std_logic := '0';
-  signal vp         : std_logic := '0';
-  signal xp, yp     : std_logic_vector(COORD_BITS_c - 1 downto 0) := (others => '0');
-  signal innerp     : std_logic := '0';
-  signal parts      : parts_t := (others => 0);
-  signal x1, y1     : std_logic_vector(COORD_BITS_c - 1 downto 0) := (others => '0');
-  signal x2, y2     : std_logic_vector(COORD_BITS_c - 1 downto 0) := (others => '0');
-  signal x3, y3     : std_logic_vector(COORD_BITS_c - 1 downto 0) := (others => '0');
-  signal inner1     : std_logic := '0';
-  signal inner2     : std_logic := '0';
-  signal cols1      : col_sums_t := (others => 0);  -- cols1(6) is the newest column's sum
-  signal total2     : total_t := 0;
-  signal out3       : unsigned(PIXEL_BITS_c - 1 downto 0) := (others => '0');
+  -- the valid flags of the stages: v(k) after stage k, v(SMOOTH_LAT_c) the output's
+  signal v      : std_logic_vector(1 to SMOOTH_LAT_c) := (others => '0');
+  signal xa, ya : std_logic_vector(COORD_BITS_c - 1 downto 0) := (others => '0');
+  signal innera : std_logic := '0';
+  signal halfa  : halves_t := (others => 0);
+  signal xp, yp : std_logic_vector(COORD_BITS_c - 1 downto 0) := (others => '0');
+  signal innerp : std_logic := '0';
+  signal parts  : parts_t := (others => 0);
+  signal x1, y1 : std_logic_vector(COORD_BITS_c - 1 downto 0) := (others => '0');
+  signal x2, y2 : std_logic_vector(COORD_BITS_c - 1 downto 0) := (others => '0');
+  signal x3, y3 : std_logic_vector(COORD_BITS_c - 1 downto 0) := (others => '0');
+  signal inner1 : std_logic := '0';
+  signal inner2 : std_logic := '0';
+  signal cols1  : col_sums_t := (others => 0);  -- cols1(6) is the newest column's sum
+  signal total2 : total_t := 0;
+  signal out3   : unsigned(PIXEL_BITS_c - 1 downto 0) := (others => '0');
 
   -- k * v for the kernel's weights, as shifts and adds (multiplications by powers of two).
   function weigh (k : natural; v : natural) return natural is
@@ -83,7 +85,7 @@ begin
   begin
     if rising_edge(clk) then
       -- stage 1a: the newest column weighed in two halves (rows 0-3, rows 4-6)
-      va <= in_valid;
+      v <= in_valid & v(1 to SMOOTH_LAT_c - 1);
       if in_valid = '1' then
         xa     <= in_x;
         ya     <= in_y;
@@ -100,8 +102,7 @@ begin
         halfa(1) <= acc;
       end if;
       -- stage 1b: the column's weighted sum slides into the row of column sums
-      v1 <= va;
-      if va = '1' then
+      if v(1) = '1' then
         x1     <= xa;
         y1     <= ya;
         inner1 <= innera;
@@ -109,8 +110,7 @@ begin
       end if;
       -- stage 2a: the weighted column sums in three parts (columns 0-2, 3-4, 5-6 and the rounding
       -- constant), each a balanced sum of at most five shifted terms
-      vp <= v1;
-      if v1 = '1' then
+      if v(2) = '1' then
         xp       <= x1;
         yp       <= y1;
         innerp   <= inner1;
@@ -119,16 +119,14 @@ begin
         parts(2) <= (weigh(5, cols1(5)) + weigh(6, cols1(6))) + 2048;
       end if;
       -- stage 2b: their total
-      v2 <= vp;
-      if vp = '1' then
+      if v(3) = '1' then
         x2     <= xp;
         y2     <= yp;
         inner2 <= innerp;
         total2 <= (parts(0) + parts(1)) + parts(2);
       end if;
       -- stage 3: divide by 4096
-      v3 <= v2;
-      if v2 = '1' then
+      if v(4) = '1' then
         x3 <= x2;
         y3 <= y2;
         if inner2 = '1' then
@@ -138,16 +136,12 @@ begin
         end if;
       end if;
       if rst = '1' then
-        va <= '0';
-        v1 <= '0';
-        vp <= '0';
-        v2 <= '0';
-        v3 <= '0';
+        v <= (others => '0');
       end if;
     end if;
   end process stages;
 
-  out_valid <= v3;
+  out_valid <= v(SMOOTH_LAT_c);
   out_x     <= x3;
   out_y     <= y3;
   out_data  <= std_logic_vector(out3);

@@ -4,8 +4,9 @@
 -- response code (orb_harris) and 3x3 non-maximum suppression on the combined map (orb_fast_nms).
 -- Input: the scale's pixel stream with each pixel's position; output: the NMS survivors (docs/
 -- spec.md sections 4 to 6 and 15, fast mode) with their position, score, low flag and code, at
--- most one per clock, HARRIS_LAT_c + 3 clocks after the window that completes them (the score
--- waits beside orb_harris). The thresholds are sampled with the frame's first pixel (0, 0) and
+-- most one per clock, HARRIS_LAT_c + FAST_NMS_LAT_c clocks after the window that completes their
+-- NMS neighbourhood, FAST_DETECT_LAT_c = 22 clocks after its newest pixel (orb_latency_pkg,
+-- docs/latency.md; the score waits beside orb_harris). The thresholds are sampled with the frame's first pixel (0, 0) and
 -- hold for that frame. frame_done pulses once the frame's last decision has been made. The 7x7
 -- window is also an output, for the smoothing of the descriptor path.
 -- Ports and generics: docs/entities/orb_fast_detect.md
@@ -15,6 +16,7 @@ use ieee.std_logic_1164.all;
 use ieee.numeric_std.all;
 
 use work.orb_util_pkg.all;
+use work.orb_latency_pkg.all;
 use work.orb_fast_pkg.all;
 
 entity orb_fast_detect is

@@ -11,7 +11,7 @@
 -- neighbours at the end of each line (px = W - 1) and in the last line (py = H - 1); of those up
 -- to four mutually adjacent candidates at most one can survive, so the output carries at most one
 -- feature per clock. frame_done pulses with the decision at stream position (W - 1, H - 1).
--- Latency: 3 clocks.
+-- Latency: FAST_NMS_LAT_c = 3 clocks (orb_latency_pkg, docs/latency.md).
 -- Ports and generics: docs/entities/orb_fast_nms.md
 
 library ieee;
@@ -19,6 +19,7 @@ use ieee.std_logic_1164.all;
 use ieee.numeric_std.all;
 
 use work.orb_util_pkg.all;
+use work.orb_latency_pkg.all;
 use work.orb_fast_pkg.all;
 
 entity orb_fast_nms is
@@ -77,6 +78,11 @@ architecture rtl of orb_fast_nms is
   end function survives;
 
 begin
+
+  -- the 3x3 window of scores (orb_window), then the decision register
+  assert FAST_NMS_LAT_c = WINDOW_LAT_c + 1
+    report "orb_fast_nms: FAST_NMS_LAT_c (orb_latency_pkg) must be orb_window's latency + 1"
+    severity failure;
 
   in_d <= in_code & in_main & in_score;
 

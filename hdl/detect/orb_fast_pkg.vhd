@@ -1,6 +1,7 @@
 -- SPDX-License-Identifier: MIT
 -- orb_fast_pkg: the FAST-9 circle (docs/spec.md section 4), the segment-test helpers and the
--- corner response's width and latency (section 15; golden_model.response, orb_harris).
+-- corner response's width (section 15; golden_model.response, orb_harris). The latencies of
+-- orb_fast_score and orb_harris are in orb_latency_pkg (docs/latency.md).
 
 library ieee;
 use ieee.std_logic_1164.all;
@@ -24,11 +25,8 @@ package orb_fast_pkg is
   constant ARC_c : positive := 9;
 
   -- the corner response code (golden_model.response.RESPONSE_BITS; tb/detect/test_orb_harris.py
-  -- checks the value) and orb_harris's latency in clocks
+  -- checks the value)
   constant RESPONSE_BITS_c : positive := 6;
-  constant HARRIS_LAT_c    : positive := 17;
-  -- orb_fast_score's latency in clocks
-  constant FAST_SCORE_LAT_c : positive := 4;
 
   -- True when the mask holds ARC_c cyclically contiguous ones.
   function has_arc (mask : std_logic_vector(15 downto 0)) return std_logic;

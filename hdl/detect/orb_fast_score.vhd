@@ -8,7 +8,8 @@
 -- newest pixel); out_main is 1 for a corner at the main threshold. Four pipeline
 -- stages: the 17 pixels of the test registered (the window's shift registers map to SRLs, whose
 -- clock-to-output time leaves no room for arithmetic behind them: docs/synthesis.md, "Timing"),
--- differences and comparisons, arc test and partial sums, final score: latency 4 clocks. The
+-- differences and comparisons, arc test and partial sums, final score: latency FAST_SCORE_LAT_c = 4 clocks
+-- (orb_latency_pkg, docs/latency.md; the valid flags are a delay line of that length). The
 -- output keeps the input's (x, y) tag.
 -- Ports and generics: docs/entities/orb_fast_score.md
 
@@ -17,6 +18,7 @@ use ieee.std_logic_1164.all;
 use ieee.numeric_std.all;
 
 use work.orb_util_pkg.all;
+use work.orb_latency_pkg.all;
 use work.orb_fast_pkg.all;
 
 entity orb_fast_score is
@@ -49,14 +51,14 @@ architecture rtl of orb_fast_score is
   type part_t is array (0 to 3) of part_sum_t;
 
   -- stage 0: the circle, its centre and the threshold, registered
-  signal v0      : std_logic := '0';
+  -- the valid flags of the stages: v(k) after stage k, v(FAST_SCORE_LAT_c - 1) the output's
+  signal v       : std_logic_vector(0 to FAST_SCORE_LAT_c - 1) := (others => '0');
   signal x0, y0  : std_logic_vector(COORD_BITS_c - 1 downto 0) := (others => '0');
   signal ring0   : ring_t := (others => (others => '0'));
   signal centre0 : std_logic_vector(PIXEL_BITS_c - 1 downto 0) := (others => '0');
   signal t0      : std_logic_vector(7 downto 0) := (others => '0');
   signal tl0     : std_logic_vector(7 downto 0) := (others => '0');  -- the low threshold in effect
   -- stage 1
-  signal v1      : std_logic := '0';
   signal x1, y1  : std_logic_vector(COORD_BITS_c - 1 downto 0) := (others => '0');
   signal bright1 : std_logic_vector(15 downto 0) := (others => '0');
   signal dark1   : std_logic_vector(15 downto 0) := (others => '0');
@@ -65,13 +67,11 @@ architecture rtl of orb_fast_score is
   signal abs1    : abs_t := (others => 0);
   signal inner1  : std_logic := '0';
   -- stage 2
-  signal v2      : std_logic := '0';
   signal x2, y2  : std_logic_vector(COORD_BITS_c - 1 downto 0) := (others => '0');
   signal corner2 : std_logic := '0';  -- a corner at either threshold
   signal main2   : std_logic := '0';  -- a corner at the main threshold
   signal part2   : part_t := (others => 0);
   -- stage 3
-  signal v3     : std_logic := '0';
   signal x3, y3 : std_logic_vector(COORD_BITS_c - 1 downto 0) := (others => '0');
   signal score3 : score_t := 0;
   signal main3  : std_logic := '0';
@@ -87,7 +87,7 @@ begin
   begin
     if rising_edge(clk) then
       -- stage 0: the pixels of the test, out of the window (its centre is (3, 3))
-      v0 <= in_valid;
+      v <= in_valid & v(0 to FAST_SCORE_LAT_c - 2);
       if in_valid = '1' then
         x0      <= in_x;
         y0      <= in_y;
@@ -103,8 +103,7 @@ begin
         end if;
       end if;
       -- stage 1: the 16 differences against the centre
-      v1 <= v0;
-      if v0 = '1' then
+      if v(0) = '1' then
         x1     <= x0;
         y1     <= y0;
         centre := to_integer(unsigned(centre0));
@@ -125,8 +124,7 @@ begin
         inner1 <= '1' when unsigned(x0) >= 6 and unsigned(y0) >= 6 else '0';
       end if;
       -- stage 2: arc test and four partial sums
-      v2 <= v1;
-      if v1 = '1' then
+      if v(1) = '1' then
         x2      <= x1;
         y2      <= y1;
         -- a corner at t is one at tl <= t too
@@ -137,8 +135,7 @@ begin
         end loop;
       end if;
       -- stage 3: the score, 0 for non-corners
-      v3 <= v2;
-      if v2 = '1' then
+      if v(2) = '1' then
         x3  <= x2;
         y3  <= y2;
         main3 <= main2;
@@ -149,15 +146,12 @@ begin
         end if;
       end if;
       if rst = '1' then
-        v0 <= '0';
-        v1 <= '0';
-        v2 <= '0';
-        v3 <= '0';
+        v <= (others => '0');
       end if;
     end if;
   end process stages;
 
-  out_valid <= v3;
+  out_valid <= v(FAST_SCORE_LAT_c - 1);
   out_x     <= x3;
   out_y     <= y3;
   out_score <= std_logic_vector(to_unsigned(score3, SCORE_BITS_c));

@@ -13,8 +13,9 @@
 -- first positions of a line, whose block still holds the previous line's columns, are masked by
 -- the border rule). Then a, b, c (>> 3), the three products of R (a b, |c|^2, (a + b)^2: unsigned;
 -- a, b and |c| are at most 51200) and the floating-point code.
--- Pipeline: 17 stages, every one registered; latency HARRIS_LAT_c = 17 clocks (orb_fast_pkg),
--- whatever the input gaps; the output keeps the input's (x, y) tag. Page: docs/rtl-detection.md.
+-- Pipeline: 17 stages, every one registered; latency HARRIS_LAT_c = 17 clocks (orb_latency_pkg,
+-- docs/latency.md; the valid flags and tags are a delay line of that length), whatever the input
+-- gaps; the output keeps the input's (x, y) tag. Page: docs/rtl-detection.md.
 -- Ports and generics: docs/entities/orb_harris.md
 
 library ieee;
@@ -22,6 +23,7 @@ use ieee.std_logic_1164.all;
 use ieee.numeric_std.all;
 
 use work.orb_util_pkg.all;
+use work.orb_latency_pkg.all;
 use work.orb_fast_pkg.all;
 
 entity orb_harris is

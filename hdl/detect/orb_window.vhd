@@ -1,8 +1,8 @@
 -- SPDX-License-Identifier: MIT
 -- orb_window: sliding WIN_g x WIN_g window over a pixel stream, built from an orb_line_buffer
 -- (WIN_g - 1 lines in block RAM) and WIN_g column registers. For every input pixel at (x, y) it
--- outputs, two clocks later, the window whose bottom-right (newest) pixel is that input pixel,
--- with its position. Element (r, c) sits at bits ((r * WIN_g + c) + 1) * DATA_WIDTH_g - 1 downto
+-- outputs, WINDOW_LAT_c = 2 clocks later (orb_latency_pkg, docs/latency.md), the window whose
+-- bottom-right (newest) pixel is that input pixel, with its position. Element (r, c) sits at bits ((r * WIN_g + c) + 1) * DATA_WIDTH_g - 1 downto
 -- (r * WIN_g + c) * DATA_WIDTH_g, r = 0 the top (oldest) line, c = 0 the leftmost column.
 -- Near the left and top borders the window holds pixels of the previous line or frame; the
 -- consumer masks those positions.
@@ -13,6 +13,7 @@ use ieee.std_logic_1164.all;
 use ieee.numeric_std.all;
 
 use work.orb_util_pkg.all;
+use work.orb_latency_pkg.all;
 
 entity orb_window is
   generic (
@@ -48,6 +49,11 @@ architecture rtl of orb_window is
   signal y_q       : std_logic_vector(COORD_BITS_c - 1 downto 0) := (others => '0');
 
 begin
+
+  -- the registers from input to output: the line buffer's read register, the window's columns
+  assert WINDOW_LAT_c = 2
+    report "orb_window: WINDOW_LAT_c (orb_latency_pkg) must be this pipeline's 2 clocks"
+    severity failure;
 
   lines : entity work.orb_line_buffer
     generic map (

@@ -5,7 +5,8 @@
 -- (enable, a one-clock soft_reset pulse, mode_orb, the FAST thresholds and the selection
 -- (select_grid, grid_cols, grid_rows, budget), which the core applies from the next frame on), shows the status inputs of the other blocks, keeps the
 -- interrupt enable and W1C status bits (set by frame_done_pulse and error_pulse; irq is the
--- registered OR(status AND enable)) and pulses release_valid with release_bank when the CPU
+-- registered OR(status AND enable): latency AXIL_IRQ_LAT_c = 2 clocks from the pulse,
+-- orb_latency_pkg, docs/latency.md) and pulses release_valid with release_bank when the CPU
 -- writes BANK_RELEASE. One transaction per channel at a time: AW and W are each held in a
 -- one-entry buffer (awready/wready low while it is full) and may come in any order and with
 -- any delay; the write is decoded once both are there and no B response is pending (or it is taken

@@ -20,7 +20,8 @@
 -- frames, in order. One RAM word (320 bits) holds CPU words 0..9 of a slot, written in one clock;
 -- the RAM is a simple dual-port block RAM with a registered read. Reads: mem_rd_en with the byte
 -- address mem_rd_addr ([5:2] word, [clog2(DEPTH_g) + 5:6] slot, [clog2(DEPTH_g) + 6] bank) gives
--- mem_rd_data three clocks later (RAM read register, its output register, then the word mux
+-- mem_rd_data FEAT_MEM_READ_LAT_c = 3 clocks later (orb_latency_pkg, docs/latency.md; orb_accel_top
+-- gives it orb_axil_regs as MEM_LATENCY_g: RAM read register, its output register, then the word mux
 -- register: no logic behind the block RAM's clock-to-output time, docs/synthesis.md "Timing"),
 -- held until the next read. The layout and the protocol are in docs/feature-memory.md. rst resets the control
 -- state (banks free, bank 0 next, counters 0, no read pending); RAM contents and bank headers are
@@ -32,6 +33,7 @@ use ieee.std_logic_1164.all;
 use ieee.numeric_std.all;
 
 use work.orb_util_pkg.all;
+use work.orb_latency_pkg.all;
 use work.orb_feat_pkg.all;
 use work.orb_limits_pkg.all;
 
@@ -67,7 +69,7 @@ entity orb_feat_mem is
     overrun        : out   std_logic_vector(31 downto 0);
     overflow       : out   std_logic_vector(31 downto 0);
     aborted        : out   std_logic_vector(31 downto 0);
-    -- CPU read port (latency 2)
+    -- CPU read port (latency FEAT_MEM_READ_LAT_c)
     mem_rd_en   : in    std_logic;
     mem_rd_addr : in    std_logic_vector(clog2(DEPTH_g) + 6 downto 0);
     mem_rd_data : out   std_logic_vector(31 downto 0)
@@ -163,6 +165,11 @@ architecture rtl of orb_feat_mem is
   end function bank_index;
 
 begin
+
+  -- the registers from input to output: RAM read register, its output register, the word mux register
+  assert FEAT_MEM_READ_LAT_c = 3
+    report "orb_feat_mem: FEAT_MEM_READ_LAT_c (orb_latency_pkg) must be this pipeline's 3 clocks"
+    severity failure;
 
   assert mem_depth_legal(DEPTH_g)
     report "orb_feat_mem: DEPTH_g must be " & MEM_DEPTH_TEXT_c

@@ -5,12 +5,15 @@
 -- tuser beat is taken while enable is 0 is taken and ignored whole (s_axis_video_tready 1, nothing
 -- on m_axis_video; enable rising later does not open it). Out of reset the gate is open, so the
 -- rest of a frame cut by a reset passes (orb_video_check discards it as pixels without a start
--- of frame). Latency 0: data, tuser, tlast and tvalid pass combinationally, tready comes back
+-- of frame). Latency FRAME_GATE_LAT_c = 0 (orb_latency_pkg, docs/latency.md): data, tuser, tlast
+-- and tvalid pass combinationally, tready comes back
 -- combinationally; the only state is the open/closed bit. See docs/frame-gate.md.
 -- Ports and generics: docs/entities/orb_frame_gate.md
 
 library ieee;
 use ieee.std_logic_1164.all;
+
+use work.orb_latency_pkg.all;
 
 entity orb_frame_gate is
   generic (
@@ -40,6 +43,11 @@ architecture rtl of orb_frame_gate is
   signal ready     : std_logic;
 
 begin
+
+  -- the registers from input to output: none (combinational)
+  assert FRAME_GATE_LAT_c = 0
+    report "orb_frame_gate: FRAME_GATE_LAT_c (orb_latency_pkg) must be this pipeline's 0 clocks"
+    severity failure;
 
   gate : process (clk) is
   begin

@@ -10,14 +10,17 @@
 -- one beat per clock: an input skid buffer makes s_axis_video_tready a register (no combinational
 -- path from m_axis_video_tready to s_axis_video_tready), then two pipeline stages (per-channel
 -- products, their sum) that advance whenever the output register is empty or being taken. Latency
--- 3 clocks: a beat accepted at clock edge n is on m_axis_video after edge n + 2, so taken at n + 3
--- at the earliest (skid register, products, output register).
+-- RGB_LUMA_LAT_c = 3 clocks (orb_latency_pkg, docs/latency.md): a beat accepted at clock edge n is
+-- on m_axis_video after edge n + 2, so taken at n + 3 at the earliest (skid register, products,
+-- output register).
 -- tready is low in reset and high from the first clock after it while the skid buffer is empty.
 -- Ports and generics: docs/entities/orb_rgb_luma.md
 
 library ieee;
 use ieee.std_logic_1164.all;
 use ieee.numeric_std.all;
+
+use work.orb_latency_pkg.all;
 
 entity orb_rgb_luma is
   generic (
@@ -66,6 +69,11 @@ architecture rtl of orb_rgb_luma is
   signal o_last  : std_logic := '0';
 
 begin
+
+  -- the registers from input to output: skid register, products, output register
+  assert RGB_LUMA_LAT_c = 3
+    report "orb_rgb_luma: RGB_LUMA_LAT_c (orb_latency_pkg) must be this pipeline's 3 clocks"
+    severity failure;
 
   assert INPUT_g = "RGB" or INPUT_g = "RBG" or INPUT_g = "LUMA"
     report "orb_rgb_luma: INPUT_g must be ""RGB"", ""RBG"" or ""LUMA"""

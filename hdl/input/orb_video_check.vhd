@@ -12,7 +12,8 @@
 -- counted. Each frame forwarded ends with a frame_end pulse, together with its last pixel on
 -- m_axis_video, carrying frame_bad and frame_fault (bit 0 short line, bit 1 long line, bit 2 tuser
 -- at a line start, bit 3 tuser in mid-line); protocol_errors counts bad frames, discarded_pixels
--- discarded pixels. Latency 1 clock (output registers). m_axis_video_tready must stay high (the
+-- discarded pixels. Latency VIDEO_CHECK_LAT_c = 1 clock (output registers; orb_latency_pkg,
+-- docs/latency.md). m_axis_video_tready must stay high (the
 -- detector never stalls; a simulation assertion checks it). rst abandons an open frame without a
 -- frame_end (the detector, on the same reset, drops its partial frame too) and clears the counters.
 -- See docs/video-input.md.

@@ -13,11 +13,12 @@
 -- scale's colour; the last pixel of each block clears its bits, so a bank is empty again when a
 -- frame has passed. The banks swap at a video start of frame when a complete feature frame waits
 -- (its end-of-frame beat taken at an earlier clock edge); a feature frame that begins while
--- another waits is discarded whole. The feature beats are taken 6 clocks after the port (the
--- block pipeline, FEAT_LAT_c), and these edges are the ones spec 13.3 counts. Video latency is 3
--- clocks (the bitmap bits are registered before the colour is chosen); back-pressure passes
--- through (s_axis_video_tready = m_axis_video_tready or not m_axis_video_tvalid); s_axis_feat
--- never stalls.
+-- another waits is discarded whole. The feature beats are taken OVERLAY_FEAT_LAT_c = 6 clocks
+-- after the port (the block pipeline, whose flags are a delay line of that length), and these
+-- edges are the ones spec 13.3 counts. Video latency OVERLAY_VIDEO_LAT_c = 3 clocks (the bitmap
+-- bits are registered before the colour is chosen); both in orb_latency_pkg, docs/latency.md.
+-- Back-pressure passes through (s_axis_video_tready = m_axis_video_tready or not
+-- m_axis_video_tvalid); s_axis_feat never stalls.
 -- rst resets control state only: the bitmaps are zero at configuration (block RAM default), and
 -- after a reset in mid-stream marks of an interrupted frame can show once.
 -- Ports and generics: docs/entities/orb_overlay.md
@@ -27,6 +28,7 @@ use ieee.std_logic_1164.all;
 use ieee.numeric_std.all;
 
 use work.orb_util_pkg.all;
+use work.orb_latency_pkg.all;
 use work.orb_feat_pkg.all;
 use work.orb_limits_pkg.all;
 
@@ -94,10 +96,7 @@ architecture rtl of orb_overlay is
   constant DEN_LOG_c   : natural   := clog2(STEP_DEN_g);
   constant PROD_BITS_c : positive := COORD_BITS_c + 1 + clog2(NUM_POW_c(SCALES_g - 1) + 1);
 
-  -- clocks from a feature beat at the port to the stage the frame bookkeeping takes it from
-  constant FEAT_LAT_c : positive := 6;
-
-  type scale_arr_t is array (1 to FEAT_LAT_c) of unsigned(FEAT_SCALE_BITS_c - 1 downto 0);
+  type scale_arr_t is array (1 to OVERLAY_FEAT_LAT_c) of unsigned(FEAT_SCALE_BITS_c - 1 downto 0);
 
   function bit_of (n : natural) return std_logic is
   begin
@@ -124,15 +123,15 @@ architecture rtl of orb_overlay is
   signal sbank    : std_logic := '0';  -- show bank; the fill bank is the other one
   signal sbank_n  : std_logic;         -- show bank after this edge's start of frame
 
-  -- feature side: the block pipeline (stages 1 to FEAT_LAT_c), then the frame bookkeeping
+  -- feature side: the block pipeline (stages 1 to OVERLAY_FEAT_LAT_c), then the frame bookkeeping
   signal waiting  : std_logic := '0';  -- the fill bank holds a complete feature frame
   signal dropping : std_logic := '0';  -- the feature frame in progress is discarded
   signal f_scale  : unsigned(FEAT_SCALE_BITS_c - 1 downto 0);
   -- per stage: the beat's valid and tlast, its scale (a scale >= SCALES_g marks nothing)
-  signal fp_valid : std_logic_vector(1 to FEAT_LAT_c) := (others => '0');
-  signal fp_last  : std_logic_vector(1 to FEAT_LAT_c) := (others => '0');
+  signal fp_valid : std_logic_vector(1 to OVERLAY_FEAT_LAT_c) := (others => '0');
+  signal fp_last  : std_logic_vector(1 to OVERLAY_FEAT_LAT_c) := (others => '0');
   signal fp_scale : scale_arr_t := (others => (others => '0'));
-  signal fp_ok    : std_logic_vector(1 to FEAT_LAT_c) := (others => '0');
+  signal fp_ok    : std_logic_vector(1 to OVERLAY_FEAT_LAT_c) := (others => '0');
   -- stage 1: 2x + 1, 2y + 1, NUM^s and DEN^s of the scale
   signal f1_x,  f1_y : unsigned(COORD_BITS_c downto 0) := (others => '0');
   signal f1_mul      : unsigned(PROD_BITS_c - COORD_BITS_c - 2 downto 0) := (others => '0');
@@ -288,13 +287,13 @@ begin
 
   begin
     if rising_edge(clk) then
-      fp_valid <= s_axis_feat_tvalid & fp_valid(1 to FEAT_LAT_c - 1);
-      fp_last  <= s_axis_feat_tlast & fp_last(1 to FEAT_LAT_c - 1);
-      fp_scale <= f_scale & fp_scale(1 to FEAT_LAT_c - 1);
+      fp_valid <= s_axis_feat_tvalid & fp_valid(1 to OVERLAY_FEAT_LAT_c - 1);
+      fp_last  <= s_axis_feat_tlast & fp_last(1 to OVERLAY_FEAT_LAT_c - 1);
+      fp_scale <= f_scale & fp_scale(1 to OVERLAY_FEAT_LAT_c - 1);
       if to_integer(f_scale) < SCALES_g then
-        fp_ok <= '1' & fp_ok(1 to FEAT_LAT_c - 1);
+        fp_ok <= '1' & fp_ok(1 to OVERLAY_FEAT_LAT_c - 1);
       else
-        fp_ok <= '0' & fp_ok(1 to FEAT_LAT_c - 1);
+        fp_ok <= '0' & fp_ok(1 to OVERLAY_FEAT_LAT_c - 1);
       end if;
       -- stage 1
       f1_x   <= unsigned(s_axis_feat_tdata(FEAT_X_LO_c + COORD_BITS_c - 1 downto FEAT_X_LO_c)) & '1';
@@ -340,9 +339,9 @@ begin
     end if;
   end process block_pipe;
 
-  -- The bookkeeping takes the feature stream FEAT_LAT_c clocks after the port (spec 13.3 counts
-  -- the beats there). Order within one clock edge: the video start of frame (swap) first, then
-  -- the feature beat.
+  -- The bookkeeping takes the feature stream OVERLAY_FEAT_LAT_c clocks after the port (spec 13.3
+  -- counts the beats there). Order within one clock edge: the video start of frame (swap) first,
+  -- then the feature beat.
   frames : process (clk) is
     variable waiting_v : std_logic;
   begin
@@ -350,8 +349,8 @@ begin
       waiting_v := waiting and not swap;
       waiting   <= waiting_v;
       fw_en     <= '0';
-      if fp_valid(FEAT_LAT_c) = '1' then
-        if fp_last(FEAT_LAT_c) = '1' then
+      if fp_valid(OVERLAY_FEAT_LAT_c) = '1' then
+        if fp_last(OVERLAY_FEAT_LAT_c) = '1' then
           if waiting_v = '0' and dropping = '0' then
             waiting <= '1';
           end if;
@@ -359,10 +358,10 @@ begin
         elsif waiting_v = '1' or dropping = '1' then
           dropping <= '1';
         else
-          fw_en <= fp_ok(FEAT_LAT_c);
+          fw_en <= fp_ok(OVERLAY_FEAT_LAT_c);
         end if;
         fw_bank  <= not sbank_n;
-        fw_scale <= fp_scale(FEAT_LAT_c);
+        fw_scale <= fp_scale(OVERLAY_FEAT_LAT_c);
         fw_addr  <= f6_addr;
       end if;
       if rst = '1' then

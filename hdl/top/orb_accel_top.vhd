@@ -17,6 +17,7 @@ use ieee.std_logic_1164.all;
 use ieee.numeric_std.all;
 
 use work.orb_util_pkg.all;
+use work.orb_latency_pkg.all;
 use work.orb_feat_pkg.all;
 use work.orb_regs_pkg.all;
 use work.orb_limits_pkg.all;
@@ -183,7 +184,7 @@ begin
       STEP_DEN_g    => STEP_DEN_g,
       SECTORS_g     => SECTORS_g,
       MEM_DEPTH_g   => MEM_DEPTH_g,
-      MEM_LATENCY_g => 3,
+      MEM_LATENCY_g => FEAT_MEM_READ_LAT_c,
       ADDR_BITS_g   => ADDR_BITS_c
     )
     port map (

@@ -6,10 +6,13 @@ section 14), the spelling of orbtb's scoreboard."""
 from __future__ import annotations
 
 from golden_model.config import parse_cells
+from golden_model.latency import CORE_SPLIT
+from golden_model.limits import SCALES_MAX
 
 # idle clocks after a selection change before the next frame's first pixel: orb_core splits a new
-# budget over the levels in 2 clocks a level (SCALES_g <= 8) plus a few of registers
-SELECT_SETTLE = 40
+# budget over the levels in CORE_SPLIT.at(scales) clocks (docs/latency.md), plus a margin for the
+# registers before and after the split
+SELECT_SETTLE = CORE_SPLIT.at(SCALES_MAX) + 15
 
 
 def selection_text(mode: str, budget: int, cells: tuple[int, int], threshold_lo: int) -> str:

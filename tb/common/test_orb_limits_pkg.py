@@ -241,6 +241,7 @@ def _ghdl(args: list[str], cwd: Path) -> subprocess.CompletedProcess:
 def test_ghdl_refuses_exactly_the_illegal_sectors(tmp_path: Path) -> None:
     files = [
         str(HDL / "common" / "orb_util_pkg.vhd"),
+        str(HDL / "common" / "orb_latency_pkg.vhd"),
         str(ROOT / VIEWS[0]),
         str(HDL / "describe" / "orb_orient_sector.vhd"),
     ]

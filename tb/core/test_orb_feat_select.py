@@ -4,7 +4,7 @@
 Each frame's candidates (x, y, low, code) enter in raster order, at most one every second clock
 with random extra gaps; the frame's parameters (grid, budget, the grid's cols and rows) hold
 over it, and in_done pulses once the frame's last decision is out. Every decision must come
-SELECT_LAT = 5 clocks after its candidate and equal golden_model.select.LevelSelector's operation
+FEAT_SELECT_LAT clocks after its candidate and equal golden_model.select.LevelSelector's operation
 (dropped, or (slot, new)); the slots kept after the frame's last candidate must be
 golden_model.select.select_level's. Frames: the candidates of real photographs at two thresholds
 (golden_model.pipeline.candidates: codes, low corners) at several budgets and grids, in arrival
@@ -31,6 +31,7 @@ import pytest
 from cocotb.triggers import ClockCycles, RisingEdge
 
 from golden_model.config import Config
+from golden_model.latency import FEAT_SELECT_LAT
 from golden_model.pipeline import candidates, extract_scale
 from golden_model.scaler import pyramid
 from golden_model.select import CellGrid, LevelSelector, arrival_order, select_level
@@ -38,7 +39,6 @@ from orbtb import images
 from orbtb.runner import run
 from orbtb.unit import SIM_ENV, env_int, reset, to_int
 
-LATENCY = 5
 # the builds: (frame width, height, step, level)
 LEVELS = {"level0": (160, 120, (2, 1), 0), "level2": (100, 75, (5, 4), 2)}
 
@@ -219,10 +219,10 @@ async def run_frames(dut, frames: list[Frame], seed: int) -> Counter:
             dut.in_valid.value = 0
             for _ in range(1 + (int(rng.integers(1, 4)) if rng.random() < 0.3 else 0)):
                 await clock()
-        for _ in range(LATENCY + 1):
+        for _ in range(FEAT_SELECT_LAT + 1):
             await clock()
-        assert [e for e, _ in outs] == [e + LATENCY for e in in_edges], (
-            f"{f.label}: {len(outs)} decisions for {len(in_edges)} candidates, not each {LATENCY} clocks after"
+        assert [e for e, _ in outs] == [e + FEAT_SELECT_LAT for e in in_edges], (
+            f"{f.label}: {len(outs)} decisions for {len(in_edges)} candidates, not each {FEAT_SELECT_LAT} clocks after"
         )
         got = [o for _, o in outs]
         norm = [(k, s if (k and f.grid) else 0, n if k else 0) for k, s, n in got]

@@ -2,7 +2,7 @@
 """orb_resampler against golden_model.scaler.resample (docs/spec.md section 3, "Pyramid step").
 
 Frames (photographs, random images) stream back to back with (x, y) and random input gaps. Each
-output pixel (xo, yo) of the model's reduced image must leave exactly LATENCY clocks after the input
+output pixel (xo, yo) of the model's reduced image must leave exactly RESAMPLER_LAT clocks after the input
 pixel that completes it, (i(xo) + 1, j(yo) + 1) with the model's left and upper taps i and j, with
 its position and value; no other output may appear. Steps 5:4 (the measured best, issue 14), 3:2
 and 2:1 (which must equal orb_scaler's box), at odd and even sizes.
@@ -14,11 +14,10 @@ import cocotb
 import numpy as np
 import pytest
 
+from golden_model.latency import RESAMPLER_LAT
 from golden_model.scaler import _taps, resample
 from orbtb.runner import run
 from orbtb.unit import SIM_ENV, Stream, env_int, env_str, make_frame, parse_frames, random_gaps, reset, to_int
-
-LATENCY = 7
 
 
 @cocotb.test()
@@ -33,7 +32,7 @@ async def resampler_frames(dut) -> None:
     stream = Stream(
         dut.clk, dut.in_valid, [dut.in_x, dut.in_y, dut.in_data], [dut.out_x, dut.out_y, dut.out_data], [dut.out_valid]
     )
-    await stream.run(items, gaps, tail=LATENCY + 2)
+    await stream.run(items, gaps, tail=RESAMPLER_LAT + 2)
     got = {e: (to_int(x), to_int(y), to_int(d)) for e, (x, y, d) in stream.samples}
     checked = 0
     for f, img in enumerate(frames):
@@ -45,7 +44,7 @@ async def resampler_frames(dut) -> None:
         for yo in range(ho):
             for xo in range(wo):
                 x, y = int(ix[xo]) + 1, int(iy[yo]) + 1
-                edge = stream.in_edges[base + y * width + x] + LATENCY
+                edge = stream.in_edges[base + y * width + x] + RESAMPLER_LAT
                 where = f"frame {f}, output (x={xo}, y={yo}), completed by input (x={x}, y={y})"
                 assert edge in got, f"{where}: no output"
                 out = got.pop(edge)

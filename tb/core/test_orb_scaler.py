@@ -15,11 +15,10 @@ import cocotb
 import numpy as np
 import pytest
 
+from golden_model.latency import SCALER_LAT
 from golden_model.scaler import downscale
 from orbtb.runner import run
 from orbtb.unit import SIM_ENV, Stream, env_int, env_str, make_frame, parse_frames, random_gaps, reset, to_int
-
-LATENCY = 2
 
 
 def chained_gaps(w: int, h: int) -> list[int]:
@@ -63,7 +62,7 @@ async def scaler_frames(dut) -> None:
         base = sum(fr.size for fr in frames[:f])
         for y in range(h):
             for x in range(width):
-                edge = stream.in_edges[base + y * width + x] + LATENCY
+                edge = stream.in_edges[base + y * width + x] + SCALER_LAT
                 where = f"frame {f} ({width}x{h}), input pixel (x={x}, y={y})"
                 if x % 2 == 1 and y % 2 == 1 and x < 2 * (width // 2) and y < 2 * (h // 2):
                     exp = (x // 2, y // 2, int(small[y // 2, x // 2]))

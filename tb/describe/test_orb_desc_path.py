@@ -12,7 +12,7 @@ the densest legal feature pattern (one feature per 2x2 block over the whole fram
 smoothed image); a frame cut short, whose waiting features must be counted in `lost` exactly and
 must not disturb the next frame. Each survivor carries its low flag and response code through
 (photographs: detect at a main and a low threshold, golden_model.response's codes; the patterns:
-random ones), and every feature must be shown on cand_* exactly CAND_LEAD = 14 clocks before it
+random ones), and every feature must be shown on cand_* exactly CAND_LEAD_LAT = 14 clocks before it
 leaves, with the same position, low flag and code.
 """
 
@@ -24,6 +24,7 @@ import pytest
 from cocotb.triggers import RisingEdge
 
 from golden_model.brief import describe
+from golden_model.latency import CAND_LEAD_LAT
 from golden_model.orientation import moments, quantise
 from golden_model.pipeline import DESC_BORDER, detect, in_desc_border
 from golden_model.response import response_map
@@ -33,7 +34,6 @@ from orbtb.runner import run
 from orbtb.unit import SIM_ENV, env_int, random_gaps, reset, to_int
 
 DETECT_DELAY = 4  # a survivor (x, y) is offered with the stream tag (x + 4, y + 4)
-CAND_LEAD = 14  # orb_util_pkg.CAND_LEAD_c: cand_* shows a feature this many clocks before feat_*
 # x, y, score, low, code, sector, descriptor (bit i = test i)
 Feature = tuple[int, int, int, int, int, int, int]
 Offer = tuple[int, int, int]  # a survivor's score, low flag and code
@@ -144,8 +144,8 @@ def queue_depth(w: int) -> int:
 
 
 def check_cands(bench: Bench) -> None:
-    """Every feature shown on cand_* exactly CAND_LEAD clocks before it leaves, and nothing else."""
-    want = [(e - CAND_LEAD, (f[0], f[1], f[3], f[4])) for e, f in zip(bench.out_edges, bench.out, strict=True)]
+    """Every feature shown on cand_* exactly CAND_LEAD_LAT clocks before it leaves, and nothing else."""
+    want = [(e - CAND_LEAD_LAT, (f[0], f[1], f[3], f[4])) for e, f in zip(bench.out_edges, bench.out, strict=True)]
     assert bench.cands == want, f"{len(bench.cands)} candidates for {len(want)} features; first difference: " + str(
         next(((a, b) for a, b in zip(bench.cands, want, strict=False) if a != b), "in the counts")
     )

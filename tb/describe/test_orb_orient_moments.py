@@ -5,7 +5,7 @@ Frames are streamed as 31-pixel column words in raster order of the positions (x
 the word at (x, y) holds rows y-30..y of column x, slice k = row y - k. The output for (x, y) is
 the patch whose rightmost column is x and bottom row y, i.e. centred at (x - 15, y - 15); it is
 compared with the model wherever the patch lies on one line (x >= 30), and every output must leave
-exactly LATENCY clocks after its input with its tag. The entity never clears its sums, so frames
+exactly ORIENT_MOMENTS_LAT clocks after its input with its tag. The entity never clears its sums, so frames
 simply follow each other in one stream. Stimulus: smoothed photograph crops; flat 0 and 255;
 one bright pixel at every (u, v) of the 31 x 31 square around the centre and just beyond it in u
 (the circle's shape, pixel by pixel); ramps and steps in x and y of both signs (large moments);
@@ -17,13 +17,13 @@ from __future__ import annotations
 import cocotb
 import numpy as np
 
+from golden_model.latency import ORIENT_MOMENTS_LAT
 from golden_model.orientation import moments
 from golden_model.smooth import smooth
 from orbtb import images
 from orbtb.runner import run
 from orbtb.unit import SIM_ENV, Stream, random_gaps, reset, to_int
 
-LATENCY = 9
 SPAN = 31  # patch diameter: column word height and window width
 BITS = 24
 
@@ -62,10 +62,10 @@ async def check(dut, frames: Frames, seed: int) -> None:
     outputs = [dut.out_x, dut.out_y, dut.out_m10, dut.out_m01]
     stream = Stream(dut.clk, dut.in_valid, [dut.in_x, dut.in_y, dut.in_col], outputs, [dut.out_valid])
     n = len(frames.items)
-    await stream.run(frames.items, random_gaps(n, seed=seed, prob=0.2, long_every=500), tail=LATENCY + 4)
+    await stream.run(frames.items, random_gaps(n, seed=seed, prob=0.2, long_every=500), tail=ORIENT_MOMENTS_LAT + 4)
     out_edges = [e for e, _ in stream.samples]
-    assert out_edges == [e + LATENCY for e in stream.in_edges], (
-        f"outputs are not the inputs delayed by {LATENCY} clocks ({len(out_edges)} outputs, {n} inputs)"
+    assert out_edges == [e + ORIENT_MOMENTS_LAT for e in stream.in_edges], (
+        f"outputs are not the inputs delayed by {ORIENT_MOMENTS_LAT} clocks ({len(out_edges)} outputs, {n} inputs)"
     )
     checked = 0
     for (x, y, _), exp, label, (_, (xv, yv, m10v, m01v)) in zip(

@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: MIT
 """orb_orient_sector against golden_model.orientation.quantise, for SECTORS_g = 16, 32 and 64 (N = 4, 8 and 16).
 
-Every output must leave exactly LATENCY clocks after its input with its tag. Stimulus: the moments
+Every output must leave exactly ORIENT_SECTOR_LAT clocks after its input with its tag. Stimulus: the moments
 of photographs' smoothed patches; exact boundary cases, for every boundary k and quadrant, pairs
 (a, b) with b * 2^16 - a * TAN[k] (or b * COT[k] - a * 2^16) equal to -g, 0 and +g, g the
 smallest step the constant allows (1 for odd constants), at small and large magnitudes (these
@@ -17,13 +17,13 @@ import cocotb
 import numpy as np
 import pytest
 
+from golden_model.latency import ORIENT_SECTOR_LAT
 from golden_model.orientation import TAN_BITS, moments, quantise, tangent_constants
 from golden_model.smooth import smooth
 from orbtb import images
 from orbtb.runner import run
 from orbtb.unit import SIM_ENV, Stream, env_int, random_gaps, reset, to_int
 
-LATENCY = 5
 BITS = 24
 MAX = (1 << 21) - 1
 ONE = 1 << TAN_BITS
@@ -72,10 +72,11 @@ async def check(dut, vectors: list[tuple[int, int]], labels: list[str], n: int, 
     expected = quantise(np.array([v[0] for v in vectors]), np.array([v[1] for v in vectors]), n)
     stream = Stream(dut.clk, dut.in_valid, [dut.in_x, dut.in_y, dut.in_m10, dut.in_m01],
                     [dut.out_x, dut.out_y, dut.out_sector], [dut.out_valid])  # fmt: skip
-    await stream.run(items, random_gaps(len(items), seed=seed, prob=0.2, long_every=400), tail=LATENCY + 4)
+    await stream.run(items, random_gaps(len(items), seed=seed, prob=0.2, long_every=400), tail=ORIENT_SECTOR_LAT + 4)
     out_edges = [e for e, _ in stream.samples]
-    assert out_edges == [e + LATENCY for e in stream.in_edges], (
-        f"outputs are not the inputs delayed by {LATENCY} clocks ({len(out_edges)} outputs, {len(items)} inputs)"
+    assert out_edges == [e + ORIENT_SECTOR_LAT for e in stream.in_edges], (
+        f"outputs are not the inputs delayed by {ORIENT_SECTOR_LAT} clocks "
+        f"({len(out_edges)} outputs, {len(items)} inputs)"
     )
     for (x, y, _, _), (m10, m01), exp, label, (_, (xv, yv, sv)) in zip(
         items, vectors, expected, labels, stream.samples, strict=True

@@ -18,12 +18,12 @@ from __future__ import annotations
 import cocotb
 import numpy as np
 
+from golden_model.latency import SMOOTH_LAT
 from golden_model.smooth import smooth
 from orbtb import images
 from orbtb.runner import run
 from orbtb.unit import SIM_ENV, Stream, random_gaps, reset, to_int
 
-LATENCY = 5
 KERNEL = np.outer((5, 8, 12, 14, 12, 8, 5), (5, 8, 12, 14, 12, 8, 5))
 
 
@@ -62,8 +62,9 @@ async def check(dut, cols: Columns, seed: int) -> None:
                     [dut.out_valid])  # fmt: skip
     await stream.run(cols.items, random_gaps(len(cols.items), seed=seed, prob=0.2, long_every=400), tail=6)
     out_edges = [e for e, _ in stream.samples]
-    assert out_edges == [e + LATENCY for e in stream.in_edges], (
-        f"outputs are not the inputs delayed by {LATENCY} clocks ({len(out_edges)} outputs, {len(cols.items)} inputs)"
+    assert out_edges == [e + SMOOTH_LAT for e in stream.in_edges], (
+        f"outputs are not the inputs delayed by {SMOOTH_LAT} clocks "
+        f"({len(out_edges)} outputs, {len(cols.items)} inputs)"
     )
     for i, ((x, y, _), exp, label, (_, (xv, yv, dv))) in enumerate(
         zip(cols.items, cols.expected, cols.labels, stream.samples, strict=True)

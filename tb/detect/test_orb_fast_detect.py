@@ -9,8 +9,9 @@ ports hold the frame's values only at the frame's first pixel (0, 0) and are cha
 it and on every line, so a frame must still be detected with the values sampled at (0, 0). Sizes
 include the smallest per-scale frames (8x6, scale 3 of 64x48) and odd ones. Checked per frame:
 the features between two frame_done pulses equal detect(frame, t, t_lo) (x, y, score, low) with
-response_map(frame)'s code, and frame_done pulses exactly once, a few clocks after the frame's
-last pixel.
+response_map(frame)'s code, each survivor (x, y) away from the right and bottom borders exactly
+FAST_DETECT_LAT clocks after the pixel (x + 4, y + 4) that completes its NMS neighbourhood, and
+frame_done pulses exactly once, a few clocks after the frame's last pixel.
 """
 
 from __future__ import annotations
@@ -19,6 +20,7 @@ import cocotb
 import numpy as np
 import pytest
 
+from golden_model.latency import FAST_DETECT_LAT
 from golden_model.pipeline import detect
 from golden_model.response import response_map
 from orbtb import images
@@ -83,7 +85,7 @@ async def detect_frames(dut) -> None:
         if v == 1
     ]
     n = w * h
-    total = low_total = 0
+    total = low_total = timed = 0
     for f, (kind, img, t, tl) in enumerate(frames):
         where = f"frame {f} ({kind}, {w}x{h}, threshold {t}, low {tl})"
         last_in = stream.in_edges[(f + 1) * n - 1]
@@ -98,12 +100,21 @@ async def detect_frames(dut) -> None:
                for x, y, s, lw in zip(xs, ys, score, low, strict=True)]  # fmt: skip
         diff = first_difference(got, exp)
         assert diff is None, f"{where}: {diff}"
+        late = [(x, y, e - stream.in_edges[f * n + (y + 4) * w + x + 4])
+                for e, (x, y, *_) in feats if lo < e <= dones[f] and x + 4 < w and y + 4 < h]  # fmt: skip
+        assert all(d == FAST_DETECT_LAT for *_, d in late), (
+            f"{where}: survivors (x, y, clocks after pixel (x + 4, y + 4)) not {FAST_DETECT_LAT} clocks late: "
+            + str([v for v in late if v[2] != FAST_DETECT_LAT][:5])
+        )
+        timed += len(late)
         total += len(exp)
         low_total += int(low.sum())
     assert not [e for e, _ in feats if e > dones[-1]], "features after the last frame_done"
     if w >= 16 and any(tl < t for *_, t, tl in frames):  # (8x6 has no room for any corner)
         assert low_total, "frames with a low threshold but no low corner: the low path is untested"
-    dut._log.info("%d frames, %d features checked (%d low)", len(frames), total, low_total)
+    if total:
+        assert timed, "no survivor away from the right and bottom borders: the latency is untested"
+    dut._log.info("%d frames, %d features checked (%d low, %d timed)", len(frames), total, low_total, timed)
 
 
 # ------------------------------------------------------------------------------------------------

@@ -25,14 +25,13 @@ import numpy as np
 import pytest
 
 from golden_model.fast import fast_score
+from golden_model.latency import FAST_NMS_LAT
 from golden_model.nms import nms3x3
 from golden_model.pipeline import MAIN_LIFT
 from golden_model.response import response_map
 from orbtb import images
 from orbtb.runner import run
 from orbtb.unit import SIM_ENV, Stream, env_int, env_str, random_gaps, reset, to_int
-
-LATENCY = 3
 
 
 def interior(w: int, h: int) -> tuple[slice, slice]:
@@ -172,7 +171,7 @@ async def nms_frames(dut) -> None:
     ]
     dones = [e for e, (*_, d) in stream.samples if d == 1]
     n = w * h
-    expected_dones = [stream.in_edges[(f + 1) * n - 1] + LATENCY for f in range(len(maps))]
+    expected_dones = [stream.in_edges[(f + 1) * n - 1] + FAST_NMS_LAT for f in range(len(maps))]
     assert len(dones) == len(maps), f"{len(dones)} frame_done pulses for {len(maps)} frames (at edges {dones[:10]})"
 
     total = 0
@@ -200,7 +199,7 @@ async def nms_frames(dut) -> None:
         for e, (x, y, *_) in got:
             px = x + 4 if x + 4 <= w - 1 else w - 1
             py = y + 4 if y + 4 <= h - 1 else h - 1
-            want = stream.in_edges[f * n + py * w + px] + LATENCY
+            want = stream.in_edges[f * n + py * w + px] + FAST_NMS_LAT
             assert e == want, (
                 f"{where}: survivor (x={x}, y={y}) emitted at edge {e}, expected {want} (decided at ({px}, {py}))"
             )

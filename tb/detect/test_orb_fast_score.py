@@ -22,11 +22,11 @@ import cocotb
 import numpy as np
 
 from golden_model.fast import CIRCLE, fast_score
+from golden_model.latency import FAST_SCORE_LAT
 from orbtb import images
 from orbtb.runner import run
 from orbtb.unit import SIM_ENV, Stream, random_gaps, reset, to_int, window_word
 
-LATENCY = 4
 Item = tuple[int, int, int, int, int]  # (x, y, threshold, threshold_lo, window word)
 _LOW = np.random.default_rng(99)
 
@@ -57,11 +57,11 @@ async def check_windows(dut, items: list[Item], expected: list[tuple[int, int]],
     )
     await stream.run(items, random_gaps(len(items), seed=seed, prob=0.2, long_every=500), tail=6)
     out_edges = [e for e, _ in stream.samples]
-    expected_edges = [e + LATENCY for e in stream.in_edges]
+    expected_edges = [e + FAST_SCORE_LAT for e in stream.in_edges]
     if out_edges != expected_edges:
         i = next((i for i, (a, b) in enumerate(zip(out_edges, expected_edges, strict=False)) if a != b), -1)
         raise AssertionError(
-            f"outputs are not the inputs delayed by {LATENCY} clocks: {len(out_edges)} outputs for {len(items)} "
+            f"outputs are not the inputs delayed by {FAST_SCORE_LAT} clocks: {len(out_edges)} outputs for {len(items)} "
             f"inputs, first difference at output {i} ({labels[i] if 0 <= i < len(labels) else 'extra output'})"
         )
     for (x, y, t, tl, _), exp, label, (_, (x_v, y_v, s_v, m_v)) in zip(

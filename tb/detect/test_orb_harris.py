@@ -25,11 +25,11 @@ import cocotb
 import numpy as np
 
 from golden_model import response
+from golden_model.latency import HARRIS_LAT
 from orbtb import images
 from orbtb.runner import run
 from orbtb.unit import SIM_ENV, Stream, random_gaps, reset, to_int, window_word
 
-LATENCY = 17
 ROOT = Path(__file__).resolve().parents[2]
 
 
@@ -79,12 +79,12 @@ async def check_frames(dut, frames: list[tuple[str, np.ndarray]], seed: int) -> 
         prev = img
     stream = Stream(dut.clk, dut.in_valid, [dut.in_x, dut.in_y, dut.in_win], [dut.out_x, dut.out_y, dut.out_code],
                     [dut.out_valid])  # fmt: skip
-    await stream.run(items, random_gaps(len(items), seed=seed, prob=0.2, long_every=700), tail=LATENCY + 3)
+    await stream.run(items, random_gaps(len(items), seed=seed, prob=0.2, long_every=700), tail=HARRIS_LAT + 3)
     out_edges = [e for e, _ in stream.samples]
-    want_edges = [e + LATENCY for e in stream.in_edges]
+    want_edges = [e + HARRIS_LAT for e in stream.in_edges]
     if out_edges != want_edges:
         i = next((i for i, (a, b) in enumerate(zip(out_edges, want_edges, strict=False)) if a != b), len(want_edges))
-        raise AssertionError(f"outputs are not the inputs delayed by {LATENCY} clocks: {len(out_edges)} outputs for "
+        raise AssertionError(f"outputs are not the inputs delayed by {HARRIS_LAT} clocks: {len(out_edges)} outputs for "
                              f"{len(items)} inputs, first difference at output {i}")  # fmt: skip
     bad = []
     for (x, y, _), exp, label, (_, (xv, yv, cv)) in zip(items, expected, labels, stream.samples, strict=True):
@@ -131,11 +131,10 @@ async def extremes(dut) -> None:
 
 
 def test_response_constants_match_the_model() -> None:
-    """orb_fast_pkg's RESPONSE_BITS_c and HARRIS_LAT_c against the model and this test."""
+    """orb_fast_pkg's RESPONSE_BITS_c against the model (HARRIS_LAT_c: tb/common/test_orb_latency_pkg.py)."""
     text = (ROOT / "hdl" / "detect" / "orb_fast_pkg.vhd").read_text()
     consts = {m[0]: int(m[1]) for m in re.findall(r"constant (\w+)_c\s*:\s*positive\s*:=\s*(\d+);", text)}
     assert consts["RESPONSE_BITS"] == response.RESPONSE_BITS
-    assert consts["HARRIS_LAT"] == LATENCY
     assert (1 << response.RESPONSE_BITS) > response.MAX_CODE
 
 

@@ -13,10 +13,9 @@ from __future__ import annotations
 import cocotb
 import pytest
 
+from golden_model.latency import WINDOW_LAT
 from orbtb.runner import run
 from orbtb.unit import SIM_ENV, Stream, env_int, env_str, make_frame, parse_frames, random_gaps, reset, to_int
-
-LATENCY = 2
 
 
 def _elements(value, win: int, bits: int) -> list[int | None]:
@@ -54,11 +53,11 @@ async def window_slices(dut) -> None:
     await stream.run(items, gaps, tail=4)
 
     out_edges = [e for e, _ in stream.samples]
-    expected_edges = [e + LATENCY for e in stream.in_edges]
+    expected_edges = [e + WINDOW_LAT for e in stream.in_edges]
     if out_edges != expected_edges:
         i = next((i for i, (a, b) in enumerate(zip(out_edges, expected_edges, strict=False)) if a != b), None)
         raise AssertionError(
-            f"out_valid is not the input pattern delayed by {LATENCY}: {len(out_edges)} outputs for {len(items)} "
+            f"out_valid is not the input pattern delayed by {WINDOW_LAT}: {len(out_edges)} outputs for {len(items)} "
             f"inputs, first difference at output {i}"
             + (f" (frame {where_of[i][0]}, x={where_of[i][1]}, y={where_of[i][2]})" if i is not None else "")
         )

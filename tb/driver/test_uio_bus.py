@@ -43,13 +43,14 @@ from golden_model.config import Config
 from golden_model.featcodec import encode_eof, encode_feature, feature_slot, record_slot
 from golden_model.featmem import SLOT_BYTES, SLOT_RECORD_WORDS, SLOT_WORDS_USED
 from golden_model.features import Features, first_difference
+from golden_model.latency import FEAT_MEM_READ_LAT
 from golden_model.pipeline import extract
 from orb_accel import UIO_NAME, DevMemBus, OrbAccel, UioBus, find_uio
 from orb_accel import uio as uio_module
 from orbtb.images import photo
 
 ROOT = Path(__file__).resolve().parents[2]
-W, H, SCALES, SECTORS, DEPTH, LATENCY = 128, 96, 2, 32, 2048, 2
+W, H, SCALES, SECTORS, DEPTH = 128, 96, 2, 32, 2048
 MAP_SIZE = 0x100000
 FRAME = 7
 SLOT_WORDS = SLOT_BYTES // 4
@@ -79,7 +80,7 @@ def device_words(feats: Features) -> np.ndarray:
     put(words, regs.VERSION, major=regs.VERSION_MAJOR, minor=regs.VERSION_MINOR)
     put(words, regs.CFG_SIZE, width=W, height=H)
     put(words, regs.CFG_ORB, scales=SCALES, sectors=SECTORS, banks=regs.BANKS)
-    put(words, regs.CFG_MEM, depth=DEPTH, latency=LATENCY)
+    put(words, regs.CFG_MEM, depth=DEPTH, latency=FEAT_MEM_READ_LAT)  # orb_accel_top's MEM_LATENCY_g
     put(words, regs.CTRL, enable=1, mode=0)  # mode 0: orb
     put(words, regs.THRESHOLD, threshold=20)
     put(words, regs.STATUS, bank_ready=0b01, last_bank=0)

@@ -3,7 +3,7 @@
 
 A Python reference (`MemModel`) follows the documented protocol one clock at a time: which frame
 goes to which bank, which beats are written where (the memory's whole contents, stale slots
-included), the bank headers, counters, frame_done and the read port (latency 3, read-first).
+included), the bank headers, counters, frame_done and the read port (latency FEAT_MEM_READ_LAT, read-first).
 Every clock, every output of the DUT is compared with it (the cocotb tests share one simulation:
 each test starts from the RAM contents and headers the DUT has, read first). On top of that,
 each scenario checks what the CPU sees against expectations taken from the stimulus alone: the
@@ -40,6 +40,7 @@ from golden_model.featcodec import (
     resolve_selection,
 )
 from golden_model.featword import EOF_BEAT, FEATURE_BEAT, SLOT_BYTES, SLOT_WORD_BITS, SLOT_WORDS, SLOT_WORDS_USED
+from golden_model.latency import FEAT_MEM_READ_LAT
 from orbtb.runner import run
 from orbtb.unit import SIM_ENV, env_int
 
@@ -144,7 +145,7 @@ class MemModel:
     overflow: int = 0
     aborted: int = 0
     hdr: list[list[int]] = field(default_factory=lambda: [[0, 0, 0, 0], [0, 0, 0, 0]])  # count, frame, drop, trunc
-    rd_pipe: deque = field(default_factory=lambda: deque([None, None]))
+    rd_pipe: deque = field(default_factory=lambda: deque([None] * (FEAT_MEM_READ_LAT - 1)))
     rd_data: int = 0
     published: list[Published] = field(default_factory=list)
     pending: tuple = (None, 0, None)  # the inputs of the last clock (the memory registers them)
@@ -165,7 +166,7 @@ class MemModel:
         self.in_frame = self.storing = self.abort_f = False
         self.cnt = self.trunc = self.done = self.last_bank = 0
         self.overrun = self.overflow = self.aborted = 0
-        self.rd_pipe = deque([None, None])
+        self.rd_pipe = deque([None] * (FEAT_MEM_READ_LAT - 1))
         self.pending = (None, 0, None)
 
     def step(self, beat: Beat | None, abort: int, release: int | None, rd_addr: int | None) -> None:
@@ -245,7 +246,7 @@ class MemBench:
         self.edge = 0
         self.read_log: deque[int] = deque()  # addresses issued, data not yet returned
         self.read_data: dict[int, int] = {}  # word address -> data returned (the last read of it)
-        self._pipe: deque[int | None] = deque([None, None, None])  # reads of the last three clocks
+        self._pipe: deque[int | None] = deque([None] * FEAT_MEM_READ_LAT)  # reads of the last clocks
         self.learning = False
         self.overlap = 0  # clocks with a stream beat and a read at once
         self.span: dict[str, int] = {}  # clocks (of the last `run`) of the first and last beat and read
@@ -331,7 +332,7 @@ class MemBench:
         self.edge += 1
         self.check_outputs()
         # A read sampled at edge e is in the mem_rd_data register after edge e + 2, i.e. read
-        # right after edge e + 3 (latency 3), which is now for the read of three clocks ago.
+        # right after edge e + FEAT_MEM_READ_LAT (3), which is now for the read of that many clocks ago.
         done = self._pipe.popleft()
         if done is not None:
             self.read_data[done >> WORD_SHIFT << WORD_SHIFT] = int(self.dut.mem_rd_data.value)

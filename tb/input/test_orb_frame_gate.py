@@ -38,6 +38,7 @@ import numpy as np
 from cocotb.clock import Clock
 from cocotb.triggers import ClockCycles, RisingEdge
 
+from golden_model.latency import FRAME_GATE_LAT
 from orbtb.runner import run
 from orbtb.unit import PERIOD_NS, SIM_ENV, env_int, pause_pattern
 
@@ -439,7 +440,9 @@ async def full_rate(dut) -> None:
     in_edges = [e for e, _, _, _ in b.taken]
     assert in_edges == list(range(in_edges[0], in_edges[0] + len(in_edges))), "not one input beat per clock"
     passed_edges = [e for e, _, _, p in b.taken if p]
-    assert passed_edges == [e for e, _ in b.out], "a passed beat did not leave in the clock it arrived"
+    assert [e + FRAME_GATE_LAT for e in passed_edges] == [e for e, _ in b.out], (
+        f"a passed beat did not leave {FRAME_GATE_LAT} clocks after it arrived"
+    )
 
 
 # ------------------------------------------------------------------------------------------------

@@ -25,6 +25,7 @@ from cocotb.clock import Clock
 from cocotb.triggers import ClockCycles, RisingEdge, with_timeout
 from cocotb.utils import get_sim_time, get_time_from_sim_steps
 
+from golden_model.latency import RGB_LUMA_LAT
 from golden_model.luma import rgb_to_luma
 from orbtb.runner import run
 from orbtb.unit import PERIOD_NS, SIM_ENV, env_int, env_str, pause_pattern
@@ -33,8 +34,6 @@ warnings.filterwarnings("ignore", category=DeprecationWarning, module=r"cocotbex
 warnings.filterwarnings("ignore", category=DeprecationWarning, module=r"cocotb_bus\..*")
 
 from cocotbext.axi import AxiStreamBus, AxiStreamFrame, AxiStreamSink, AxiStreamSource  # noqa: E402
-
-LATENCY = 3  # clocks from the edge that accepts a beat to the edge where the sink can take it
 
 
 def pack(rgb: np.ndarray, packing: str) -> np.ndarray:
@@ -180,7 +179,7 @@ async def sweep(dut) -> None:
 
 @cocotb.test()
 async def full_rate(dut) -> None:
-    """No idles, no stalls: one beat per clock, first output LATENCY clocks after the first input."""
+    """No idles, no stalls: one beat per clock, first output RGB_LUMA_LAT clocks after the first input."""
     b = Bench(dut)
     await b.start(idle_prob=0.0, stall_prob=0.0)
     dut.m_axis_video_tready.value = 1
@@ -202,7 +201,7 @@ async def full_rate(dut) -> None:
     span = (t_last - t_first) / PERIOD_NS
     assert span == len(img) - 1, f"{len(img)} beats took {span + 1} clocks at the output, expected {len(img)}"
     latency = (t_first - first_in[0]) / PERIOD_NS
-    assert latency == LATENCY, f"latency {latency} clocks, expected {LATENCY}"
+    assert latency == RGB_LUMA_LAT, f"latency {latency} clocks, expected {RGB_LUMA_LAT}"
 
 
 # ------------------------------------------------------------------------------------------------

@@ -5,7 +5,7 @@ The cocotb test runs one scenario: RGB video frames through s_axis_video and fea
 s_axis_feat, timed against the video as the scenario says (spread over a video frame, end-of-frame
 beat before, at or one edge before the next start of frame, a frame starting early, ...). A
 monitor records the clock edge of every accepted beat on the three streams. Afterwards the
-accepted starts of frame and feature beats, in edge order (a feature beat FEAT_LATENCY edges after
+accepted starts of frame and feature beats, in edge order (a feature beat OVERLAY_FEAT_LAT edges after
 its acceptance, where the overlay takes it: spec 13.3), go through the model's
 `marker_schedule` (which feature frame each video frame shows); each scenario also states the
 schedule it means to produce, so a test cannot pass by showing nothing. Every output pixel must
@@ -38,11 +38,11 @@ from golden_model.featcodec import decode_stream_features, encode_eof, encode_fe
 from golden_model.features import NO_SECTOR, Features
 from golden_model.featword import EOF_FLAG, FEAT_BITS, FEATURE_BEAT
 from golden_model.images import to_luma
-from golden_model.overlay import FEAT_LATENCY, marker_bitmap, marker_schedule, render_marker_overlay
+from golden_model.latency import OVERLAY_FEAT_LAT, OVERLAY_VIDEO_LAT
+from golden_model.overlay import marker_bitmap, marker_schedule, render_marker_overlay
 from orbtb.runner import run
 from orbtb.unit import env_int, env_str, reset
 
-LATENCY = 3
 RGB_PHOTOS = ("astronaut", "coffee", "chelsea", "rocket", "camera")
 # feature words carry random bits from above the end-of-frame flag on (sector, reserved bits,
 # descriptor): the overlay reads only x, y and scale
@@ -194,8 +194,8 @@ class Bench:
             if sf_valid.value == 1:
                 last = int(sf_last.value)
                 self.feat_words.append(int(sf_data.value) | (last << FEAT_BITS))
-                # counted where the overlay takes it, FEAT_LATENCY edges after the port (spec 13.3)
-                self.events.append((e + FEAT_LATENCY, 1, "eof" if last else "feature"))
+                # counted where the overlay takes it, OVERLAY_FEAT_LAT edges after the port (spec 13.3)
+                self.events.append((e + OVERLAY_FEAT_LAT, 1, "eof" if last else "feature"))
             if mv_valid.value == 1:
                 beat = (int(mv_data.value), int(mv_user.value), int(mv_last.value))
                 if stalled is not None:
@@ -337,8 +337,10 @@ class Bench:
                         f"{bo[1]:06x} user {bo[2]} last {bo[3]}, expected {exp_words[i]:06x} user {bi[2]} "
                         f"last {bi[3]} (input {bi[1]:06x})"
                     )
-                if self.backpressure_free and bo[0] - bi[0] != LATENCY:
-                    raise AssertionError(f"frame {n} pixel {i}: latency {bo[0] - bi[0]} clocks, not {LATENCY}")
+                if self.backpressure_free and bo[0] - bi[0] != OVERLAY_VIDEO_LAT:
+                    raise AssertionError(
+                        f"frame {n} pixel {i}: latency {bo[0] - bi[0]} clocks, not {OVERLAY_VIDEO_LAT}"
+                    )
         if any(s is not None and len(feats[s]) > 0 for s in shown):
             assert marked_total > 0, "no marker pixel expected anywhere: the test would prove nothing"
         self.dut._log.info("frames %d, shown %s, feature frames %s, marked pixels %d", len(self.frames), shown,
@@ -439,7 +441,7 @@ async def scenario_sequence(b: Bench) -> None:
 
 async def scenario_timing(b: Bench) -> None:
     """End-of-frame beats against starts of frame, clock-exact (spec 13.3): a feature beat counts
-    FEAT_LATENCY edges after the port, so the beats meant for an edge go that much earlier."""
+    OVERLAY_FEAT_LAT edges after the port, so the beats meant for an edge go that much earlier."""
     frames = [rgb_photo(RGB_PHOTOS[i % len(RGB_PHOTOS)], b.width, b.height) for i in range(7)]
     words = [interleaved_words(photo_features(rgb, b.scales, b.step), b.rng) for rgb in frames]
     span = b.frame_clocks()
@@ -460,7 +462,7 @@ async def scenario_timing(b: Bench) -> None:
     await task
     await b.idle(b.blank)
     await b.feature_beat(eof_word(2), 1)
-    await b.idle(FEAT_LATENCY)
+    await b.idle(OVERLAY_FEAT_LAT)
     # V3 with F3, then F4's first beat counting on the edge of V4's start (after the swap: kept).
     task = cocotb.start_soon(b.features(words[3], span, eof_word(3)))
     await b.video_frame(frames[3])
@@ -468,14 +470,14 @@ async def scenario_timing(b: Bench) -> None:
     await b.idle(b.blank)
     b.feat_busy = True
     await b.feature_beat(words[4][0])
-    await b.idle(FEAT_LATENCY - 1)
+    await b.idle(OVERLAY_FEAT_LAT - 1)
     v4 = cocotb.start_soon(b.video_frame(frames[4]))
     await b.features(words[4][1:], span, eof_word(4))
     await v4
     await b.idle(b.blank)
     # F5 begins before V5's start (F4 waiting): discarded whole although most of it comes later.
     await b.feature_beat(words[5][0])
-    await b.idle(FEAT_LATENCY)
+    await b.idle(OVERLAY_FEAT_LAT)
     task = cocotb.start_soon(b.features(words[5][1:], span, eof_word(5)))
     await b.video_frame(frames[5])
     await task

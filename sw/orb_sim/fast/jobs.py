@@ -20,6 +20,7 @@ import numpy as np
 
 from golden_model.config import Config
 from golden_model.features import Features, write_csv
+from golden_model.latency import AXIL_IRQ_LAT
 from golden_model.overlay import marker_block_log2
 from orb_accel.driver import Frame, OrbAccel
 
@@ -27,10 +28,11 @@ from ..rtl_backend import ACCEL_MEM_DEPTH  # the GHDL job's: the same simulated 
 from .build import build_fast
 from .sim import FastBus, FastSim, FastSimError
 
-# From orb_feat_mem's frame_done pulse to the irq output: IRQ_STATUS is set at the next edge and
-# the registered irq follows one edge later (docs/registers.md, Interrupts). The GHDL job measures
-# the pulse itself (an internal signal, which a netlist does not have): latency = irq - 2.
-IRQ_AFTER_FRAME_DONE = 2
+# From orb_feat_mem's frame_done pulse to the irq output, AXIL_IRQ_LAT clocks: IRQ_STATUS is set at
+# the edge that samples the pulse and the registered irq one edge later (docs/registers.md,
+# Interrupts; docs/latency.md), so the edge that raises irq is AXIL_IRQ_LAT after the one that
+# raised the pulse. The GHDL job measures the pulse itself (an internal signal, which a netlist
+# does not have): latency = irq - AXIL_IRQ_LAT.
 H_BLANK, V_BLANK = 16, 64  # as orb_sim.video.Gaps("blanking")
 
 
@@ -137,7 +139,7 @@ def run_accel_fast(img: np.ndarray, cfg: Config, job: Path, overlay: bool, seed:
     return {
         "features": len(frame.features), "frame_cycles": frame_cycles, "pixels": pixels,
         "cycles_per_pixel": round(frame_cycles / pixels, 4),
-        "latency_cycles": st["irq_rise_cycle"] - st["last_beat_cycle"] - IRQ_AFTER_FRAME_DONE,
+        "latency_cycles": st["irq_rise_cycle"] - st["last_beat_cycle"] - AXIL_IRQ_LAT,
         "dropped_merge": counters["dropped"], "truncated": frame.record.truncated,
         "desc_lost": counters["desc_lost"], "proto_errors": counters["proto_errors"],
         "frame_sim_wall_s": round(frame_s, 3), "bus_reads": fa.bus.reads, "bus_writes": fa.bus.writes,
