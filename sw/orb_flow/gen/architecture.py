@@ -16,12 +16,12 @@ byte-checked by tb/house/test_docs_gen.py. Usage: python -m orb_flow.gen.archite
 
 from __future__ import annotations
 
-import argparse
 import itertools
 from dataclasses import dataclass
 from pathlib import Path
 from xml.sax.saxutils import escape
 
+from orb_flow.gen.codegen import views_main
 from orb_flow.vhdl import parse_entity
 from orb_sim.hdl import ROOT, read_manifest
 
@@ -321,15 +321,8 @@ def hierarchy_label(root: Path) -> str:
     return next(label for label, child in parse_entity(src.path).instances if child == TOP)
 
 
-def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--out", type=Path, default=ROOT, help="root of the outputs (default: the repository)")
-    args = ap.parse_args()
-    for rel, text in render(ROOT).items():
-        path = args.out / rel
-        path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_bytes(text.encode())
-        print(f"wrote {path}")
+def main(argv: list[str] | None = None) -> None:
+    views_main(__doc__, render, ROOT, argv)
 
 
 if __name__ == "__main__":

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import argparse
 import json
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import TypeVar
 
@@ -50,6 +50,17 @@ def write_views(views: Mapping[Path, str], root: Path) -> None:
         path.parent.mkdir(parents=True, exist_ok=True)
         path.write_bytes(text.encode())
         print(f"wrote {path}")
+
+
+def views_main(doc: str | None, render: Callable[[Path], Mapping[Path, str]], root: Path,
+               argv: Sequence[str] | None = None) -> None:  # fmt: skip
+    """The command line of a generator that reads its source from the repository: --root (the
+    repository holding the data) and --out (where the views go, default --root)."""
+    ap = argparse.ArgumentParser(description=(doc or "").split("\n\n")[0])
+    ap.add_argument("--root", type=Path, default=root, help="repository holding the data (default: this one)")
+    ap.add_argument("--out", type=Path, default=None, help="root directory of the views (default: --root)")
+    args = ap.parse_args(argv)
+    write_views(render(args.root), args.out or args.root)
 
 
 def render_views(data: T, outputs: Mapping[str, Path], renderers: Mapping[str, Callable[[T], str]]) -> dict[Path, str]:

@@ -13,12 +13,13 @@ regenerates into a temporary directory).
 
 from __future__ import annotations
 
-import argparse
 import json
 import re
 import textwrap
 from dataclasses import dataclass
 from pathlib import Path
+
+from orb_flow.gen.codegen import views_main
 
 ROOT = Path(__file__).resolve().parents[3]
 SOURCE = Path("golden_model") / "data" / "latency.json"
@@ -247,16 +248,8 @@ def render(root: Path) -> dict[Path, str]:
     return {VHDL: render_vhdl(t), PYTHON: render_python(t), MARKDOWN: render_markdown(t)}
 
 
-def main() -> None:
-    ap = argparse.ArgumentParser(description=(__doc__ or "").split("\n\n")[0])
-    ap.add_argument("--root", type=Path, default=ROOT, help="repository holding the data (default: this one)")
-    ap.add_argument("--out", type=Path, default=None, help="root directory of the views (default: --root)")
-    args = ap.parse_args()
-    for rel, text in render(args.root).items():
-        path = (args.out or args.root) / rel
-        path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_bytes(text.encode())
-        print(f"wrote {path}")
+def main(argv: list[str] | None = None) -> None:
+    views_main(__doc__, render, ROOT, argv)
 
 
 if __name__ == "__main__":

@@ -12,12 +12,13 @@ Usage: python -m orb_flow.gen.results [--out DIR] (default: the repository).
 
 from __future__ import annotations
 
-import argparse
 import json
 import re
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
+
+from orb_flow.gen.codegen import views_main
 
 ROOT = Path(__file__).resolve().parents[3]
 GENERATOR = "orb_flow.gen.results"
@@ -294,14 +295,7 @@ def render(root: Path = ROOT) -> dict[Path, str]:
 
 
 def main(argv: list[str] | None = None) -> None:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--out", type=Path, default=ROOT, help="root directory of the pages (default: the repository)")
-    args = ap.parse_args(argv)
-    for rel, text in render(ROOT).items():
-        path = args.out / rel
-        path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_bytes(text.encode())
-        print(f"wrote {path}")
+    views_main(__doc__, render, ROOT, argv)
 
 
 if __name__ == "__main__":

@@ -11,13 +11,13 @@ its own: change the source, then run `python -m orb_flow.gen.tools [--out ROOT]`
 
 from __future__ import annotations
 
-import argparse
 import json
 import re
 import sys
 from collections import defaultdict
 from pathlib import Path
 
+from orb_flow.gen.codegen import views_main
 from orb_sim.hdl import ROOT
 
 if sys.version_info >= (3, 11):
@@ -176,15 +176,8 @@ def render(root: Path) -> dict[Path, str]:
     return {VIEW: "\n".join(out)}
 
 
-def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--out", type=Path, default=ROOT, help="root of the outputs (default: the repository)")
-    args = ap.parse_args()
-    for rel, text in render(ROOT).items():
-        path = args.out / rel
-        path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_bytes(text.encode())
-        print(f"wrote {path}")
+def main(argv: list[str] | None = None) -> None:
+    views_main(__doc__, render, ROOT, argv)
 
 
 if __name__ == "__main__":
