@@ -379,6 +379,8 @@ begin
     variable ahead1_v    : level_arr_t;
     variable ends_v      : ends_arr_t;
     variable push_v      : boolean;
+    variable level_up_v  : level_t;                         -- the FIFO's level + 1 and - 1
+    variable level_dn_v  : level_t;
     variable level_v     : level_t;                         -- the FIFO's level after this clock
     variable level_nz_v  : boolean;
   begin
@@ -407,18 +409,20 @@ begin
       for k in 0 to SCALES_g - 1 loop
         -- the FIFO's new level: one of three values formed beside the arbiter, chosen by its
         -- decision (no adder behind the round robin: docs/synthesis.md, "Timing")
+        level_up_v := 0;
+        level_dn_v := 0;
+        if fifo_level(k) < FIFO_DEPTH_g then
+          level_up_v := fifo_level(k) + 1;
+        end if;
+        if fifo_level(k) > 0 then
+          level_dn_v := fifo_level(k) - 1;
+        end if;
         push_v := in_valid(k) = '1' and fifo_room(k) = '1';
         if grant(k) = '1' and not push_v then
-          level_v    := 0;
-          if fifo_level(k) > 0 then
-            level_v := fifo_level(k) - 1;
-          end if;
+          level_v    := level_dn_v;
           level_nz_v := fifo_level(k) /= 1;
         elsif push_v and grant(k) = '0' then
-          level_v    := 0;
-          if fifo_level(k) < FIFO_DEPTH_g then
-            level_v := fifo_level(k) + 1;
-          end if;
+          level_v    := level_up_v;
           level_nz_v := true;
         else
           level_v    := fifo_level(k);
