@@ -114,25 +114,28 @@ end entity orb_axil_regs;
 
 architecture rtl of orb_axil_regs is
 
-  subtype word_t is std_logic_vector(31 downto 0);
+  subtype word_t is std_logic_vector(s_axil_wdata'range);
+  subtype strobes_t is std_logic_vector(s_axil_wstrb'range);
+  subtype resp_t is std_logic_vector(s_axil_bresp'range);
 
   type word_array_t is array (natural range <>) of word_t;
 
   subtype reg_words_t is word_array_t(REGS_c'range);
 
-  constant OKAY_c   : std_logic_vector(1 downto 0) := "00";
-  constant SLVERR_c : std_logic_vector(1 downto 0) := "10";
+  constant OKAY_c   : resp_t := "00";
+  constant SLVERR_c : resp_t := "10";
   constant ZERO_c   : word_t := (others => '0');
 
   -- the largest legal value of a limited field, in place: its max, or MEM_DEPTH_g - 1 (at most the
   -- field's all-ones value) for a `depth` limit
   function limit_max (lim : reg_limit_t) return unsigned is
-    variable top : unsigned(55 downto 0);
+    constant DEPTH_BITS_c : positive := 24;  -- MEM_DEPTH_g < 2 ** 24
+    variable top_v        : unsigned(word_t'length + DEPTH_BITS_c - 1 downto 0);
   begin
     if lim.depth then
-      top := shift_left(resize(to_unsigned(MEM_DEPTH_g - 1, 24), 56), lim.lsb);
-      if top < resize(unsigned(lim.max), 56) then
-        return top(31 downto 0);
+      top_v := shift_left(resize(to_unsigned(MEM_DEPTH_g - 1, DEPTH_BITS_c), top_v'length), lim.lsb);
+      if top_v < resize(unsigned(lim.max), top_v'length) then
+        return top_v(word_t'range);
       end if;
     end if;
     return unsigned(lim.max);
@@ -140,17 +143,17 @@ architecture rtl of orb_axil_regs is
 
   -- word with bits msb .. lsb set to value
   function put (word : word_t; value : natural; msb, lsb : natural) return word_t is
-    variable w : word_t := word;
+    variable word_v : word_t := word;
   begin
-    w(msb downto lsb) := std_logic_vector(to_unsigned(value, msb - lsb + 1));
-    return w;
+    word_v(msb downto lsb) := std_logic_vector(to_unsigned(value, msb - lsb + 1));
+    return word_v;
   end function put;
 
   function put (word : word_t; value : std_logic_vector; msb, lsb : natural) return word_t is
-    variable w : word_t := word;
+    variable word_v : word_t := word;
   begin
-    w(msb downto lsb) := value;
-    return w;
+    word_v(msb downto lsb) := value;
+    return word_v;
   end function put;
 
   -- w when cond, else zero
@@ -163,13 +166,13 @@ architecture rtl of orb_axil_regs is
   end function sel;
 
   -- the 32-bit mask of the bytes whose strobe is set
-  function byte_mask (strb : std_logic_vector(3 downto 0)) return word_t is
-    variable m : word_t;
+  function byte_mask (strb : strobes_t) return word_t is
+    variable mask_v : word_t;
   begin
-    for i in 0 to 3 loop
-      m(8 * i + 7 downto 8 * i) := (others => strb(i));
+    for i in strb'range loop
+      mask_v(8 * i + 7 downto 8 * i) := (others => strb(i));
     end loop;
-    return m;
+    return mask_v;
   end function byte_mask;
 
   -- log2(MEM_BASE_c), a power of two: address bits LOW_BITS_c - 1 .. 2 select a register
@@ -205,39 +208,48 @@ architecture rtl of orb_axil_regs is
     return held and stored(d);
   end function read_value;
 
-  -- write channel
-  signal aw_full  : std_logic := '0';
-  signal aw_addr  : std_logic_vector(ADDR_BITS_g - 1 downto 0) := (others => '0');
-  signal w_full   : std_logic := '0';
-  signal w_data   : word_t := (others => '0');
-  signal w_strb   : std_logic_vector(3 downto 0) := (others => '0');
-  signal bvalid_r : std_logic := '0';
-  signal bresp_r  : std_logic_vector(1 downto 0) := OKAY_c;
+  -- write channel (process write_capture): the AW and W buffers, the one write in flight
+  -- (decoded_valid: decoded, executed at the next edge) and the B response
+  signal aw_full       : std_logic := '0';
+  signal aw_addr       : std_logic_vector(ADDR_BITS_g - 1 downto 0) := (others => '0');
+  signal w_full        : std_logic := '0';
+  signal w_data        : word_t := (others => '0');
+  signal w_strb        : strobes_t := (others => '0');
+  signal decoded_valid : std_logic := '0';
+  signal bvalid_r      : std_logic := '0';
+  signal bresp_r       : resp_t := OKAY_c;
+  -- the buffered write is decoded at this edge: AW and W there, no B response pending (or it is
+  -- taken at this edge), no decoded write waiting
+  signal write_take : boolean;
 
-  -- read channel and memory port
+  -- a decoded write (process write_decode), executed by the register file at the next edge
+  type decoded_t is record
+    ok     : std_logic;                          -- legal: executed, OKAY; else no change, SLVERR
+    hit    : std_logic_vector(REGS_c'range);     -- the register written (at most one)
+    merged : word_t;                             -- its new value: the strobed bytes merged in
+    bytes  : word_t;                             -- the strobed bytes' mask
+  end record decoded_t;
+
+  signal decoded : decoded_t := (ok => '0', hit => (others => '0'), merged => (others => '0'),
+                                 bytes => (others => '0'));
+
+  -- read channel and memory port (process rd)
   signal ar_busy  : std_logic := '0';
   signal rvalid_r : std_logic := '0';
-  signal rresp_r  : std_logic_vector(1 downto 0) := OKAY_c;
+  signal rresp_r  : resp_t := OKAY_c;
   signal rdata_r  : word_t := (others => '0');
   signal mem_en_r : std_logic := '0';
   signal mem_addr : std_logic_vector(ADDR_BITS_g - 1 downto 0) := (others => '0');
   signal mem_pipe : std_logic_vector(MEM_LATENCY_g - 1 downto 0) := (others => '0');
 
-  -- the register file, indexed as REGS_c: stored bits (only stored(REGS_c(i)) ever leave 0; power-up
-  -- value 0, rst loads the reset values), pulse fields for one clock after a write, wo registers'
-  -- one-clock write strobe
+  -- the register file (process reg_file), indexed as REGS_c: stored bits (only stored(REGS_c(i))
+  -- ever leave 0; power-up value 0, rst loads the reset values), pulse fields for one clock after a
+  -- write, wo registers' one-clock write strobe
   signal held     : reg_words_t := (others => ZERO_c);
   signal pulses   : reg_words_t := (others => ZERO_c);
   signal written  : std_logic_vector(REGS_c'range) := (others => '0');
-  signal budget_r : std_logic_vector(SELECT_BUDGET_MSB_c - SELECT_BUDGET_LSB_c downto 0) := (others => '0');
+  signal budget_r : std_logic_vector(budget'range) := (others => '0');
   signal irq_r    : std_logic := '0';
-
-  -- a decoded write, executed in the next clock
-  signal d_valid  : std_logic := '0';
-  signal d_ok     : std_logic := '0';
-  signal d_hit    : std_logic_vector(REGS_c'range) := (others => '0');
-  signal d_merged : word_t := (others => '0');
-  signal d_bm     : word_t := (others => '0');
 
   -- wired inputs: values of the live (generic or port) ro fields, set pulses of w1c bits
   signal live_in : reg_words_t;
@@ -263,58 +275,51 @@ begin
   -- Wiring, the only per-register code: the ro fields that follow a generic or an input port
   -- (REGS_c(i).live) and the inputs that set w1c bits. Bits outside those fields are ignored.
   wiring : process (all) is
-    variable li : reg_words_t;
-    variable ws : reg_words_t;
+    variable live_v : reg_words_t;
+    variable set_v  : reg_words_t;
   begin
-    li                            := (others => ZERO_c);
-    ws                            := (others => ZERO_c);
-    li(REG_CFG_SIZE_IDX_c)        := put(put(ZERO_c, WIDTH_g, CFG_SIZE_WIDTH_MSB_c, CFG_SIZE_WIDTH_LSB_c),
-                                         HEIGHT_g, CFG_SIZE_HEIGHT_MSB_c, CFG_SIZE_HEIGHT_LSB_c);
-    li(REG_CFG_ORB_IDX_c)         := put(put(put(put(ZERO_c, SCALES_g, CFG_ORB_SCALES_MSB_c, CFG_ORB_SCALES_LSB_c),
-                                                 SECTORS_g, CFG_ORB_SECTORS_MSB_c, CFG_ORB_SECTORS_LSB_c),
-                                             STEP_NUM_g, CFG_ORB_STEP_NUM_MSB_c, CFG_ORB_STEP_NUM_LSB_c),
-                                         STEP_DEN_g, CFG_ORB_STEP_DEN_MSB_c, CFG_ORB_STEP_DEN_LSB_c);
-    li(REG_CFG_MEM_IDX_c)         := put(put(ZERO_c, MEM_DEPTH_g, CFG_MEM_DEPTH_MSB_c, CFG_MEM_DEPTH_LSB_c),
-                                         MEM_LATENCY_g, CFG_MEM_LATENCY_MSB_c, CFG_MEM_LATENCY_LSB_c);
-    li(REG_STATUS_IDX_c)          := put(put(put(ZERO_c, bank_ready, STATUS_BANK_READY_MSB_c, STATUS_BANK_READY_LSB_c),
+    live_v                        := (others => ZERO_c);
+    set_v                         := (others => ZERO_c);
+    live_v(REG_CFG_SIZE_IDX_c)        := put(put(ZERO_c, WIDTH_g, CFG_SIZE_WIDTH_MSB_c, CFG_SIZE_WIDTH_LSB_c),
+                                             HEIGHT_g, CFG_SIZE_HEIGHT_MSB_c, CFG_SIZE_HEIGHT_LSB_c);
+    live_v(REG_CFG_ORB_IDX_c)         := put(put(put(put(ZERO_c, SCALES_g, CFG_ORB_SCALES_MSB_c, CFG_ORB_SCALES_LSB_c),
+                                                     SECTORS_g, CFG_ORB_SECTORS_MSB_c, CFG_ORB_SECTORS_LSB_c),
+                                                 STEP_NUM_g, CFG_ORB_STEP_NUM_MSB_c, CFG_ORB_STEP_NUM_LSB_c),
+                                             STEP_DEN_g, CFG_ORB_STEP_DEN_MSB_c, CFG_ORB_STEP_DEN_LSB_c);
+    live_v(REG_CFG_MEM_IDX_c)         := put(put(ZERO_c, MEM_DEPTH_g, CFG_MEM_DEPTH_MSB_c, CFG_MEM_DEPTH_LSB_c),
+                                             MEM_LATENCY_g, CFG_MEM_LATENCY_MSB_c, CFG_MEM_LATENCY_LSB_c);
+    live_v(REG_STATUS_IDX_c)          := put(put(put(ZERO_c, bank_ready, STATUS_BANK_READY_MSB_c, STATUS_BANK_READY_LSB_c),
                                              (0 => last_bank), STATUS_LAST_BANK_MSB_c, STATUS_LAST_BANK_LSB_c),
                                          (0 => overflow), STATUS_OVERFLOW_MSB_c, STATUS_OVERFLOW_LSB_c);
-    li(REG_FRAME_COUNT_IDX_c)     := frame_count;
-    li(REG_DROPPED_IDX_c)         := dropped;
-    li(REG_PROTO_ERRORS_IDX_c)    := proto_errors;
-    li(REG_BANK0_INFO_IDX_c)      := put(put(ZERO_c, bank0_count, BANK0_INFO_COUNT_MSB_c, BANK0_INFO_COUNT_LSB_c),
-                                         bank0_frame, BANK0_INFO_FRAME_MSB_c, BANK0_INFO_FRAME_LSB_c);
-    li(REG_BANK1_INFO_IDX_c)      := put(put(ZERO_c, bank1_count, BANK1_INFO_COUNT_MSB_c, BANK1_INFO_COUNT_LSB_c),
-                                         bank1_frame, BANK1_INFO_FRAME_MSB_c, BANK1_INFO_FRAME_LSB_c);
-    li(REG_OVERRUN_IDX_c)         := overrun;
-    li(REG_OVERFLOW_COUNT_IDX_c)  := overflow_count;
-    li(REG_DESC_LOST_IDX_c)       := desc_lost;
-    li(REG_DISCARDED_IDX_c)       := discarded;
-    ws(REG_IRQ_STATUS_IDX_c)      := put(put(ZERO_c, (0 => frame_done_pulse), IRQ_STATUS_FRAME_DONE_MSB_c,
+    live_v(REG_FRAME_COUNT_IDX_c)     := frame_count;
+    live_v(REG_DROPPED_IDX_c)         := dropped;
+    live_v(REG_PROTO_ERRORS_IDX_c)    := proto_errors;
+    live_v(REG_BANK0_INFO_IDX_c)      := put(put(ZERO_c, bank0_count, BANK0_INFO_COUNT_MSB_c, BANK0_INFO_COUNT_LSB_c),
+                                             bank0_frame, BANK0_INFO_FRAME_MSB_c, BANK0_INFO_FRAME_LSB_c);
+    live_v(REG_BANK1_INFO_IDX_c)      := put(put(ZERO_c, bank1_count, BANK1_INFO_COUNT_MSB_c, BANK1_INFO_COUNT_LSB_c),
+                                             bank1_frame, BANK1_INFO_FRAME_MSB_c, BANK1_INFO_FRAME_LSB_c);
+    live_v(REG_OVERRUN_IDX_c)         := overrun;
+    live_v(REG_OVERFLOW_COUNT_IDX_c)  := overflow_count;
+    live_v(REG_DESC_LOST_IDX_c)       := desc_lost;
+    live_v(REG_DISCARDED_IDX_c)       := discarded;
+    set_v(REG_IRQ_STATUS_IDX_c)      := put(put(ZERO_c, (0 => frame_done_pulse), IRQ_STATUS_FRAME_DONE_MSB_c,
                                              IRQ_STATUS_FRAME_DONE_LSB_c),
                                          (0 => error_pulse), IRQ_STATUS_ERROR_MSB_c, IRQ_STATUS_ERROR_LSB_c);
-    live_in <= li;
-    w1c_set <= ws;
+    live_in <= live_v;
+    w1c_set <= set_v;
   end process wiring;
 
-  -- AW and W buffers, write execution over the register file, w1c bits and the interrupt.
-  wr : process (clk) is
-    variable bm     : word_t;
-    variable hit    : std_logic_vector(REGS_c'range);
-    variable cur    : word_t;
-    variable merged : word_t;
-    variable mi     : word_t;
-    variable leg    : boolean;
-    variable ok     : boolean;
-    variable clr    : reg_words_t;
-    variable widx   : natural;
-    variable low    : boolean;
+  -- Write capture: the AW and W buffers (either may come first, with any delay), the one write in
+  -- flight and the B response. A write takes two clocks: decoded (process write_decode) at the
+  -- edge after AW and W are both there, executed (process reg_file) with its B response at the
+  -- next, so that neither half is a long path (docs/synthesis.md, "Timing"). No other write is
+  -- decoded in between; the next one is decoded at the earliest at the edge that takes this one's
+  -- B response, so writes still complete at one per 2 clocks.
+  write_take <= aw_full = '1' and w_full = '1' and (bvalid_r = '0' or s_axil_bready = '1') and decoded_valid = '0';
+
+  write_capture : process (clk) is
   begin
     if rising_edge(clk) then
-      pulses  <= (others => ZERO_c);
-      written <= (others => '0');
-      hit     := (others => '0');
-      clr     := (others => ZERO_c);
       if s_axil_awvalid = '1' and aw_full = '0' then
         aw_addr <= s_axil_awaddr;
         aw_full <= '1';
@@ -327,76 +332,105 @@ begin
       if bvalid_r = '1' and s_axil_bready = '1' then
         bvalid_r <= '0';
       end if;
-      -- A write takes two clocks: decoded (hit, merged value, legality) in the clock after AW and W
-      -- are both there, executed with its B response in the next, so that neither half is a long
-      -- path (docs/synthesis.md, "Timing"). No other write is decoded in between; the next one is
-      -- decoded at the earliest in the clock whose edge takes this one's B response, so writes
-      -- still complete at one per 2 clocks.
-      if aw_full = '1' and w_full = '1' and (bvalid_r = '0' or s_axil_bready = '1') and d_valid = '0' then
-        aw_full <= '0';
-        w_full  <= '0';
-        d_valid <= '1';
-        widx    := to_integer(unsigned(aw_addr(LOW_BITS_c - 1 downto 2)));
-        low     := aw_addr(1 downto 0) = "00" and unsigned(aw_addr(ADDR_BITS_g - 1 downto LOW_BITS_c)) = 0;
-        bm      := byte_mask(w_strb);
-        -- decode: an aligned address below MEM_BASE_c naming a writable register. Each register's
-        -- merged value (its current value for rw, zero for w1c and wo, under the strobed bytes of
-        -- the data) and legality (no reserved bit set, w1c registers ignore them; no field above its
-        -- maximum) are formed in parallel from the data alone, and the address only picks one: the
-        -- legality is not behind the address decode (docs/synthesis.md, "Timing").
-        ok     := false;
-        merged := ZERO_c;
+      if write_take then
+        aw_full       <= '0';
+        w_full        <= '0';
+        decoded_valid <= '1';
+      end if;
+      if decoded_valid = '1' then
+        decoded_valid <= '0';
+        bvalid_r      <= '1';
+        bresp_r       <= OKAY_c when decoded.ok = '1' else SLVERR_c;
+      end if;
+      if rst = '1' then
+        aw_full       <= '0';
+        w_full        <= '0';
+        bvalid_r      <= '0';
+        decoded_valid <= '0';
+      end if;
+    end if;
+  end process write_capture;
+
+  -- Write decode: an aligned address below MEM_BASE_c naming a writable register. Each register's
+  -- merged value (its current value for rw, zero for w1c and wo, under the strobed bytes of the
+  -- data) and legality (no reserved bit set, w1c registers ignore them; no field outside its
+  -- limits) are formed in parallel from the data alone, and the address only picks one: the
+  -- legality is not behind the address decode (docs/synthesis.md, "Timing").
+  write_decode : process (clk) is
+    variable index_v   : natural; -- the word address below MEM_BASE_c
+    variable in_regs_v : boolean; -- aligned and below MEM_BASE_c
+    variable bytes_v   : word_t;
+    variable hit_v     : std_logic_vector(REGS_c'range);
+    variable current_v : word_t;
+    variable reg_new_v : word_t;  -- register i's value after the write
+    variable legal_v   : boolean; -- ... and whether it is legal
+    variable merged_v  : word_t;
+    variable ok_v      : boolean;
+  begin
+    if rising_edge(clk) then
+      if write_take then
+        index_v   := to_integer(unsigned(aw_addr(LOW_BITS_c - 1 downto 2)));
+        in_regs_v := aw_addr(1 downto 0) = "00" and unsigned(aw_addr(ADDR_BITS_g - 1 downto LOW_BITS_c)) = 0;
+        bytes_v   := byte_mask(w_strb);
+        hit_v     := (others => '0');
+        ok_v      := false;
+        merged_v  := ZERO_c;
         for i in REGS_c'range loop
-          if low and widx = REGS_c(i).offset / 4 and REGS_c(i).acc /= access_ro then
-            hit(i) := '1';
+          if in_regs_v and index_v = REGS_c(i).offset / 4 and REGS_c(i).acc /= access_ro then
+            hit_v(i) := '1';
           end if;
-          cur := ZERO_c;
+          current_v := ZERO_c;
           if REGS_c(i).acc = access_rw then
-            cur := read_value(REGS_c(i), held(i), live_in(i));
+            current_v := read_value(REGS_c(i), held(i), live_in(i));
           end if;
-          mi  := (cur and not bm) or (w_data and bm);
-          leg := REGS_c(i).acc = access_w1c or (mi and not REGS_c(i).mask) = ZERO_c;
+          reg_new_v := (current_v and not bytes_v) or (w_data and bytes_v);
+          legal_v   := REGS_c(i).acc = access_w1c or (reg_new_v and not REGS_c(i).mask) = ZERO_c;
           for k in REG_LIMITS_c'range loop
-            if REG_LIMITS_c(k).reg = i and (unsigned(mi and REG_LIMITS_c(k).mask) > limit_max(REG_LIMITS_c(k)) or
-                                            unsigned(mi and REG_LIMITS_c(k).mask) < unsigned(REG_LIMITS_c(k).min)) then
-              leg := false;
+            if REG_LIMITS_c(k).reg = i and
+               (unsigned(reg_new_v and REG_LIMITS_c(k).mask) > limit_max(REG_LIMITS_c(k)) or
+                unsigned(reg_new_v and REG_LIMITS_c(k).mask) < unsigned(REG_LIMITS_c(k).min)) then
+              legal_v := false;
             end if;
           end loop;
-          merged := merged or sel(hit(i) = '1', mi);
-          ok     := ok or (hit(i) = '1' and leg);
+          merged_v := merged_v or sel(hit_v(i) = '1', reg_new_v);
+          ok_v     := ok_v or (hit_v(i) = '1' and legal_v);
         end loop;
-        d_hit    <= hit;
-        d_merged <= merged;
-        d_bm     <= bm;
-        d_ok     <= '1' when ok else '0';
+        decoded.ok     <= '1' when ok_v else '0';
+        decoded.hit    <= hit_v;
+        decoded.merged <= merged_v;
+        decoded.bytes  <= bytes_v;
       end if;
-      if d_valid = '1' then
-        d_valid  <= '0';
-        bvalid_r <= '1';
-        if d_ok = '1' then
-          for i in REGS_c'range loop
-            if d_hit(i) = '1' then
-              if REGS_c(i).acc = access_w1c then
-                clr(i) := d_merged;
-              elsif REGS_c(i).acc = access_rw or (d_bm and REGS_c(i).mask) /= ZERO_c then
-                -- rw, or wo with a strobed byte holding a defined bit
-                held(i)   <= d_merged and stored(REGS_c(i));
-                pulses(i) <= d_merged and REGS_c(i).pulse;
-                if REGS_c(i).acc = access_wo then
-                  written(i) <= '1';
-                end if;
+    end if;
+  end process write_decode;
+
+  -- The register file: a legal decoded write executed, the w1c bits, the interrupt.
+  reg_file : process (clk) is
+    variable clear_v : reg_words_t;  -- w1c bits cleared by the write
+  begin
+    if rising_edge(clk) then
+      pulses  <= (others => ZERO_c);
+      written <= (others => '0');
+      clear_v := (others => ZERO_c);
+      if decoded_valid = '1' and decoded.ok = '1' then
+        for i in REGS_c'range loop
+          if decoded.hit(i) = '1' then
+            if REGS_c(i).acc = access_w1c then
+              clear_v(i) := decoded.merged;
+            elsif REGS_c(i).acc = access_rw or (decoded.bytes and REGS_c(i).mask) /= ZERO_c then
+              -- rw, or wo with a strobed byte holding a defined bit
+              held(i)   <= decoded.merged and stored(REGS_c(i));
+              pulses(i) <= decoded.merged and REGS_c(i).pulse;
+              if REGS_c(i).acc = access_wo then
+                written(i) <= '1';
               end if;
             end if;
-          end loop;
-          bresp_r <= OKAY_c;
-        else
-          bresp_r <= SLVERR_c;
-        end if;
+          end if;
+        end loop;
       end if;
       -- w1c bits: a set pulse in the clock of a clearing write wins
       for i in REGS_c'range loop
         if REGS_c(i).acc = access_w1c then
-          held(i) <= ((held(i) and not clr(i)) or w1c_set(i)) and stored(REGS_c(i));
+          held(i) <= ((held(i) and not clear_v(i)) or w1c_set(i)) and stored(REGS_c(i));
         end if;
       end loop;
       if (held(REG_IRQ_STATUS_IDX_c) and held(REG_IRQ_ENABLE_IDX_c)) /= ZERO_c then
@@ -405,26 +439,22 @@ begin
         irq_r <= '0';
       end if;
       if rst = '1' then
-        aw_full  <= '0';
-        w_full   <= '0';
-        bvalid_r <= '0';
-        d_valid  <= '0';
         for i in REGS_c'range loop
           held(i) <= REGS_c(i).reset and stored(REGS_c(i));
         end loop;
-        pulses   <= (others => ZERO_c);
-        written  <= (others => '0');
-        irq_r    <= '0';
+        pulses  <= (others => ZERO_c);
+        written <= (others => '0');
+        irq_r   <= '0';
       end if;
     end if;
-  end process wr;
+  end process reg_file;
 
   -- AR handshake, register read multiplexer, memory forwarding.
   rd : process (clk) is
-    variable addr  : natural;
-    variable rword : word_t;
-    variable known : boolean;
-    variable widx  : natural;
+    variable addr_v  : natural;
+    variable index_v : natural;  -- the word address below MEM_BASE_c
+    variable word_v  : word_t;
+    variable known_v : boolean;
   begin
     if rising_edge(clk) then
       mem_en_r    <= '0';
@@ -436,28 +466,28 @@ begin
       end if;
       if s_axil_arvalid = '1' and ar_busy = '0' then
         ar_busy <= '1';
-        addr    := to_integer(unsigned(s_axil_araddr));
-        widx    := to_integer(unsigned(s_axil_araddr(LOW_BITS_c - 1 downto 2)));
+        addr_v    := to_integer(unsigned(s_axil_araddr));
+        index_v    := to_integer(unsigned(s_axil_araddr(LOW_BITS_c - 1 downto 2)));
         if s_axil_araddr(1 downto 0) /= "00" then
           rdata_r  <= ZERO_c;
           rresp_r  <= SLVERR_c;
           rvalid_r <= '1';
-        elsif addr >= MEM_BASE_c then
+        elsif addr_v >= MEM_BASE_c then
           mem_en_r <= '1';
-          mem_addr <= std_logic_vector(to_unsigned(addr - MEM_BASE_c, ADDR_BITS_g));
+          mem_addr <= std_logic_vector(to_unsigned(addr_v - MEM_BASE_c, ADDR_BITS_g));
         else
           -- an AND-OR multiplexer over the readable registers (aligned and below MEM_BASE_c here)
-          rword := ZERO_c;
-          known := false;
+          word_v := ZERO_c;
+          known_v := false;
           for i in REGS_c'range loop
             if REGS_c(i).acc /= access_wo then
-              rword := rword or sel(widx = REGS_c(i).offset / 4, read_value(REGS_c(i), held(i), live_in(i)));
-              known := known or widx = REGS_c(i).offset / 4;
+              word_v := word_v or sel(index_v = REGS_c(i).offset / 4, read_value(REGS_c(i), held(i), live_in(i)));
+              known_v := known_v or index_v = REGS_c(i).offset / 4;
             end if;
           end loop;
-          rdata_r  <= rword;
+          rdata_r  <= word_v;
           rvalid_r <= '1';
-          if known then
+          if known_v then
             rresp_r <= OKAY_c;
           else
             rresp_r <= SLVERR_c;
@@ -490,15 +520,15 @@ begin
   -- The budget's reset value (SELECT_BUDGET_RESET_c) can exceed a small bank's capacity, which a
   -- write cannot: the output is held at MEM_DEPTH_g - 1 at most.
   budget_clamp : process (clk) is
-    constant CAP_c : natural := MEM_DEPTH_g - 1;
-    variable b     : unsigned(budget_r'range);
+    constant CAP_c    : natural := MEM_DEPTH_g - 1;
+    variable budget_v : unsigned(budget_r'range);
   begin
     if rising_edge(clk) then
-      b := unsigned(held(REG_SELECT_IDX_c)(SELECT_BUDGET_MSB_c downto SELECT_BUDGET_LSB_c));
-      if CAP_c < 2 ** budget_r'length and b > CAP_c then
-        b := to_unsigned(CAP_c, budget_r'length);
+      budget_v := unsigned(held(REG_SELECT_IDX_c)(SELECT_BUDGET_MSB_c downto SELECT_BUDGET_LSB_c));
+      if CAP_c < 2 ** budget_r'length and budget_v > CAP_c then
+        budget_v := to_unsigned(CAP_c, budget_r'length);
       end if;
-      budget_r <= std_logic_vector(b);
+      budget_r <= std_logic_vector(budget_v);
     end if;
   end process budget_clamp;
 

@@ -23,6 +23,8 @@ library ieee;
 use ieee.std_logic_1164.all;
 use ieee.numeric_std.all;
 
+use work.orb_util_pkg.all;
+
 entity orb_video_check is
   generic (
     WIDTH_g  : positive range 2 to 4095 := 640;
@@ -31,12 +33,12 @@ entity orb_video_check is
   port (
     clk                 : in    std_logic;
     rst                 : in    std_logic;
-    s_axis_video_tdata  : in    std_logic_vector(7 downto 0);
+    s_axis_video_tdata  : in    std_logic_vector(PIXEL_BITS_c - 1 downto 0);
     s_axis_video_tvalid : in    std_logic;
     s_axis_video_tready : out   std_logic;
     s_axis_video_tuser  : in    std_logic;
     s_axis_video_tlast  : in    std_logic;
-    m_axis_video_tdata  : out   std_logic_vector(7 downto 0);
+    m_axis_video_tdata  : out   std_logic_vector(PIXEL_BITS_c - 1 downto 0);
     m_axis_video_tvalid : out   std_logic;
     m_axis_video_tready : in    std_logic;
     m_axis_video_tuser  : out   std_logic;
@@ -57,24 +59,46 @@ architecture rtl of orb_video_check is
   constant FEW_LINES_c  : natural := 2;
   constant EARLY_SOF_c  : natural := 3;
 
+  subtype data_t is std_logic_vector(PIXEL_BITS_c - 1 downto 0);
+  subtype faults_t is std_logic_vector(frame_fault'range);
+  subtype count_t is unsigned(protocol_errors'range);
+
+  type pixel_t is record
+    data : data_t;
+    user : std_logic;
+    last : std_logic;
+  end record pixel_t;
+
+  -- frame state (process frame_state)
   signal ready     : std_logic := '0';
   signal is_open   : std_logic := '0';                        -- a frame is open on the output
   signal padding   : std_logic := '0';                        -- completing a bad frame
   signal held      : std_logic := '0';                        -- a tuser pixel waits for its frame
-  signal held_data : std_logic_vector(7 downto 0) := (others => '0');
+  signal held_data : data_t := (others => '0');
   signal held_last : std_logic := '0';
-  signal x         : natural range 0 to WIDTH_g - 1 := 0;     -- next output position
-  signal y         : natural range 0 to HEIGHT_g - 1 := 0;
-  signal faults    : std_logic_vector(3 downto 0) := (others => '0');
-  signal o_valid   : std_logic := '0';
-  signal o_data    : std_logic_vector(7 downto 0) := (others => '0');
-  signal o_user    : std_logic := '0';
-  signal o_last    : std_logic := '0';
-  signal f_end     : std_logic := '0';
-  signal f_bad     : std_logic := '0';
-  signal f_fault   : std_logic_vector(3 downto 0) := (others => '0');
-  signal err_cnt   : unsigned(31 downto 0) := (others => '0');
-  signal disc_cnt  : unsigned(31 downto 0) := (others => '0');
+  signal faults    : faults_t := (others => '0');             -- faults of the open frame
+
+  -- this edge's pixel and what it does (process place)
+  signal placed      : pixel_t;   -- the pixel placed at this edge (the held one, or the input)
+  signal emit        : boolean;   -- a pixel goes out at (x, y): a padding pixel (0) or placed
+  signal emit_data   : data_t;
+  signal discard     : boolean;   -- placed belongs to no open frame
+  signal hold        : boolean;   -- placed is a tuser pixel that ends the open frame early
+  signal faults_next : faults_t;  -- the open frame's faults with placed's
+  signal frame_last  : boolean;   -- emit at the frame's last position
+
+  -- position and outputs (process output), counters (process counters)
+  signal x        : natural range 0 to WIDTH_g - 1 := 0;     -- next output position
+  signal y        : natural range 0 to HEIGHT_g - 1 := 0;
+  signal o_valid  : std_logic := '0';
+  signal o_data   : data_t := (others => '0');
+  signal o_user   : std_logic := '0';
+  signal o_last   : std_logic := '0';
+  signal f_end    : std_logic := '0';
+  signal f_bad    : std_logic := '0';
+  signal f_fault  : faults_t := (others => '0');
+  signal err_cnt  : count_t := (others => '0');
+  signal disc_cnt : count_t := (others => '0');
 
 begin
 
@@ -96,129 +120,166 @@ begin
   protocol_errors     <= std_logic_vector(err_cnt);
   discarded_pixels    <= std_logic_vector(disc_cnt);
 
-  check : process (clk) is
-    variable have      : boolean;                      -- a pixel to place at this edge
-    variable p_data    : std_logic_vector(7 downto 0);
-    variable p_user    : std_logic;
-    variable p_last    : std_logic;
-    variable emit      : boolean;                      -- a pixel goes out at (x, y)
-    variable e_data    : std_logic_vector(7 downto 0);
-    variable f         : std_logic_vector(3 downto 0); -- faults of the open frame
-    variable open_n    : std_logic;
-    variable padding_n : std_logic;
-    variable held_n    : std_logic;
+  -- The pixel placed at this edge and what it does: while padding, a padding pixel goes out;
+  -- otherwise the held tuser pixel (ready is low: no input at this edge) or an input pixel opens a
+  -- frame, continues the open one, is discarded outside any frame, or (a tuser pixel inside an
+  -- open frame) is held while the open frame is padded. The faults of the open frame gather here.
+  place : process (all) is
+    variable pixel_v  : pixel_t;
+    variable have_v   : boolean;
+    variable emit_v   : boolean;
+    variable data_v   : data_t;
+    variable faults_v : faults_t;
+  begin
+    have_v   := false;
+    emit_v   := false;
+    data_v   := (others => '0');
+    pixel_v  := (data => s_axis_video_tdata, user => s_axis_video_tuser, last => s_axis_video_tlast);
+    faults_v := faults;
+    discard  <= false;
+    hold     <= false;
+
+    if padding = '1' then
+      emit_v := true;
+    elsif held = '1' then
+      have_v  := true;
+      pixel_v := (data => held_data, user => '1', last => held_last);
+    elsif s_axis_video_tvalid = '1' and ready = '1' then
+      have_v := true;
+    end if;
+
+    if have_v then
+      if is_open = '0' then
+        if pixel_v.user = '1' then
+          -- opens a frame at (0, 0)
+          emit_v   := true;
+          faults_v := (others => '0');
+        else
+          discard <= true;
+        end if;
+      elsif pixel_v.user = '1' then
+        -- the next frame starts before this one is complete: pad this one, hold the pixel
+        if x = 0 then
+          faults_v(FEW_LINES_c) := '1';
+        else
+          faults_v(EARLY_SOF_c) := '1';
+        end if;
+        hold <= true;
+      else
+        emit_v := true;
+      end if;
+      if emit_v then
+        data_v := pixel_v.data;
+        if pixel_v.last = '1' and x /= WIDTH_g - 1 then
+          faults_v(SHORT_LINE_c) := '1';
+        elsif pixel_v.last = '0' and x = WIDTH_g - 1 then
+          faults_v(LONG_LINE_c) := '1';
+        end if;
+      end if;
+    end if;
+
+    placed      <= pixel_v;
+    emit        <= emit_v;
+    emit_data   <= data_v;
+    faults_next <= faults_v;
+    frame_last  <= emit_v and x = WIDTH_g - 1 and y = HEIGHT_g - 1;
+  end process place;
+
+  -- Frame state: open, padding a bad frame (until its last position), a held tuser pixel, the
+  -- open frame's faults; ready low while padding or holding.
+  frame_state : process (clk) is
+    variable open_v    : std_logic;
+    variable padding_v : std_logic;
+    variable held_v    : std_logic;
   begin
     if rising_edge(clk) then
-      o_valid   <= '0';
-      f_end     <= '0';
-      have      := false;
-      emit      := false;
-      e_data    := (others => '0');
-      p_data    := s_axis_video_tdata;
-      p_user    := s_axis_video_tuser;
-      p_last    := s_axis_video_tlast;
-      f         := faults;
-      open_n    := is_open;
-      padding_n := padding;
-      held_n    := held;
-
-      if padding = '1' then
-        -- a padding pixel (value 0)
-        emit := true;
-      elsif held = '1' then
-        -- the held tuser pixel (ready is low: no input at this edge)
-        have   := true;
-        p_data := held_data;
-        p_user := '1';
-        p_last := held_last;
-        held_n := '0';
-      elsif s_axis_video_tvalid = '1' and ready = '1' then
-        have := true;
+      open_v    := is_open;
+      padding_v := padding;
+      held_v    := held;
+      if padding = '0' and held = '1' then
+        held_v := '0';
       end if;
-
-      if have then
-        if is_open = '0' then
-          if p_user = '1' then
-            -- opens a frame at (0, 0)
-            emit := true;
-            f    := (others => '0');
-          else
-            -- belongs to no open frame
-            disc_cnt <= disc_cnt + 1;
-          end if;
-        elsif p_user = '1' then
-          -- the next frame starts before this one is complete: pad this one, hold the pixel
-          if x = 0 then
-            f(FEW_LINES_c) := '1';
-          else
-            f(EARLY_SOF_c) := '1';
-          end if;
-          held_n    := '1';
-          held_data <= p_data;
-          held_last <= p_last;
-          padding_n := '1';
-        else
-          emit := true;
-        end if;
-        if emit then
-          e_data := p_data;
-          if p_last = '1' and x /= WIDTH_g - 1 then
-            f(SHORT_LINE_c) := '1';
-          elsif p_last = '0' and x = WIDTH_g - 1 then
-            f(LONG_LINE_c) := '1';
-          end if;
+      if hold then
+        held_v    := '1';
+        held_data <= placed.data;
+        held_last <= placed.last;
+        padding_v := '1';
+      end if;
+      if frame_last then
+        open_v    := '0';
+        padding_v := '0';
+      elsif emit then
+        open_v := '1';
+        if (or faults_next) = '1' then
+          padding_v := '1';
         end if;
       end if;
 
-      if emit then
-        o_valid <= '1';
-        o_data  <= e_data;
-        o_user  <= '1' when x = 0 and y = 0 else '0';
-        o_last  <= '1' when x = WIDTH_g - 1 else '0';
-        if x = WIDTH_g - 1 and y = HEIGHT_g - 1 then
-          -- the frame's last pixel
-          f_end     <= '1';
-          f_bad     <= or f;
-          f_fault   <= f;
-          err_cnt   <= err_cnt + 1 when (or f) = '1' else err_cnt;
-          open_n    := '0';
-          padding_n := '0';
-          x         <= 0;
-          y         <= 0;
-        else
-          open_n := '1';
-          if (or f) = '1' then
-            padding_n := '1';
-          end if;
-          if x = WIDTH_g - 1 then
-            x <= 0;
-            y <= y + 1;
-          else
-            x <= x + 1;
-          end if;
-        end if;
-      end if;
-
-      faults  <= f;
-      is_open <= open_n;
-      padding <= padding_n;
-      held    <= held_n;
-      ready   <= not (padding_n or held_n);
+      faults  <= faults_next;
+      is_open <= open_v;
+      padding <= padding_v;
+      held    <= held_v;
+      ready   <= not (padding_v or held_v);
 
       if rst = '1' then
-        ready    <= '0';
-        is_open  <= '0';
-        padding  <= '0';
-        held     <= '0';
-        x        <= 0;
-        y        <= 0;
-        o_valid  <= '0';
-        f_end    <= '0';
+        ready   <= '0';
+        is_open <= '0';
+        padding <= '0';
+        held    <= '0';
+      end if;
+    end if;
+  end process frame_state;
+
+  -- Output register and position: the pixel emitted at (x, y) with tuser and tlast from the
+  -- position; at the frame's last position the frame_end pulse with the frame's faults.
+  output : process (clk) is
+  begin
+    if rising_edge(clk) then
+      o_valid <= '0';
+      f_end   <= '0';
+      if emit then
+        o_valid <= '1';
+        o_data  <= emit_data;
+        o_user  <= '1' when x = 0 and y = 0 else '0';
+        o_last  <= '1' when x = WIDTH_g - 1 else '0';
+        if frame_last then
+          f_end   <= '1';
+          f_bad   <= or faults_next;
+          f_fault <= faults_next;
+          x       <= 0;
+          y       <= 0;
+        elsif x = WIDTH_g - 1 then
+          x <= 0;
+          y <= y + 1;
+        else
+          x <= x + 1;
+        end if;
+      end if;
+      if rst = '1' then
+        x       <= 0;
+        y       <= 0;
+        o_valid <= '0';
+        f_end   <= '0';
+      end if;
+    end if;
+  end process output;
+
+  -- bad frames (at their last position) and discarded pixels
+  counters : process (clk) is
+  begin
+    if rising_edge(clk) then
+      if frame_last and (or faults_next) = '1' then
+        err_cnt <= err_cnt + 1;
+      end if;
+      if discard then
+        disc_cnt <= disc_cnt + 1;
+      end if;
+      if rst = '1' then
         err_cnt  <= (others => '0');
         disc_cnt <= (others => '0');
       end if;
     end if;
-  end process check;
+  end process counters;
 
   -- The downstream must take every pixel at once (orb_core's tready is high after reset).
   -- pragma translate_off
