@@ -71,16 +71,6 @@ def ghdl_checks(ghdl: str, files: list[Path]) -> int:
             if "GHDL Bug occurred" in out:
                 where = next((ln for ln in out.splitlines() if "raised" in ln), "internal error")
                 print(f"FAIL ghdl synth {entity} ({f.name}): GHDL crashed ({where.strip()})")
-                if (
-                    entity in ("orb_feat_merge", "orb_core")
-                    and "(pop)" in (HDL / "core" / "orb_feat_merge.vhd").read_text()
-                ):
-                    print(
-                        "     known trigger (GHDL 2.0): with SCALES_g = 1, orb_feat_merge indexes its per-scale arrays "
-                        "with `pop`\n     (integer range -1 to 0: a 0-bit index). Indexing with a natural copy "
-                        "instead (`p := pop;` inside\n     `if pop >= 0`, then fifo(p)(hd(p)), cnt(p), ... and "
-                        "`rr <= (p + 1) mod SCALES_g`) synthesises for 1, 2 and 4 scales."
-                    )
             else:
                 print(f"FAIL ghdl synth {entity} ({f.name}):")
                 for ln in out.strip().splitlines()[:20]:

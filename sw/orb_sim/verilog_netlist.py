@@ -11,8 +11,6 @@ Repairs, each recorded in the returned record's "workarounds":
   - a signal named like an instance's port wire (signal `mem_frame_done` beside port `frame_done`
     of instance `mem`) declared twice with `assign x = x;` -> one declaration, no self-assignment
     (the two are the same net; Verilator refuses the duplicate, yosys merged it silently);
-  - GHDL 2.0 synth crashes on orb_feat_merge with SCALES_g = 1 (0-bit scale index): only then a
-    copy with MERGE_S1_PATCHES (no change in behaviour for SCALES_g = 1) is synthesised.
 top.ghdl.v is GHDL's raw output, top.v the repaired file.
 """
 
@@ -25,7 +23,7 @@ from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from .hdl import ROOT, find_entity
+from .hdl import ROOT
 
 
 class VerilogError(RuntimeError):
@@ -34,12 +32,6 @@ class VerilogError(RuntimeError):
 
 ABS_RE = re.compile(r"^(\s*)(\w+) <= std_logic_vector\(abs \$signed\((\w+)\)\);", re.M)
 RAM_NOTE_RE = re.compile(r"^(\S+?):(\d+):\d+:note: found (RAM|ROM) \"([\w.]+)\", width: (\d+) bits, depth: (\d+)", re.M)
-# orb_feat_merge rewrites for SCALES_g = 1 only, where they change nothing: the scale index `pop`
-# (range -1 to 0) is only used to index under `pop >= 0`, i.e. it is 0 there, and rr is always 0.
-MERGE_S1_PATCHES = (
-    (re.compile(r"\brr\s*<=\s*\(pop \+ 1\) mod SCALES_g;"), "rr <= 0;", "'rr <= (pop + 1) mod SCALES_g' -> 'rr <= 0'"),
-    (re.compile(r"\(pop\)"), "(0)", "index '(pop)' -> '(0)'"),
-)
 
 
 def ghdl_verilog(ghdl: str, top: str, generics: Mapping[str, int | str], files: Sequence[Path], cdir: Path,
@@ -58,23 +50,6 @@ def ghdl_verilog(ghdl: str, top: str, generics: Mapping[str, int | str], files: 
 
     t0 = time.monotonic()
     proc = run(files)
-    if proc.returncode != 0 and "GHDL Bug occurred" in proc.stderr and int(generics.get("SCALES_g", 0)) == 1:
-        merge = find_entity("orb_feat_merge").path
-        text, applied = merge.read_text(), []
-        for pattern, repl, what in MERGE_S1_PATCHES:
-            text, n = pattern.subn(repl, text)
-            if n:
-                applied.append(f"{what} ({n}x)")
-        if applied:
-            patched_dir = cdir / "patched"
-            patched_dir.mkdir(exist_ok=True)
-            patched = patched_dir / merge.name
-            patched.write_text(text)
-            proc = run([patched if s == merge else s for s in files])
-            rec["workarounds"].append(
-                "GHDL 2.0 synth crashes on orb_feat_merge with SCALES_g=1 (0-bit scale index); synthesised "
-                f"{patched.relative_to(cdir)} instead, equivalent for SCALES_g=1: " + "; ".join(applied)
-            )
     rec["wall_s"]["ghdl"] = round(time.monotonic() - t0, 1)
     (cdir / "ghdl.log").write_text(proc.stderr)
     (cdir / "top.ghdl.v").write_text(proc.stdout)
