@@ -52,16 +52,18 @@ def _simulate(toplevel: str, module: str, generics: dict, env: dict[str, str], l
 
 
 def run_accel_job(img: np.ndarray, cfg: Config, job: Path, log: Path, overlay: bool,
-                  mem_depth: int = ACCEL_MEM_DEPTH) -> dict:  # fmt: skip
+                  mem_depth: int = ACCEL_MEM_DEPTH, block_log2: int | None = None) -> dict:  # fmt: skip
     """orb_accel_top driven as a CPU drives it (orb_sim.jobs.accel_job): the frame (H, W) luma or
     (H, W, 3) RGB streams in, the features are read back into job/features.csv; with `overlay`, a
     second pass captures job/overlay.npy. Returns job.json (frame_cycles, pixels, cycles_per_pixel,
-    latency_cycles, dropped_merge, truncated, desc_lost, proto_errors, frame_sim_wall_s, features)."""
+    latency_cycles, dropped_merge, truncated, desc_lost, proto_errors, frame_sim_wall_s, features).
+    The overlay's block is 2^block_log2 pixels (default: golden_model.overlay.marker_block_log2)."""
     job.mkdir(parents=True, exist_ok=True)
+    block = marker_block_log2(cfg.scales) if block_log2 is None else block_log2
     np.save(job / "input.npy", np.ascontiguousarray(img, dtype=np.uint8))
     generics = {"WIDTH_g": cfg.width, "HEIGHT_g": cfg.height, "SCALES_g": cfg.scales,
                 "STEP_NUM_g": cfg.step_num, "STEP_DEN_g": cfg.step_den,
-                "SECTORS_g": cfg.sectors, "MEM_DEPTH_g": mem_depth, "BLOCK_LOG2_g": marker_block_log2(cfg.scales),
+                "SECTORS_g": cfg.sectors, "MEM_DEPTH_g": mem_depth, "BLOCK_LOG2_g": block,
                 "INPUT_g": "LUMA" if img.ndim == 2 else "RGB"}  # fmt: skip
     env = {"ORB_JOB_DIR": str(job), "ORB_JOB_THRESHOLD": str(cfg.threshold), "ORB_JOB_MODE": cfg.mode,
            "ORB_JOB_OVERLAY": "1" if overlay else "0", "ORB_JOB_SELECTION": cfg.selection,

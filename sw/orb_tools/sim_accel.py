@@ -79,9 +79,10 @@ def progress_loop(path: Path, stop: threading.Event) -> None:
                     last = line
 
 
-def make_config(args: argparse.Namespace, nc: NamedConfig, w: int, h: int) -> tuple[Config, int]:
-    """The model configuration of the run (the driver configures the accelerator from it) and the
-    simulated bank's slots: the named configuration at the frame's size, with the options given."""
+def make_config(args: argparse.Namespace, nc: NamedConfig, w: int, h: int) -> tuple[Config, int, int]:
+    """The model configuration of the run (the driver configures the accelerator from it), the
+    simulated bank's slots and the overlay's block (log2): the named configuration at the frame's
+    size, with the options given (other scales: the smallest block that fits them)."""
     mem_depth = nc.mem_depth if args.mem_depth is None else args.mem_depth
     if not limits.MEM_DEPTH.legal(mem_depth):
         raise ConfigError(f"mem_depth must be {limits.MEM_DEPTH.text}, got {mem_depth}")
@@ -100,7 +101,8 @@ def make_config(args: argparse.Namespace, nc: NamedConfig, w: int, h: int) -> tu
                     threshold=pick(args.threshold, nc.threshold), mode="orb", step_num=num, step_den=den,
                     selection=selection, budget=budget, cols=cols, rows=rows,
                     threshold_lo=pick(args.threshold_lo, nc.threshold_lo))  # fmt: skip
-    return cfg, mem_depth
+    block_log2 = nc.block_log2 if args.scales is None else marker_block_log2(cfg.scales)
+    return cfg, mem_depth, block_log2
 
 
 def parse_size(text: str | None, nc: NamedConfig | None) -> tuple[int, int] | None:
@@ -175,7 +177,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         if size is not None and size != (rgb.shape[1], rgb.shape[0]):
             rgb = cv2.resize(rgb, size, interpolation=cv2.INTER_AREA)
         h, w = rgb.shape[:2]
-        cfg, mem_depth = make_config(args, nc, w, h)
+        cfg, mem_depth, block_log2 = make_config(args, nc, w, h)
     except (ImageError, ConfigError, ValueError, OSError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
@@ -196,9 +198,11 @@ def main(argv: Sequence[str] | None = None) -> int:
         if args.fast:
             from orb_sim.fast.jobs import run_accel_fast
 
-            result = run_accel_fast(rgb, cfg, job, overlay=True, seed=args.seed, mem_depth=mem_depth)
+            result = run_accel_fast(
+                rgb, cfg, job, overlay=True, seed=args.seed, mem_depth=mem_depth, block_log2=block_log2
+            )
         else:
-            result = run_accel_job(rgb, cfg, job, log, overlay=True, mem_depth=mem_depth)
+            result = run_accel_job(rgb, cfg, job, log, overlay=True, mem_depth=mem_depth, block_log2=block_log2)
     except (RtlUnavailable, ToolMissing, FastSimError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 1
@@ -213,7 +217,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     # truncated them), in `grid` the selection and the features it replaced
     overlay = np.load(job / "overlay.npy")
     overlay_expected = render_marker_overlay(rgb, streamed(luma, cfg), scales=cfg.scales,
-                                             block_log2=marker_block_log2(cfg.scales))  # fmt: skip
+                                             block_log2=block_log2)  # fmt: skip
     overlay_exact = bool(np.array_equal(overlay, overlay_expected))
     cv2.imwrite(str(out / "overlay.png"), cv2.cvtColor(overlay, cv2.COLOR_RGB2BGR))
     # lost: dropped in the core, or truncated by a full bank in the grid selection (which must never
@@ -223,7 +227,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     report = {
         "image": str(path), "width": w, "height": h, "scales": cfg.scales, "step": f"{cfg.step_num}:{cfg.step_den}",
         "sectors": cfg.sectors, "selection": cfg.selection, "budget": cfg.budget, "cells": [cfg.cols, cfg.rows],
-        "threshold_lo": cfg.threshold_lo, "truncated": truncated, "mem_depth": mem_depth, "config": nc.name,
+        "threshold_lo": cfg.threshold_lo, "truncated": truncated, "mem_depth": mem_depth, "block_log2": block_log2,
+        "config": nc.name,
         "threshold": cfg.threshold, "features": result["features"], "bit_exact": diff is None,
         "first_difference": diff, "overlay_bit_exact": overlay_exact, "dropped": dropped,
         "dropped_detail": {"merge": result["dropped_merge"], "feature_memory_truncated": result["truncated"],
@@ -258,7 +263,7 @@ def main_video(args: argparse.Namespace) -> int:
             [args.video], parse_size(args.size, nc if args.config else None), max_frames=args.max_frames
         )
         n, h, w = frames.shape[:3]
-        cfg, mem_depth = make_config(args, nc, w, h)
+        cfg, mem_depth, block_log2 = make_config(args, nc, w, h)
     except (ImageError, ConfigError, ValueError, OSError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
@@ -282,7 +287,7 @@ def main_video(args: argparse.Namespace) -> int:
             print(f"  frame {i}: {len(frame)} features, bit-exact: {verdict}", flush=True)
 
     try:
-        _, run = run_video_fast(frames, cfg, seed=args.seed, mem_depth=mem_depth, on_frame=check)
+        _, run = run_video_fast(frames, cfg, seed=args.seed, mem_depth=mem_depth, on_frame=check, block_log2=block_log2)
     except (ToolMissing, FastSimError, TimeoutError, OSError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 1

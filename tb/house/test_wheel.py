@@ -38,6 +38,7 @@ from golden_model.config import (
     RECOMMENDED_SECTORS,
     RECOMMENDED_STEP,
     RECOMMENDED_THRESHOLD_LO,
+    named,
     recommended_budget,
 )
 from golden_model.features import read_csv
@@ -47,7 +48,7 @@ from orb_sim.hdl import BUILD, MANIFEST, ROOT, read_manifest
 from orb_tools.images import load_rgb_or_grey
 
 PARTS = ("pyproject.toml", "README.md", "golden_model", "sw", "hdl")
-W, H, SCALES, SECTORS, DEPTH = 128, 96, 2, 32, 512  # tb/fast/test_fast_sim.py's configuration
+TINY = named("test-tiny")  # tb/fast/test_fast_sim.py's configuration (docs/configurations.md)
 
 
 def run(cmd: list[str], cwd: Path, env: dict[str, str] | None = None, timeout: float = 600) -> str:
@@ -137,15 +138,11 @@ def test_hdl_is_the_wheels(venv: Path, tmp_path: Path) -> None:
 def test_fast_path_is_bit_exact(venv: Path, tmp_path: Path) -> None:
     cwd, env = outside(tmp_path)
     env["ORB_ACCEL_BUILD"] = str(BUILD)  # the checkout's cache (see the module's docstring)
-    rgb = cv2.resize(load_rgb_or_grey(DEFAULT_IMAGE), (W, H), interpolation=cv2.INTER_AREA)
+    rgb = cv2.resize(load_rgb_or_grey(DEFAULT_IMAGE), (TINY.width, TINY.height), interpolation=cv2.INTER_AREA)
     cv2.imwrite(str(cwd / "small.png"), cv2.cvtColor(rgb, cv2.COLOR_RGB2BGR))
-    budget, cols, rows, t_lo = recommended_budget(W, H), RECOMMENDED_COLS, RECOMMENDED_ROWS, RECOMMENDED_THRESHOLD_LO
-    run([str(venv / "orb-accel"), "sim", "--fast", "--image", "small.png", "--scales", str(SCALES), "--step", "2:1",
-         "--sectors", str(SECTORS), "--mem-depth", str(DEPTH), "--budget", str(budget), "--cells", f"{cols}x{rows}",
-         "--threshold", "20", "--threshold-lo", str(t_lo), "--out-dir", "sim"], cwd, env, timeout=900)  # fmt: skip
-    cfg = Config(width=W, height=H, scales=SCALES, sectors=SECTORS, threshold=20, step_num=2, step_den=1,
-                 selection="grid", budget=budget, cols=cols, rows=rows, threshold_lo=t_lo)  # fmt: skip
-    expected = extract(rgb_to_luma(rgb), cfg)
-    got = read_csv(cwd / "sim" / "features.csv", sectors_total=SECTORS, step=(2, 1))
+    run([str(venv / "orb-accel"), "sim", "--fast", "--image", "small.png", "--config", TINY.name, "--out-dir", "sim"],
+        cwd, env, timeout=900)  # fmt: skip
+    expected = extract(rgb_to_luma(rgb), TINY.config())
+    got = read_csv(cwd / "sim" / "features.csv", sectors_total=TINY.sectors, step=(TINY.step_num, TINY.step_den))
     assert len(expected) > 20
     assert first_difference(got, expected) is None, first_difference(got, expected)

@@ -36,9 +36,12 @@ from .sim import FastBus, FastSim, FastSimError
 H_BLANK, V_BLANK = 16, 64  # as orb_sim.video.Gaps("blanking")
 
 
-def generics_for(cfg: Config, colour: bool, mem_depth: int = ACCEL_MEM_DEPTH) -> dict[str, int | str]:
+def generics_for(cfg: Config, colour: bool, mem_depth: int = ACCEL_MEM_DEPTH,
+                 block_log2: int | None = None) -> dict[str, int | str]:  # fmt: skip
+    """orb_accel_top's generics for cfg (the overlay's block: marker_block_log2 unless given)."""
+    block = marker_block_log2(cfg.scales) if block_log2 is None else block_log2
     return {"WIDTH_g": cfg.width, "HEIGHT_g": cfg.height, "SCALES_g": cfg.scales, "STEP_NUM_g": cfg.step_num,
-            "STEP_DEN_g": cfg.step_den, "SECTORS_g": cfg.sectors, "BLOCK_LOG2_g": marker_block_log2(cfg.scales),
+            "STEP_DEN_g": cfg.step_den, "SECTORS_g": cfg.sectors, "BLOCK_LOG2_g": block,
             "MEM_DEPTH_g": mem_depth, "INPUT_g": "RGB" if colour else "LUMA"}  # fmt: skip
 
 
@@ -107,14 +110,14 @@ class FastAccel:
 
 
 def run_accel_fast(img: np.ndarray, cfg: Config, job: Path, overlay: bool, seed: int = 0,
-                   mem_depth: int = ACCEL_MEM_DEPTH) -> dict:  # fmt: skip
+                   mem_depth: int = ACCEL_MEM_DEPTH, block_log2: int | None = None) -> dict:  # fmt: skip
     """orb_accel_top's netlist in Verilator on one image, as orb_sim.rtl_backend.run_accel_job
     runs it in GHDL: writes job/features.csv (and job/overlay.npy) and returns the same report
     fields (frame_cycles, pixels, cycles_per_pixel, latency_cycles, dropped_merge, truncated,
     desc_lost, proto_errors, frame_sim_wall_s, features, bus_reads, bus_writes), plus build_s."""
     job.mkdir(parents=True, exist_ok=True)
     t_build = time.perf_counter()
-    fa = FastAccel.start(generics_for(cfg, img.ndim == 3, mem_depth), seed)
+    fa = FastAccel.start(generics_for(cfg, img.ndim == 3, mem_depth, block_log2), seed)
     build_s = time.perf_counter() - t_build
     accel, sim = fa.accel, fa.sim
     accel.configure_as(cfg)
@@ -159,13 +162,14 @@ def extract_fast(img: np.ndarray, cfg: Config, seed: int = 0) -> tuple[Features,
 
 
 def run_video_fast(frames: np.ndarray, cfg: Config, seed: int = 0, mem_depth: int = ACCEL_MEM_DEPTH,
-                   on_frame: Callable[[int, Frame], None] | None = None) -> tuple[list[Frame], dict]:  # fmt: skip
+                   on_frame: Callable[[int, Frame], None] | None = None,
+                   block_log2: int | None = None) -> tuple[list[Frame], dict]:  # fmt: skip
     """Frames ((N, H, W, 3) RGB or (N, H, W) luma) back to back with blanking through the netlist
     while the shipped driver reads frame k from one bank as frame k+1 is written into the other,
     and releases each bank, as on the board. Returns every published frame (in order) and a
     report (frames sent and published, clocks, wall time, overrun, the longest input stall)."""
     colour = frames.ndim == 4
-    fa = FastAccel.start(generics_for(cfg, colour, mem_depth), seed)
+    fa = FastAccel.start(generics_for(cfg, colour, mem_depth, block_log2), seed)
     accel, sim = fa.accel, fa.sim
     accel.configure_as(cfg)
     t0, c0 = time.perf_counter(), sim.cycle
