@@ -189,9 +189,12 @@ def sim_table(records: Records) -> list[str]:
         d = run["data"]
         what = Path(d.get("image") or d.get("video", "")).name
         engine = "netlist in Verilator" if d["engine"] == "verilator-netlist" else "RTL in GHDL"
-        rows.append([f"`{run['command']}`", f"{what} {d['width']}x{d['height']}",
-                     (f"{d['config']}: " if "config" in d else "") + f"{d['scales']} x {d['step']}, {d['sectors']} sectors, {d['mem_depth']:,} "
-                     f"slots" + (f", {1 << d['block_log2']}-pixel overlay blocks" if "block_log2" in d else ""), engine,
+        device = f"{d['scales']} x {d['step']}, {d['sectors']} sectors, {d['mem_depth']:,} slots"
+        if "config" in d:
+            device = f"{d['config']}: {device}"
+        if "block_log2" in d:
+            device += f", {1 << d['block_log2']}-pixel overlay blocks"
+        rows.append([f"`{run['command']}`", f"{what} {d['width']}x{d['height']}", device, engine,
                      _int(d["features"]), "yes" if d["bit_exact"] and d.get("overlay_bit_exact", True) else "**no**",
                      str(d["dropped"]), str(d.get("latency_cycles", "-")), f"{d['sim_wall_s']:,.0f} s",
                      f"{run['commit']}, {run['date']}"])  # fmt: skip
