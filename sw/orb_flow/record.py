@@ -151,6 +151,25 @@ def record_eval(names: list[str], commit: str | None, date: str | None, out: Pat
     return done
 
 
+BENCH = {"model": ("make bench", ROOT / "build" / "bench" / "model.json")}
+
+
+def record_bench(names: list[str], commit: str | None, date: str | None) -> list[str]:
+    """The benchmarks' JSON (build/bench/) into docs/results/bench.json."""
+    records = load("bench")
+    done = []
+    for name in names or list(BENCH):
+        command, path = BENCH[name]
+        if not path.exists():
+            raise SystemExit(f"error: {path} is missing: run `{command}` first")
+        data = json.loads(path.read_text())
+        records["runs"][name] = entry(command, data, commit, date, f"Python {data['meta']['python']}, numpy "
+                                      f"{data['meta']['numpy']}, {data['meta']['cpu_count']} cores")  # fmt: skip
+        done.append(name)
+    save("bench", records)
+    return done
+
+
 def record_sim(name: str, report: Path, command: str, tools: str, commit: str | None, date: str | None) -> None:
     records = load("sim")
     data = json.loads(report.read_text())
@@ -166,18 +185,22 @@ def main(argv: list[str] | None = None) -> int:
     sub = ap.add_subparsers(dest="kind", required=True)
     ev = sub.add_parser("eval", help="the outputs of make eval (build/eval) into docs/results/eval.json")
     ev.add_argument("names", nargs="*", help=f"which (default: every one present): {', '.join(EVAL)}")
+    bench = sub.add_parser("bench", help="the benchmarks' outputs (build/bench) into docs/results/bench.json")
+    bench.add_argument("names", nargs="*", help=f"which (default: all): {', '.join(BENCH)}")
     sim = sub.add_parser("sim", help="a make sim report.json into docs/results/sim.json")
     sim.add_argument("name")
     sim.add_argument("report", type=Path)
     sim.add_argument("--command", required=True, help="the command that wrote the report")
     sim.add_argument("--tools", default="GHDL 2.0.0 (llvm back end); Verilator 5.48.0 (FAST=1)")
-    for p in (ev, sim):
+    for p in (ev, bench, sim):
         p.add_argument("--commit", help="the measured commit (default: HEAD)")
         p.add_argument("--date", help="the measurement's date, YYYY-MM-DD (default: today)")
     args = ap.parse_args(argv)
     if args.kind == "eval":
         print(f"recorded {', '.join(record_eval(args.names, args.commit, args.date)) or 'nothing'} "
               f"in {RESULTS / 'eval.json'}; now `make views` (or python -m orb_flow.gen.results)")  # fmt: skip
+    elif args.kind == "bench":
+        print(f"recorded {', '.join(record_bench(args.names, args.commit, args.date))} in {RESULTS / 'bench.json'}")
     else:
         record_sim(args.name, args.report, args.command, args.tools, args.commit, args.date)
         print(f"recorded {args.name} in {RESULTS / 'sim.json'}; now `make views` (or python -m orb_flow.gen.results)")

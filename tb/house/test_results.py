@@ -33,7 +33,14 @@ def test_pages_are_what_the_records_give(page: Path) -> None:
 
 
 def _copy_root(tmp: Path) -> Path:
-    for rel in [*PAGES, results.SYNTH, results.BOARD, Path("docs/results/eval.json"), Path("docs/results/sim.json")]:
+    for rel in [
+        *PAGES,
+        results.SYNTH,
+        results.BOARD,
+        Path("docs/results/eval.json"),
+        Path("docs/results/sim.json"),
+        Path("docs/results/bench.json"),
+    ]:
         (tmp / rel).parent.mkdir(parents=True, exist_ok=True)
         shutil.copyfile(ROOT / rel, tmp / rel)
     return tmp

@@ -39,6 +39,7 @@ class Records:
     def __init__(self, root: Path) -> None:
         self.eval = self._runs(root / "docs" / "results" / "eval.json")
         self.sim = self._runs(root / "docs" / "results" / "sim.json")
+        self.bench = self._runs(root / "docs" / "results" / "bench.json")
         self.synth = json.loads((root / SYNTH).read_text())["jobs"]
         self.board = json.loads((root / BOARD).read_text())
 
@@ -183,6 +184,14 @@ def density_table(records: Records) -> list[str]:
     return [*_table(head, rows), "", f"Measured by {_source(run)}."]
 
 
+def bench_model_table(records: Records) -> list[str]:
+    run = records.run("bench", "model")
+    rows = [[f"{r['width']}x{r['height']}", str(r["scales"]), str(r["sectors"]), f"{r['features']:,}",
+             f"{r['median_s']:.3f} s"] for r in run["data"]["results"]]  # fmt: skip
+    head = ["size", "scales", "sectors", "features", "median time per frame"]
+    return [*_table(head, rows), "", f"Measured by {_source(run)} ({run['tools']})."]
+
+
 def sim_table(records: Records) -> list[str]:
     rows = []
     for run in records.sim.values():
@@ -277,6 +286,7 @@ TABLES: dict[str, tuple[Path, Callable[[Records], list[str]]]] = {
     "track-bench": (Path("docs/evaluation.md"), track_tables),
     "density-bench": (Path("docs/evaluation.md"), density_table),
     "sim-runs": (Path("docs/fast-sim.md"), sim_table),
+    "bench-model": (Path("docs/benchmarks.md"), bench_model_table),
     "board-resources": (Path("docs/board.md"), board_table),
 }
 
