@@ -91,6 +91,7 @@ def _broken(what: str) -> dict[str, Any]:
 def test_generator_refuses_inconsistent_data(tmp_path: Path, what: str) -> None:
     path = tmp_path / "configs.json"
     path.write_text(json.dumps(_broken(what)))
+    (tmp_path / "regmap.json").write_bytes((DATA.parent / "regmap.json").read_bytes())  # read beside the data
     gen.load(DATA)  # the committed data is fine
     with pytest.raises(gen.ConfigsError):
         gen.load(path)

@@ -25,7 +25,6 @@ from orb_flow.gen.codegen import views_main
 ROOT = Path(__file__).resolve().parents[3]
 SOURCE = "golden_model/data/configs.json"
 DATA = ROOT / SOURCE
-REGMAP = ROOT / "golden_model" / "data" / "regmap.json"
 VHDL = Path("hdl") / "common" / "orb_configs_pkg.vhd"
 PYTHON = Path("golden_model") / "configs.py"
 MARKDOWN = Path("docs") / "configurations.md"
@@ -79,7 +78,7 @@ def load(data: Path = DATA) -> dict[str, Any]:
         raise ConfigsError(f"tops_default {default!r} is not a configuration")
     if RECOMMENDED not in configs:
         raise ConfigsError(f"{RECOMMENDED!r} is missing (golden_model.config's RECOMMENDED_* come from it)")
-    regmap = json.loads(REGMAP.read_text())
+    regmap = json.loads((data.parent / "regmap.json").read_text())  # the register map beside the data
     low = next(f for r in regmap["registers"] if r["name"] == "THRESHOLD" for f in r["fields"] if f["name"] == "low")
     if low["reset"] != configs[RECOMMENDED]["threshold_lo"]:
         want = configs[RECOMMENDED]["threshold_lo"]
@@ -213,7 +212,7 @@ def render_markdown(d: dict[str, Any]) -> str:
 
 def render(root: Path = ROOT) -> dict[Path, str]:
     """The three views' text, keyed by repository-relative path."""
-    d = load(root / SOURCE if (root / SOURCE).exists() else DATA)
+    d = load(root / SOURCE)
     return {VHDL: render_vhdl(d), PYTHON: render_python(d), MARKDOWN: render_markdown(d)}
 
 
