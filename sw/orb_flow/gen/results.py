@@ -204,6 +204,42 @@ def bench_sim_table(records: Records) -> list[str]:
     return [*_table(head, rows), "", f"Measured by {_source(run)} ({run['tools']})."]
 
 
+def bench_driver_table(records: Records) -> list[str]:
+    run = records.run("bench", "driver")
+    d = run["data"]
+    rows, notes = [], []
+    for frame in d["runs"]:
+        for r in frame["reads"]:
+            default = " (default)" if r["block_mode"] == "copy" and r["bank_read"] == "bank" else ""
+            rows.append([f"{frame['features']:,}", r["block_mode"], r["bank_read"] + default,
+                         f"{r['read_decode_ms']:.2f} ms", f"{r['bus_reads']:,}", f"{r['host_total_ms']:.2f} ms",
+                         f"{r['a9_estimate_ms']:.1f} ms"])  # fmt: skip
+        notes.append(f"{frame['features']:,} features: message build and serialisation "
+                     f"{frame['message_numpy_msg_ms']:.2f} ms with `numpy_msg` "
+                     f"({frame['message_plain_genpy_ms']:.2f} ms plain genpy), {frame['message_bytes']:,} bytes; "
+                     f"wait for the interrupt, round trip {frame['wait_irq_roundtrip_ms']:.3f} ms.")  # fmt: skip
+    head = ["features", "UioBus block mode", "bank read", "read + decode", "32-bit bus reads", "+ message",
+            "Cortex-A9 estimate"]  # fmt: skip
+    assume = (f"Cortex-A9 estimate (not measured): this machine's time x {d['a9_slowdown']:g} plus "
+              f"{d['a9_axi_read_us']} us per bus read.")  # fmt: skip
+    return [*_table(head, rows), "", *notes, assume, "",
+            f"Measured by {_source(run)} ({run['tools']}; median of {d['repeat']})."]  # fmt: skip
+
+
+def synth_table(records: Records) -> list[str]:
+    rows = []
+    for key, j in sorted(records.synth.items(), key=lambda kv: (kv[0].split()[0], kv[0])):
+        top, size, *generics = key.split()
+        delay = f"{j['logic_delay_ns']:.3f} ns" if j.get("logic_delay_ns") is not None else "-"
+        m = j["measured"]
+        rows.append([f"`{top}`", size, ", ".join(f"`{g}`" for g in generics) or "the top's defaults",
+                     f"{j['lut']:,} ({100 * j['lut'] / XC7Z020['lut']:.1f}%)", f"{j['ff']:,}", f"{j['bram36']:g}",
+                     str(j["dsp"]), delay, f"{m['commit']}, {m['date']}"])  # fmt: skip
+    head = ["top", "W x H x levels", "other generics", "LUT (of the XC7Z020)", "FF", "RAMB36", "DSP48",
+            "logic delay (pre-route)", "commit, date"]  # fmt: skip
+    return [*_table(head, rows), "", f"From `{SYNTH}` (yosys estimates; the commands and wall times are there)."]
+
+
 def sim_table(records: Records) -> list[str]:
     rows = []
     for run in records.sim.values():
@@ -301,6 +337,8 @@ TABLES: dict[str, tuple[Path, Callable[[Records], list[str]]]] = {
     "bench-model": (Path("docs/benchmarks.md"), bench_model_table),
     "bench-sim": (Path("docs/benchmarks.md"), bench_sim_table),
     "board-resources": (Path("docs/board.md"), board_table),
+    "bench-driver": (Path("docs/ros.md"), bench_driver_table),
+    "synth-jobs": (Path("docs/synthesis.md"), synth_table),
 }
 
 
