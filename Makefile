@@ -137,7 +137,8 @@ lint: $(STAMP)
 # SIZE=1920x1080x2 (WxHxSCALES, or a list) runs those sizes, CONFIG=board-720p (or a list) named configurations
 # (docs/configurations.md), TOP= another top; STA=1 adds the logic-delay pass and its worst-paths report
 # (build/synth/<top>/<config>/timing.md), the default when SIZE or CONFIG is given (STA=0: not);
-# GENERICS="STEP_NUM_g=5 STEP_DEN_g=4 SECTORS_g=64" sets more generics of the top (the recommended 1080p build).
+# GENERICS="STEP_NUM_g=5 STEP_DEN_g=4 SECTORS_g=64" sets more generics of the top (the recommended 1080p build);
+# UPDATE=1 writes the run's figures into synth_expected.json (an intended change; hdl/ committed).
 # Plain python3 (no `make setup` needed); records are cached under build/synth.
 TOP ?=
 GENERICS ?=
@@ -147,7 +148,7 @@ synth:
 	PYTHONPATH=sw $(PYTHON) -m orb_flow.synth --jobs $(JOBS) $(if $(TOP),--top $(TOP)) $(foreach c,$(SIZE),--config $(c)) \
 		$(foreach c,$(CONFIG),--named $(c)) \
 		$(foreach g,$(GENERICS),--generic $(g)) \
-		$(if $(filter 1 yes true,$(STA)),--sta)
+		$(if $(filter 1 yes true,$(STA)),--sta) $(if $(filter 1 yes true,$(UPDATE)),--update-expected)
 
 # The cocotb tests of docs/netlist-sim.md on `ghdl synth --out=vhdl` netlists (~15 min); K=orb_overlay runs one
 # entity, QUICK=1 leaves out the cases marked slow (~3 min).

@@ -115,6 +115,7 @@ OTHER_JOBS = (
 TIMING_GOAL_NS = 3.5
 # the figures synth_expected.json may give and the check compares
 CHECKED = ("lut", "ff", "bram36", "dsp", "logic_delay_ns")
+BLOCK_FIGURES = ("lut", "ff", "bram36", "dsp")
 # XC7Z020 (Zybo Z7-20) capacity
 DEVICE = {"name": "XC7Z020", "lut": 53200, "ff": 106400, "bram36": 140, "dsp": 220}
 
@@ -467,6 +468,30 @@ def summarise(cells: dict[str, int]) -> dict[str, Any]:
     }
 
 
+GENERIC_SUFFIX_RE = re.compile(r"^(.+?)(?:_\d\w*)?$")
+
+
+def parse_blocks(text: str) -> dict[str, dict[str, Any]]:
+    """Each entity's own cells (its sub-blocks' not included) from a hierarchical `stat`: keyed by
+    the entity's name without GHDL's generic suffix (orb_line_buffer_640_2_19_1 -> orb_line_buffer),
+    the number of variants and, per figure, the smallest and largest over them."""
+    sections = re.split(r"^=== (.+?) ===$", text, flags=re.M)
+    figures: dict[str, list[dict[str, Any]]] = {}
+    for module, body in zip(sections[1::2], sections[2::2], strict=True):
+        if module == "design hierarchy":
+            continue
+        try:
+            s = summarise(parse_stat(f"=== {module} ===\n{body}", module))
+        except ToolError:  # a module with no cells of its own
+            continue
+        m = GENERIC_SUFFIX_RE.match(module)
+        figures.setdefault(m[1] if m else module, []).append(s)
+    return {
+        name: {"variants": len(fs), **{k: [min(f[k] for f in fs), max(f[k] for f in fs)] for k in BLOCK_FIGURES}}
+        for name, fs in sorted(figures.items())
+    }
+
+
 def parse_sta(text: str) -> dict[str, Any]:
     m = ARRIVAL_RE.search(text)
     if not m:
@@ -492,7 +517,9 @@ def parse_sta(text: str) -> dict[str, Any]:
 def synth_stat(yosys: str, top: str, cdir: Path, rec: dict[str, Any], timeout: float) -> None:
     wall, cpu = run_yosys(yosys, top, cdir, STAT_SCRIPT, "yosys_stat", timeout)
     rec["wall_s"]["yosys_stat"], rec["cpu_s"]["yosys_stat"] = round(wall, 1), round(cpu, 1)
-    rec.update(summarise(parse_stat((cdir / "stat.txt").read_text(), top)))
+    text = (cdir / "stat.txt").read_text()
+    rec.update(summarise(parse_stat(text, top)))
+    rec["blocks"] = parse_blocks(text)
 
 
 def synth_sta(yosys: str, top: str, cdir: Path, rec: dict[str, Any], timeout: float) -> None:
@@ -739,6 +766,49 @@ def rel(p: Path) -> str:
     return str(p.relative_to(ROOT)) if p.is_relative_to(ROOT) else str(p)
 
 
+def expected_entry(rec: dict[str, Any], cdir: Path, command: str, old: dict[str, Any]) -> dict[str, Any]:
+    """A finished record as its synth_expected.json entry: the figures, the timing pass's where it
+    ran, the measurement (command, hdl/ commit, date, tools), the wall times and the blocks' own
+    figures; an entry's own tolerance_pct is kept."""
+    entry: dict[str, Any] = {k: rec[k] for k in ("lut", "ff", "bram36", "dsp")}
+    if "sta" in rec["passes"]:
+        entry["logic_delay_ns"] = rec["logic_delay_ns"]
+        if rec.get("timing"):
+            t = rec["timing"]
+            entry["timing"] = {"goal_ns": t["goal_ns"], "endpoints": t["endpoints"],
+                               "endpoints_over_goal": t["endpoints_over_goal"]}  # fmt: skip
+    if "tolerance_pct" in old:
+        entry["tolerance_pct"] = old["tolerance_pct"]
+    entry["measured"] = {
+        "command": command,
+        "commit": rec["hdl_revision"].removeprefix("commit "),
+        "date": rec["date"],
+        "tools": f"{rec['tools']['ghdl']}; {rec['tools']['yosys']}",
+    }
+    entry["wall_s"] = rec["wall_s"]
+    stat = cdir / "stat.txt"
+    blocks = rec.get("blocks") or (parse_blocks(stat.read_text()) if stat.exists() else None)
+    if blocks:
+        entry["blocks"] = blocks
+    return entry
+
+
+def update_expected(
+    path: Path, expected: dict[str, Any], done: list[tuple[dict[str, Any], Path]], command: str
+) -> list[str]:
+    """Write the records of this run into the expected-values file (--update-expected). A record
+    with an error, or measured on hdl/ with local changes (no commit to cite), is refused."""
+    refused = []
+    for rec, cdir in done:
+        if rec["errors"] or not rec["passes"] or "local changes" in rec.get("hdl_revision", "local changes"):
+            refused.append(rec["job"])
+            continue
+        old = expected["jobs"].get(rec["job"], {})
+        expected["jobs"][rec["job"]] = expected_entry(rec, cdir, command, old)
+    path.write_text(json.dumps(expected, indent=2, ensure_ascii=False) + "\n")
+    return refused
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     extra = "; ".join(f"{t}: " + ", ".join(f"{k} {v}" for k, v in g.items()) for t, g in TOPS.items() if g)
@@ -758,6 +828,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--out", type=Path, default=OUT, help=f"output directory (default {rel(OUT)})")
     ap.add_argument("--expected", type=Path, default=EXPECTED, help=f"expected values (default {rel(EXPECTED)})")
     ap.add_argument("--no-cache", action="store_true", help="run every job even if its cached record matches")
+    ap.add_argument("--update-expected", action="store_true",
+                    help="write this run's figures into the expected-values file (a change of the figures that is "
+                         "intended; hdl/ must be committed)")  # fmt: skip
     ap.add_argument(
         "--generic",
         type=parse_generic,
@@ -915,10 +988,18 @@ def main(argv: list[str] | None = None) -> int:
     for line in estimates(without_sta, others, run.times, expected, cached):
         print(line)
     print(f"wrote {rel(run.report)} and report.md; total wall time {wall:.0f} s")
+    if args.update_expected:
+        refused = update_expected(args.expected, expected, [(recs[j], j.dir(args.out)) for j in jobs], cmd.strip())
+        for name in refused:
+            print(
+                f"error: {name}: not written to {rel(args.expected)} (failed, or hdl/ not committed)", file=sys.stderr
+            )
+        print(f"updated {rel(args.expected)}: {len(jobs) - len(refused)} entr(y/ies); now `make views`")
+        return 1 if refused else 0
     if fails:
         print(
             f"error: {fails} configuration(s) outside the expected values of {rel(args.expected)}; if the change is "
-            "intended, update that file (figures, commit, date)",
+            "intended, commit hdl/ and run the same command with --update-expected (make synth ... UPDATE=1)",
             file=sys.stderr,
         )
     return 1 if fails or any(r["errors"] for r in this_run) else 0

@@ -250,3 +250,67 @@ def test_named_jobs_are_the_board_builds() -> None:
     assert int(synth.named_job("orb_core", "recommended-vga").generics["SECTORS_g"]) == 64
     with pytest.raises(ValueError, match="no configuration named 'board-qvga'"):
         synth.named_job("orb_accel_zynq", "board-qvga")
+
+
+HIER_STAT = """
+=== orb_harris ===
+
+   Number of cells:                 4
+     DSP48E1                         2
+     FDRE                            1
+     LUT6                            1
+
+=== orb_line_buffer_640_2_19_1 ===
+
+   Number of cells:                 2
+     FDRE                            2
+
+=== orb_line_buffer_320_30_8_2 ===
+
+   Number of cells:                 3
+     FDRE                            1
+     RAMB18E1                        1
+     LUT3                            1
+
+=== orb_core ===
+
+   Number of cells:                 3
+     orb_harris                      1
+     orb_line_buffer_640_2_19_1      1
+     LUT2                            1
+
+=== design hierarchy ===
+
+   orb_core                          1
+"""
+
+
+def test_parse_blocks_names_entities_and_spans_their_variants() -> None:
+    blocks = synth.parse_blocks(HIER_STAT)
+    assert set(blocks) == {"orb_harris", "orb_line_buffer", "orb_core"}
+    assert blocks["orb_harris"] == {"variants": 1, "lut": [1, 1], "ff": [1, 1], "bram36": [0, 0], "dsp": [2, 2]}
+    lb = blocks["orb_line_buffer"]
+    assert (lb["variants"], lb["lut"], lb["ff"], lb["bram36"]) == (2, [0, 1], [1, 2], [0, 0.5])
+    assert blocks["orb_core"]["lut"] == [1, 1]  # its own LUT2, not its sub-blocks'
+
+
+def test_update_expected_writes_a_finished_record_and_refuses_the_rest(tmp_path: Path) -> None:
+    path = tmp_path / "expected.json"
+    expected = json.loads(json.dumps(EXPECTED))
+    good = record(lut=10500, ff=9100)
+    good.update(passes=["stat"], date="2026-11-26", hdl_revision="commit abc1234",
+                tools={"ghdl": "GHDL 2.0.0", "yosys": "Yosys 0.23"}, wall_s={"yosys_stat": 60.0})  # fmt: skip
+    (tmp_path / "good").mkdir()
+    (tmp_path / "good" / "stat.txt").write_text(HIER_STAT)
+    dirty = record("orb_accel_top", "640x480x2")
+    dirty.update(passes=["stat"], date="2026-11-26", hdl_revision="commit abc1234 + local changes",
+                 tools=good["tools"], wall_s={})  # fmt: skip
+    refused = synth.update_expected(path, expected, [(good, tmp_path / "good"), (dirty, tmp_path)], "synth ...")
+    assert refused == ["orb_accel_top 640x480x2"]
+    written = synth.load_expected(path)["jobs"]
+    entry = written["orb_core 640x480x1"]
+    assert (entry["lut"], entry["ff"], entry["measured"]["commit"]) == (10500, 9100, "abc1234")
+    assert "logic_delay_ns" not in entry  # the timing pass did not run: the old delay is not kept
+    assert entry["blocks"]["orb_harris"]["dsp"] == [2, 2]
+    assert written["orb_accel_top 640x480x2"] == EXPECTED["jobs"]["orb_accel_top 640x480x2"]  # untouched
+    assert written["orb_accel_top 640x480x2"]["tolerance_pct"] == 5
