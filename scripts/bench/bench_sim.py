@@ -7,7 +7,7 @@ Verilator (orb_sim.fast), side by side in one run, each checked bit-exact agains
 For each size (default 640x480 and 1920x1080, 2 scales, 32 sectors, the bundled photograph
 resized, 24-bit RGB, one pixel per clock): clocks of the frame, wall time of the frame (streaming
 it and waiting for its interrupt), clocks per second; for the fast path also the Verilator build
-time, measured separately into an empty cache (`--cold-build`, default on). Writes
+time, measured separately into an empty cache (on unless `--no-cold-build`). Writes
 build/bench/sim.json and prints a table.
 """
 

@@ -16,7 +16,7 @@ build/netlist_sim/logs/. Exit status 1 when a case fails.
 
 Usage: python3 -m orb_flow.netlist_sim [-k SUBSTRING ...] [--quick] [--rtl] [--timeout S] [--list]
   -k      run only the cases whose entity or test contains one of the substrings
-  --quick leave out the cases marked slow (orb_desc_path, orb_accel_top: 6 to 8 minutes each)
+  --quick leave out the cases marked slow (orb_desc_path, orb_core's grid selection, orb_accel_top: minutes each)
   --rtl   also run each case on the RTL, for the time comparison
 """
 

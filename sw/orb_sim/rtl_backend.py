@@ -7,7 +7,7 @@ accel_job): the shipped driver writes the registers over AXI4-Lite, the frame st
 luma, or 24-bit RGB for a colour array), and the driver reads the features back from the
 feature memory (MEM_DEPTH_g = 4096 slots per bank: a frame with more than 4,095 features is
 truncated, and the report says how many). `top="core"` runs orb_core alone (orb_sim.jobs.
-core_job: its feature stream monitored directly; the simulation-speed benchmark uses it). Needs
+core_job: its feature stream monitored directly; scripts/bench/sweep_rtl.py's threshold sweep uses it). Needs
 the HDL (the checkout's hdl/, or the copy an installed wheel carries: orb_sim.hdl) and GHDL;
 generics come from the image size and the options.
 """

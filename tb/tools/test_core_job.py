@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: MIT
-"""The orb_core job (orb_sim.jobs.core_job, used by `make bench-sim` and scripts/bench/sweep_rtl.py)
+"""The orb_core job (orb_sim.jobs.core_job, used by scripts/bench/sweep_rtl.py)
 through orb_sim.rtl_backend: back-to-back frames with one threshold and mode each come back as the
 model's features, frame numbers in order, nothing dropped."""
 

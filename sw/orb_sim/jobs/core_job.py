@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: MIT
 """Job (not a test): frames through orb_core, the streaming core alone, its feature stream
-monitored directly. For `orb-accel extract --backend rtl --top core`, the simulation-speed
-benchmark and the threshold sweep (orb_sim.rtl_backend.run_core_job starts it).
+monitored directly. For `orb-accel extract --backend rtl --top core` and the threshold sweep
+(scripts/bench/sweep_rtl.py) (orb_sim.rtl_backend.run_core_job starts it).
 
 ORB_JOB_DIR holds frames.npy ((F, H, W) uint8) and job.json's input fields; the job writes
 features_<i>.csv per frame and report.json (cycles, pixels, latency, wall time, per-frame drops,
