@@ -285,8 +285,9 @@ class OrbAccel:
         enable (of IRQ_SOURCES) and the selection (docs/selection.md): "grid" keeps at most
         `budget` features a frame (default HwConfig.default_budget(): the recommended one, at most
         a bank's capacity), the best of every cell of a `cells` = (columns, rows) grid over the frame
-        first, at each level (default 8 x 6), with corners at `threshold_lo` (default RECOMMENDED_THRESHOLD_LO; at or above the
-        threshold: none) where a cell has none at the threshold; "all" reports every feature at
+        first, at each level (default 8 x 6), with corners at `threshold_lo` (default
+        RECOMMENDED_THRESHOLD_LO; at or above the threshold: none) where a cell has none at the
+        threshold; "all" reports every feature at
         the threshold (a dense frame fills its bank and loses the rest: Frame.truncated). Applied
         from the next frame on. Raises ValueError on a bad value, before anything is written."""
         fields = {"threshold": threshold}
