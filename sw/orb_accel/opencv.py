@@ -5,7 +5,8 @@
     matches = cv2.BFMatcher(cv2.NORM_HAMMING, crossCheck=True).match(descriptors, other_descriptors)
 
 Keypoints in the frame's order (scale, row, column): pt = the centre in full-resolution pixels,
-size = 31 * 2^octave, angle in degrees (-1 in fast mode), response = FAST score, octave = scale.
+size = 31 r^octave (r the pyramid step: 2 for 2:1, 5/4 for 5:4), angle in degrees (-1 in fast
+mode), response = FAST score, octave = scale.
 Descriptors: (N, 32) uint8 in OpenCV's ORB byte and bit order (None in fast mode, as OpenCV's
 compute gives for no descriptors).
 """
