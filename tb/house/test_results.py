@@ -40,6 +40,7 @@ def _copy_root(tmp: Path) -> Path:
         Path("docs/results/eval.json"),
         Path("docs/results/sim.json"),
         Path("docs/results/bench.json"),
+        Path("docs/results/test.json"),
     ]:
         (tmp / rel).parent.mkdir(parents=True, exist_ok=True)
         shutil.copyfile(ROOT / rel, tmp / rel)
@@ -97,3 +98,11 @@ def test_recorded_eval_runs_are_what_make_eval_runs() -> None:
             if part.startswith("build/eval/held/native/") or "vtest.avi" in part:
                 continue  # the track bench's photographs and video come from variables
             assert part in recipe, f"{name}: {part!r} of {run['command']!r} is not in make eval's recipe"
+
+
+def test_pytest_summary_is_read_from_a_make_test_log() -> None:
+    log = "....\n= 2 failed, 1610 passed, 3 skipped in 965.45s (0:16:05) =\n"
+    data = record.parse_pytest_log("=== 5 passed in 1.00s ===\n" + log)  # the last summary counts
+    assert data == {"counts": {"failed": 2, "passed": 1610, "skipped": 3}, "pytest_s": 965.45}
+    with pytest.raises(SystemExit, match="no pytest summary"):
+        record.parse_pytest_log("rc=1\n")

@@ -40,6 +40,7 @@ class Records:
         self.eval = self._runs(root / "docs" / "results" / "eval.json")
         self.sim = self._runs(root / "docs" / "results" / "sim.json")
         self.bench = self._runs(root / "docs" / "results" / "bench.json")
+        self.test = self._runs(root / "docs" / "results" / "test.json")
         self.synth = json.loads((root / SYNTH).read_text())["jobs"]
         self.board = json.loads((root / BOARD).read_text())
 
@@ -240,6 +241,68 @@ def synth_table(records: Records) -> list[str]:
     return [*_table(head, rows), "", f"From `{SYNTH}` (yosys estimates; the commands and wall times are there)."]
 
 
+def _span(v: list[float]) -> str:
+    lo, hi = (f"{x:,g}" if isinstance(x, float) else f"{x:,}" for x in v)
+    return lo if lo == hi else f"{lo} to {hi}"
+
+
+def blocks_table(records: Records, only: tuple[str, ...] = ()) -> list[str]:
+    """Each entity's own cells in the board builds (the `blocks` of their synth_expected.json
+    entries): per build LUT / FF / RAMB36 / DSP48, the smallest to the largest over its variants."""
+    jobs = {name: _board_job(records, name)[1] for name in records.board["configs"]}
+    for name, j in jobs.items():
+        if "blocks" not in j:
+            raise ResultsError(f"{SYNTH}: the board configuration {name} has no 'blocks': measure it with "
+                               "make synth CONFIG=... TOP=orb_accel_zynq UPDATE=1")  # fmt: skip
+    names = sorted({b for j in jobs.values() for b in j["blocks"]} if not only else only)
+    rows = []
+    for b in names:
+        cells = []
+        for j in jobs.values():
+            f = j["blocks"].get(b)
+            cells.append(" / ".join(_span(f[k]) for k in ("lut", "ff", "bram36", "dsp")) if f else "-")
+        variants = sorted({j["blocks"][b]["variants"] for j in jobs.values() if b in j["blocks"]})
+        rows.append([f"`{b}`", " / ".join(map(str, variants)), *cells])
+    head = ["entity", "variants", *(f"{n}: LUT / FF / RAMB36 / DSP48" for n in jobs)]
+    commits = sorted({f"{j['measured']['commit']}, {j['measured']['date']}" for j in jobs.values()})
+    return [
+        *_table(head, rows),
+        "",
+        f"From the `blocks` of `{SYNTH}` (yosys estimates; measured at {'; '.join(commits)}).",
+    ]
+
+
+def worst_paths_table(records: Records) -> list[str]:
+    """The board builds' worst register-to-register paths (the `timing` of their entries)."""
+    rows = []
+    for name in records.board["configs"]:
+        _, j = _board_job(records, name)
+        if "timing" not in j:
+            raise ResultsError(f"{SYNTH}: the board configuration {name} has no 'timing': measure it with "
+                               "make synth CONFIG=... TOP=orb_accel_zynq UPDATE=1")  # fmt: skip
+        t = j["timing"]
+        for p in t["worst_paths"]:
+            rows.append([name, f"{p['delay_ns']:.3f} ns", str(p["lut_levels"]), f"`{p['block']}`",
+                         f"`{p['start']}`", f"`{p['endpoint']}`"])  # fmt: skip
+        rows.append([name, f"endpoint bits over {t['goal_ns']} ns: {t['endpoints_over_goal']:,} of "
+                           f"{t['endpoints']:,}", "", "", "", ""])  # fmt: skip
+    head = ["build", "logic delay", "LUT levels", "block", "from", "to"]
+    return [*_table(head, rows), "", f"From the `timing` of `{SYNTH}` (yosys `sta`, pre-route estimates; the "
+            "whole list per build: build/synth/orb_accel_zynq/<job>/timing.md)."]  # fmt: skip
+
+
+def test_table(records: Records) -> list[str]:
+    rows = []
+    for run in records.test.values():
+        d = run["data"]
+        counts = ", ".join(f"{n:,} {kind}" for kind, n in d["counts"].items())
+        total = f"{d['total_s'] / 60:.1f} min" if "total_s" in d else "-"
+        rows.append([f"`{run['command']}`", counts, f"{d['pytest_s'] / 60:.1f} min", total, d["machine"],
+                     f"{run['commit']}, {run['date']}"])  # fmt: skip
+    head = ["command", "tests", "pytest's time", "whole command", "machine", "commit, date"]
+    return _table(head, rows)
+
+
 def sim_table(records: Records) -> list[str]:
     rows = []
     for run in records.sim.values():
@@ -339,6 +402,10 @@ TABLES: dict[str, tuple[Path, Callable[[Records], list[str]]]] = {
     "board-resources": (Path("docs/board.md"), board_table),
     "bench-driver": (Path("docs/ros.md"), bench_driver_table),
     "synth-jobs": (Path("docs/synthesis.md"), synth_table),
+    "synth-blocks": (Path("docs/synthesis.md"), blocks_table),
+    "select-blocks": (Path("docs/selection.md"), lambda r: blocks_table(r, ("orb_harris", "orb_feat_select"))),
+    "board-worst-paths": (Path("docs/synthesis.md"), worst_paths_table),
+    "make-test": (Path("docs/conventions.md"), test_table),
 }
 
 
