@@ -183,6 +183,7 @@ def open_bus(args: argparse.Namespace) -> Iterator[tuple[Bus, str, float]]:
         elif args.devmem is not None:
             from orb_accel.devmem import DevMemBus
 
+            _traceback_on_sigbus()
             yield (
                 stack.enter_context(DevMemBus(args.devmem)),
                 f"/dev/mem at {args.devmem:#x}",
@@ -191,9 +192,19 @@ def open_bus(args: argparse.Namespace) -> Iterator[tuple[Bus, str, float]]:
         else:
             from orb_accel.uio import UioBus
 
+            _traceback_on_sigbus()
             name = args.uio or "orb-accel"
             bus = stack.enter_context(UioBus.open(name))
             yield bus, f"UIO device {name!r}", args.timeout or BOARD_TIMEOUT_S
+
+
+def _traceback_on_sigbus() -> None:
+    """On the board an error response to a load is a SIGBUS that ends the process (docs/driver.md,
+    "Faults and recovery"): leave the Python stack of the access on stderr."""
+    import faulthandler
+
+    if not faulthandler.is_enabled():
+        faulthandler.enable()
 
 
 def _counters_line(counters: dict[str, int]) -> str:
