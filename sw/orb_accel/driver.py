@@ -66,16 +66,13 @@ class AccelError(RuntimeError):
 @dataclass
 class FaultCounts:
     """What the driver met and recovered from since it was opened (docs/driver.md, "Faults and
-    recovery"); each is also raised to the caller or counted nowhere else, never silent."""
+    recovery"). Timeouts and bus errors are also raised to the caller (TimeoutError, BusError); the
+    frames of the banks a recovery releases are lost, and counted here: nothing goes silently."""
 
     timeouts: int = 0  # waits for an interrupt that ended without one (TimeoutError): no video, no interrupt
     bus_errors: int = 0  # bus operations answered with an error response (BusError raised to the caller)
     stale_banks: int = 0  # READY banks nobody held, released unread (a killed predecessor's, or lost track of)
     stray_irqs: int = 0  # frame-done interrupts whose bank a recovery had already released (waited past)
-
-    def as_dict(self) -> dict[str, int]:
-        return {"timeouts": self.timeouts, "bus_errors": self.bus_errors, "stale_banks": self.stale_banks,
-                "stray_irqs": self.stray_irqs}  # fmt: skip
 
 
 @dataclass(frozen=True)

@@ -247,12 +247,12 @@ class FeatureNode:
                 self._apply(requests, done, self.last_frame)
                 self._diagnostics(force=False)
                 return None
-            stamp = self.rospy.Time.now()
-            frame_params = self.params  # in force when this frame started
-            requests = self._take()
-            self._apply_params(requests)  # right after the interrupt: from the next frame on
-            done = [r for r in requests if not r.reset]
-            with self.accel.holding(bank):
+            with self.accel.holding(bank):  # released on the way out, also when a write below fails
+                stamp = self.rospy.Time.now()
+                frame_params = self.params  # in force when this frame started
+                requests = self._take()
+                self._apply_params(requests)  # right after the interrupt: from the next frame on
+                done = [r for r in requests if not r.reset]
                 frame = self.accel.read_bank(bank, mode=frame_params.mode)
             self._apply(requests, done, frame.number)
         except (BusError, AccelError) as exc:
