@@ -11,13 +11,20 @@ once; docs/registers.md, docs/feature-memory.md). numpy only. docs/driver.md has
     accel.configure(threshold=20, mode="orb")   # grid selection, the recommended budget
     with accel.frame(timeout_s=0.1) as frame:   # the bank is released on leaving the block
         print(frame.number, len(frame), frame.x, frame.descriptors.shape)
+
+Faults (docs/driver.md, "Faults and recovery"): a wait without a frame raises TimeoutError, an
+error response BusError; the driver stays usable after either, counts them in `accel.faults`, and
+releases the banks nobody holds (a killed predecessor's at open, one it lost track of after a
+timeout or a bus error) so that the accelerator, which skips every frame whose bank is held,
+publishes again.
 """
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass, field, replace
+from typing import TypeVar
 
 import numpy as np
 
@@ -42,17 +49,30 @@ from golden_model.featmem import (
 from golden_model.features import Features
 from golden_model.select import best_per_level
 
-from .bus import Bus
+from .bus import Bus, BusError
 
 COUNTERS = ("FRAME_COUNT", "DROPPED", "PROTO_ERRORS", "OVERRUN", "OVERFLOW_COUNT", "DESC_LOST", "DISCARDED")
 IRQ_SOURCES = ("frame_done", "error")
 SLOT_WORDS = SLOT_BYTES // 4  # 32-bit words per slot (SLOT_WORDS_USED of them hold data)
 PATCH_DIAMETER = 31  # a keypoint's size at octave 0 (OpenCV ORB's patchSize): 31 * r^octave
 NO_ANGLE = -1.0  # cv2.KeyPoint's angle when there is no orientation (fast mode)
+_T = TypeVar("_T")
 
 
 class AccelError(RuntimeError):
     """The device is not an ORB accelerator, or it answered inconsistently."""
+
+
+@dataclass
+class FaultCounts:
+    """What the driver met and recovered from since it was opened (docs/driver.md, "Faults and
+    recovery"). Timeouts and bus errors are also raised to the caller (TimeoutError, BusError); the
+    frames of the banks a recovery releases are lost, and counted here: nothing goes silently."""
+
+    timeouts: int = 0  # waits for an interrupt that ended without one (TimeoutError): no video, no interrupt
+    bus_errors: int = 0  # bus operations answered with an error response (BusError raised to the caller)
+    stale_banks: int = 0  # READY banks nobody held, released unread (a killed predecessor's, or lost track of)
+    stray_irqs: int = 0  # frame-done interrupts whose bank a recovery had already released (waited past)
 
 
 @dataclass(frozen=True)
@@ -203,13 +223,22 @@ class OrbAccel:
     """bank_read: how read_bank loads a bank: "bank" (default) in one block of whole 64-byte slots
     (16 words per feature: 60 % more bus reads than needed, one call: the fastest on the board and
     over a socket; docs/ros.md, benchmark), "slot" one block of the 10 used words per slot (fewest
-    bus reads: the simulation benches use it, where each read costs clocks)."""
+    bus reads: the simulation benches use it, where each read costs clocks).
 
-    def __init__(self, bus: Bus, check_id: bool = True, bank_read: str = "bank") -> None:
+    release_stale (default True): at open, release the banks the accelerator shows READY whose
+    frame-done interrupt was already taken: a previous process died holding them (recover(); the
+    banks are in `released_at_open`, counted in faults.stale_banks). False for a program that only
+    looks (`orb-accel board info`) while another one may be reading frames."""
+
+    def __init__(self, bus: Bus, check_id: bool = True, bank_read: str = "bank", release_stale: bool = True) -> None:
         if bank_read not in BANK_READS:
             raise ValueError(f"bank_read {bank_read!r} not one of {BANK_READS}")
         self.bus = bus
         self.bank_read = bank_read
+        self.faults = FaultCounts()
+        self._held: set[int] = set()  # banks wait_frame handed out and release has not given back
+        self._suspect = False  # a bus error cut an operation: the bank state is checked before the next wait
+        self._stray_ok = False  # a recovery released a bank whose interrupt may still come
         if check_id:
             ident = self.read(regs.ID)
             if ident != regs.ORB_ID:
@@ -233,12 +262,22 @@ class OrbAccel:
             cells=(regs.SELECT.field("cols").get(sel), regs.SELECT.field("rows").get(sel)),
             threshold_lo=regs.THRESHOLD.field("low").get(thr),
         )
+        self.released_at_open: list[int] = self.recover() if release_stale else []
+
+    # ---- the bus, bus errors counted -----------------------------------------------------------
+    def _call(self, op: Callable[..., _T], *args: object) -> _T:
+        try:
+            return op(*args)
+        except BusError:
+            self.faults.bus_errors += 1
+            self._suspect = True
+            raise
 
     # ---- registers -----------------------------------------------------------------------------
     def read(self, reg: regs.Register) -> int:
         if reg.access == "wo":
             raise ValueError(f"{reg.name} is write-only")
-        return self.bus.read32(reg.offset)
+        return self._call(self.bus.read32, reg.offset)
 
     def write(self, reg: regs.Register, value: int) -> None:
         """Write a register; a write the register bank would refuse (SLVERR: a read-only register,
@@ -254,7 +293,7 @@ class OrbAccel:
             raise ValueError(
                 f"{reg.name}: {int(value):#x} sets a reserved bit or a field above its maximum ({allowed})"
             )
-        self.bus.write32(reg.offset, int(value))
+        self._call(self.bus.write32, reg.offset, int(value))
 
     def _field_max(self, f: regs.Field) -> int:
         top = (1 << f.width) - 1 if f.max is None else f.max
@@ -385,7 +424,8 @@ class OrbAccel:
     def wait_irq(self, timeout_s: float) -> int:
         """Wait for the interrupt, acknowledge it and return the IRQ_STATUS bits that were set.
         Raises TimeoutError (with the status registers) when none comes within timeout_s."""
-        if not self.bus.wait_irq(timeout_s):
+        if not self._call(self.bus.wait_irq, timeout_s):
+            self.faults.timeouts += 1
             raise TimeoutError(f"no interrupt within {timeout_s:g} s: {self.status_text()}")
         status = self.read(regs.IRQ_STATUS)
         self.write(regs.IRQ_STATUS, status)
@@ -393,15 +433,53 @@ class OrbAccel:
 
     def wait_frame(self, timeout_s: float) -> int:
         """Wait for a frame-done interrupt (error interrupts are acknowledged and waited past) and
-        return the bank of the newest complete frame. The caller must release it."""
+        return the bank of the newest complete frame. The caller must release it.
+
+        Recovery (docs/driver.md, "Faults and recovery"): after a bus error cut an operation, the
+        banks are checked first (recover()); on a timeout the banks nobody holds are released
+        before TimeoutError is raised (a bank left READY stops the accelerator for good: it skips
+        every frame whose bank is held), so that frames flow again when the video comes back."""
+        if self._suspect:
+            self.recover()
         while True:
-            if regs.IRQ_STATUS.field("frame_done").get(self.wait_irq(timeout_s)):
+            try:
+                irq = self.wait_irq(timeout_s)
+            except TimeoutError as exc:
+                released = self.recover()
+                if not released:
+                    raise
+                raise TimeoutError(f"{exc}; released bank(s) {released} that nobody held") from None
+            if not regs.IRQ_STATUS.field("frame_done").get(irq):
+                continue
+            status = self.read(regs.STATUS)
+            bank = regs.STATUS.field("last_bank").get(status)
+            if regs.STATUS.field("bank_ready").get(status) >> bank & 1:
                 break
-        status = self.read(regs.STATUS)
-        bank = regs.STATUS.field("last_bank").get(status)
-        if not regs.STATUS.field("bank_ready").get(status) >> bank & 1:
-            raise AccelError(f"frame-done interrupt but bank {bank} is not ready: STATUS = {status:#x}")
+            if not self._stray_ok:
+                raise AccelError(f"frame-done interrupt but bank {bank} is not ready: STATUS = {status:#x}")
+            self.faults.stray_irqs += 1  # its bank went in a recovery: wait on for the next frame
+        self._stray_ok = False
+        self._held.add(bank)
         return bank
+
+    def recover(self) -> list[int]:
+        """Release the banks the accelerator shows READY that this driver does not hold, except the
+        newest one while its frame-done interrupt is pending (a frame still to be taken): a killed
+        predecessor's (at open), or one this driver lost track of (a bus error between the
+        interrupt and the release; an interrupt lost). Their frames are lost and counted in
+        faults.stale_banks. Returns the banks released (usually none)."""
+        pending = regs.IRQ_STATUS.field("frame_done").get(self.read(regs.IRQ_STATUS))
+        status = self.read(regs.STATUS)
+        ready = regs.STATUS.field("bank_ready").get(status)
+        newest = regs.STATUS.field("last_bank").get(status)
+        stale = [b for b in range(regs.BANKS)
+                 if ready >> b & 1 and b not in self._held and not (pending and b == newest)]  # fmt: skip
+        for b in stale:
+            self.release(b)
+            self.faults.stale_banks += 1
+            self._stray_ok = True  # a frame that finished after the reads above may have lost its bank
+        self._suspect = False
+        return stale
 
     def read_bank(self, bank: int, mode: str | None = None, counters: bool = True) -> Frame:
         """A ready bank's features and record (the bank stays held: see release), decoded in `mode`
@@ -416,14 +494,14 @@ class OrbAccel:
         count = regs.BANK0_INFO.field("count").get(info)
         base = regs.MEM_BASE + bank * self.hw.mem_depth * SLOT_BYTES
         if self.bank_read == "bank":
-            block = self.bus.read_block(base, (count + 1) * SLOT_WORDS).reshape(count + 1, SLOT_WORDS)
+            block = self._call(self.bus.read_block, base, (count + 1) * SLOT_WORDS).reshape(count + 1, SLOT_WORDS)
             words = np.ascontiguousarray(block[:count, :SLOT_WORDS_USED])
             record = decode_record(block[count, :SLOT_RECORD_WORDS])
         else:
             words = np.empty((count, SLOT_WORDS_USED), dtype=np.uint32)
             for s in range(count):
-                words[s] = self.bus.read_block(base + s * SLOT_BYTES, SLOT_WORDS_USED)
-            record = decode_record(self.bus.read_block(base + count * SLOT_BYTES, SLOT_RECORD_WORDS))
+                words[s] = self._call(self.bus.read_block, base + s * SLOT_BYTES, SLOT_WORDS_USED)
+            record = decode_record(self._call(self.bus.read_block, base + count * SLOT_BYTES, SLOT_RECORD_WORDS))
         if record.count != count:
             raise AccelError(f"bank {bank}: record count {record.count}, BANK{bank}_INFO count {count}")
         feats = decode_features(words, self.hw.sectors, descriptors=mode == "orb")
@@ -434,6 +512,7 @@ class OrbAccel:
         """Give a bank back to the accelerator (after reading it)."""
         if bank not in range(regs.BANKS):
             raise ValueError(f"bank {bank} outside 0..{regs.BANKS - 1}")
+        self._held.discard(bank)  # given back even if the write fails: a recovery then finds it READY
         self.write(regs.BANK_RELEASE, bank)
 
     @contextmanager

@@ -9,6 +9,12 @@ them; the hardware samples threshold and mode at a frame's first pixel), reads t
 it, publishes. A service call returns once its change is written, with the number of the last
 frame published under the old values (`after_frame`). Runs on the board (UioBus) and against the
 simulator (SocketBus) unchanged; needs numpy and Debian's ROS packages only.
+
+Faults (docs/ros.md, "Faults and recovery"): the loop keeps running through a stall (no frame
+within the timeout: a cable cut, the video or the interrupt lost), error responses of the bus and
+inconsistent answers; it counts them, says so in the log and in /diagnostics (WARN while a stall
+lasts or when a fault counter rose since the previous report, OK again once frames flow), and the
+driver releases what a fault left held.
 """
 
 from __future__ import annotations
@@ -22,12 +28,17 @@ import numpy as np
 
 from golden_model import limits, regs
 from golden_model.config import MODES, ConfigError
-from orb_accel.bus import Bus
-from orb_accel.driver import Frame, OrbAccel
+from orb_accel.bus import Bus, BusError
+from orb_accel.driver import AccelError, Frame, OrbAccel
 
 NODE_NAME = "orb_accel"
 KEEP_THRESHOLD, KEEP_MODE, KEEP_ENABLE = -1, "", -1
 FLOAT_FIELDS = ("x", "y", "size", "angle", "response")
+# the accelerator's counters whose rise is a fault (FRAME_COUNT and DISCARDED are not)
+HW_FAULTS = ("dropped", "overflow_count", "overrun", "proto_errors", "desc_lost")
+NODE_FAULTS = ("bus_errors", "stale_banks", "stray_irqs", "errors", "frames_missed")
+FRAME_MASK = 0xFFFF  # frame numbers are 16 bits
+MAX_BACKOFF_S = 1.0  # the longest pause between tries while the bus keeps answering with errors
 
 
 @dataclass(frozen=True)
@@ -138,11 +149,23 @@ class FeatureNode:
         self.published = 0
         self.timeouts = 0
         self.last_counters: dict[str, int] = {}
+        # faults (docs/ros.md, "Faults and recovery")
+        self.stalls = 0  # episodes without frames (each starts with a timeout while enabled)
+        self.stalled_since: float | None = None  # monotonic time of the last frame before the stall in progress
+        self.errors = 0  # inconsistent answers (AccelError) the loop recovered from
+        self.frames_missed = 0  # frame numbers skipped between two published frames (lost anywhere)
+        self.last_error = ""
+        self._next_number: int | None = None  # the frame number expected next (None: unknown, after a reset)
+        self._last_frame_t = time.monotonic()
+        self._backoff_s = 0.0
+        self._diag_base: dict[str, int] = {}
         self.pub = rospy.Publisher("~features", self.msg_cls, queue_size=16)
         self.diag_pub = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=4)
         self._stats = {"t": time.monotonic(), "published": 0, "features": 0}
         self._next_diag = time.monotonic() + diag_period_s
-        accel.soft_reset()  # a predecessor killed while holding a bank leaves it held: start clean
+        if accel.released_at_open:  # the driver found banks a killed predecessor held, and released them
+            rospy.logwarn(f"{NODE_NAME}: released bank(s) {accel.released_at_open} a previous process left held")
+        accel.soft_reset()  # a clean start: frame numbers from 0, the frame in flight (older values) cut
         accel.write(regs.IRQ_STATUS, 0xFFFFFFFF)
         accel.configure(params.threshold, params.mode, params.enable, **self.selection)
         rospy.Service("~set_params", srvs.SetParams, self._on_set_params)
@@ -210,30 +233,32 @@ class FeatureNode:
 
     # ---- the loop ------------------------------------------------------------------------------
     def step(self) -> Frame | None:
-        """Wait for one frame and publish it (None after a timeout). Queued changes are written."""
-        accel = self.accel
+        """Wait for one frame and publish it (None after a timeout or a fault). Queued changes are
+        written. A bus error or an inconsistent answer is counted and logged, and the loop goes on:
+        the driver releases any bank it left held before the next wait."""
+        requests: list[Request] = []
+        done: list[Request] = []  # requests whose change is written
         try:
-            bank = accel.wait_frame(self.timeout_s)
-        except TimeoutError:
-            self.timeouts += 1
-            requests = self._take()  # no frame in flight that could see half of a change
-            if requests:
-                self._apply_params(requests)
-                if any(r.reset for r in requests):
-                    accel.soft_reset()
-                self._finish(requests, self.last_frame)
-            self._diagnostics(force=False)
+            try:
+                bank = self.accel.wait_frame(self.timeout_s)
+            except TimeoutError:
+                self._no_frame()
+                requests = self._take()  # no frame in flight that could see half of a change
+                self._apply(requests, done, self.last_frame)
+                self._diagnostics(force=False)
+                return None
+            with self.accel.holding(bank):  # released on the way out, also when a write below fails
+                stamp = self.rospy.Time.now()
+                frame_params = self.params  # in force when this frame started
+                requests = self._take()
+                self._apply_params(requests)  # right after the interrupt: from the next frame on
+                done = [r for r in requests if not r.reset]
+                frame = self.accel.read_bank(bank, mode=frame_params.mode)
+            self._apply(requests, done, frame.number)
+        except (BusError, AccelError) as exc:
+            self._fault(exc, requests, done)
             return None
-        stamp = self.rospy.Time.now()
-        frame_params = self.params  # in force when this frame started
-        requests = self._take()
-        self._apply_params(requests)  # right after the interrupt: from the next frame on
-        with accel.holding(bank):
-            frame = accel.read_bank(bank, mode=frame_params.mode)
-        if any(r.reset for r in requests):
-            accel.soft_reset()
-        self.last_frame = frame.number
-        self._finish(requests, frame.number)
+        self._frame_came(frame)
         self.pub.publish(build_message(self.msg_cls, frame, frame_params.threshold, stamp, self.frame_id, self.budget))
         self.published += 1
         self._stats["published"] += 1
@@ -241,6 +266,61 @@ class FeatureNode:
         self.last_counters = frame.counters
         self._diagnostics(force=False)
         return frame
+
+    def _apply(self, requests: list[Request], done: list[Request], after_frame: int) -> None:
+        """Write the queued changes not yet written (the parameters, then a reset) and answer them."""
+        if not requests:
+            return
+        if not done:
+            self._apply_params(requests)
+            done[:] = [r for r in requests if not r.reset]
+        if any(r.reset for r in requests):
+            self.accel.soft_reset()
+            self._next_number = None
+            done[:] = requests
+        self._finish(requests, after_frame)
+
+    def _fault(self, exc: Exception, requests: list[Request], done: list[Request]) -> None:
+        """A bus error (counted by the driver) or an inconsistent answer: log it, give the changes
+        not yet written back to the queue, answer those written, pause a little if it repeats."""
+        if isinstance(exc, AccelError):
+            self.errors += 1
+        self.last_error = str(exc)
+        self.rospy.logwarn(f"{NODE_NAME}: {exc} (frames go on; docs/ros.md, Faults and recovery)")
+        self._finish(done, self.last_frame)  # written: every frame published from now on has it
+        left = [r for r in requests if r not in done]
+        if left:
+            with self.lock:
+                self.requests[:0] = left
+        self._diagnostics(force=self._backoff_s == 0.0)
+        self._backoff_s = min(max(2 * self._backoff_s, 0.01), MAX_BACKOFF_S)
+        time.sleep(self._backoff_s)  # a bus that fails every operation is not polled flat out
+
+    def _no_frame(self) -> None:
+        self.timeouts += 1
+        self._backoff_s = 0.0
+        if not self.params.enable:  # disabled: no frame is expected
+            self.stalled_since = None
+        elif self.stalled_since is None:
+            self.stalled_since = self._last_frame_t
+            self.stalls += 1
+            self.rospy.logwarn(f"{NODE_NAME}: no frame within {self.timeout_s:g} s (no video, or the interrupt is "
+                               "lost); waiting for frames")  # fmt: skip
+            self._diagnostics(force=True)
+
+    def _frame_came(self, frame: Frame) -> None:
+        now = time.monotonic()
+        self._backoff_s = 0.0
+        if self._next_number is not None:
+            self.frames_missed += (frame.number - self._next_number) & FRAME_MASK
+        self._next_number = (frame.number + 1) & FRAME_MASK
+        self.last_frame = frame.number
+        self._last_frame_t = now
+        if self.stalled_since is not None:
+            self.rospy.loginfo(f"{NODE_NAME}: frames again (frame {frame.number}) after "
+                               f"{now - self.stalled_since:.1f} s without")  # fmt: skip
+            self.stalled_since = None
+            self._next_diag = now  # report the recovery with this frame
 
     def run(self) -> None:
         while not self.rospy.is_shutdown():
@@ -253,6 +333,13 @@ class FeatureNode:
             r.done.set()
 
     # ---- diagnostics ---------------------------------------------------------------------------
+    def fault_counts(self) -> dict[str, int]:
+        """The counters whose rise is a fault: the accelerator's (read with the last frame), the
+        driver's and the node's."""
+        c, f = self.last_counters, self.accel.faults
+        return {**{k: c.get(k, 0) for k in HW_FAULTS}, "bus_errors": f.bus_errors, "stale_banks": f.stale_banks,
+                "stray_irqs": f.stray_irqs, "errors": self.errors, "frames_missed": self.frames_missed}  # fmt: skip
+
     def _diagnostics(self, force: bool) -> None:
         now = time.monotonic()
         if not force and now < self._next_diag:
@@ -262,26 +349,33 @@ class FeatureNode:
         span = max(now - self._stats["t"], 1e-9)
         fps = self._stats["published"] / span
         per_frame = self._stats["features"] / max(self._stats["published"], 1)
-        c = self.last_counters
-        errors = {k: c.get(k, 0) for k in ("dropped", "overflow_count", "overrun", "proto_errors", "desc_lost")}
-        level = DiagnosticStatus.OK if not any(errors.values()) else DiagnosticStatus.WARN
-        if self.published == 0 and self.timeouts:
-            level = DiagnosticStatus.WARN
-        warning = ", ".join(f"{k} {v}" for k, v in errors.items() if v)
-        warning = f": counters {warning}" if warning else (": no frames" if level != DiagnosticStatus.OK else "")
+        faults = self.fault_counts()
+        # WARN for a rise since the previous report (a counter that falls restarted: a reset)
+        rose = {k: v - self._diag_base.get(k, 0) for k, v in faults.items() if v > self._diag_base.get(k, 0)}
+        problems = []
+        if self.stalled_since is not None:
+            problems.append(f"no frame for {now - self.stalled_since:.1f} s (no video, or the interrupt is lost)")
+        elif self.published == 0 and self.timeouts:
+            problems.append("no frames")
+        if rose:
+            problems.append("since the last report " + ", ".join(f"{k} +{v}" for k, v in rose.items()))
+        level = DiagnosticStatus.WARN if problems else DiagnosticStatus.OK
         p = self.params
         values = {"frames_per_second": f"{fps:.2f}", "features_per_frame": f"{per_frame:.1f}",
                   "published": self.published, "timeouts": self.timeouts, "last_frame": self.last_frame,
-                  "threshold": p.threshold, "mode": p.mode, "enable": str(p.enable).lower(), **c}  # fmt: skip
+                  "threshold": p.threshold, "mode": p.mode, "enable": str(p.enable).lower(), **self.last_counters,
+                  "stalls": self.stalls, "stalled": str(self.stalled_since is not None).lower(),
+                  **{k: faults[k] for k in NODE_FAULTS}, "last_error": self.last_error}  # fmt: skip
         status = DiagnosticStatus(
             level=level, name=f"{NODE_NAME}: accelerator", hardware_id=self.hardware_id,
-            message=f"{fps:.1f} fps, {per_frame:.0f} features per frame" + warning,
+            message=f"{fps:.1f} fps, {per_frame:.0f} features per frame" + "".join(f"; {t}" for t in problems),
             values=[KeyValue(str(k), str(v)) for k, v in values.items()],
         )  # fmt: skip
         arr = self._diag_array()
         arr.header.stamp = self.rospy.Time.now()
         arr.status = [status]
         self.diag_pub.publish(arr)
+        self._diag_base = faults
         self._stats = {"t": now, "published": 0, "features": 0}
         self._next_diag = now + self.diag_period_s
 

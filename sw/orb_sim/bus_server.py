@@ -96,4 +96,4 @@ def server_info(cfg: dict, frames: int, period_ns: int, engine: str) -> dict:
     """The HELLO answer: the protocol and the simulated configuration (SimServer's config.json)."""
     return {"magic": MAGIC, "protocol": PROTOCOL, "toplevel": cfg["toplevel"], "generics": cfg["generics"],
             "period_ns": period_ns, "frames": frames, "h_blank": cfg["h_blank"], "v_blank": cfg["v_blank"],
-            "engine": engine}  # fmt: skip
+            "engine": engine, "faults": cfg.get("faults", [])}  # fmt: skip

@@ -14,7 +14,8 @@ told), each of SCALES_g, STEP_*_g, SECTORS_g, MEM_DEPTH_g replaceable by an argu
 stream in round and round with blanking (h_blank clocks per line, v_blank_lines blank lines per
 frame). `python -m orb_sim.sim_server JOB` is the child process: engine "ghdl" runs the cocotb job
 through orb_sim.runner, engine "fast" serves the synthesised netlist in Verilator (orb_sim.fast;
-orb_accel_top only; no frames.log).
+orb_accel_top only; no frames.log). `faults` (orb_sim.faults: cable cuts, error responses) are
+injected by the server, for the CPU side's fault tests (docs/driver.md, "Faults and recovery").
 """
 
 from __future__ import annotations
@@ -26,6 +27,7 @@ import subprocess
 import sys
 import tempfile
 import time
+from collections.abc import Sequence
 from pathlib import Path
 from types import TracebackType
 
@@ -35,6 +37,7 @@ from golden_model import limits
 from golden_model.config import Config, named
 from golden_model.overlay import marker_block_log2
 
+from .faults import Cut, parse
 from .hdl import MANIFEST
 from .runner import run
 
@@ -51,7 +54,7 @@ class SimServer:
     def __init__(self, frames: np.ndarray, config: str = DEFAULT_CONFIG, *, scales: int | None = None,
                  sectors: int | None = None, mem_depth: int | None = None, step: tuple[int, int] | None = None,
                  toplevel: str = "orb_accel_top", port: int = 0, h_blank: int = 16, v_blank_lines: int = 20,
-                 job_dir: Path | None = None, engine: str = "ghdl") -> None:  # fmt: skip
+                 job_dir: Path | None = None, engine: str = "ghdl", faults: Sequence[str] = ()) -> None:  # fmt: skip
         nc = named(config)
         # the overlay's block: the configuration's, or the smallest that fits replaced scales
         block_log2 = nc.block_log2 if scales is None else marker_block_log2(scales)
@@ -76,6 +79,9 @@ class SimServer:
         Config(
             int(width), int(height), scales, sectors, step_num=step[0], step_den=step[1]
         )  # the step and the level sizes
+        parsed = [parse(f) for f in faults]
+        if engine != "fast" and any(isinstance(f, Cut) for f in parsed):
+            raise ValueError("a cable cut (fault cut:...) is played by the fast engine only (engine='fast')")
         if toplevel == "orb_accel_zynq" and frames.ndim != 4:
             raise ValueError("orb_accel_zynq takes colour frames (N, H, W, 3)")
         self.frames = frames
@@ -88,7 +94,8 @@ class SimServer:
         self.toplevel = toplevel
         self.config = {"toplevel": toplevel, "generics": self.generics, "host": "127.0.0.1", "port": port,
                        "engine": engine, "h_blank": h_blank,
-                       "v_blank": v_blank_lines * (int(width) + h_blank)}  # fmt: skip
+                       "v_blank": v_blank_lines * (int(width) + h_blank),
+                       "faults": [f.text for f in parsed]}  # fmt: skip
         self._tmp: tempfile.TemporaryDirectory | None = None
         self.job = None if job_dir is None else Path(job_dir).resolve()
         self.address = ""
@@ -181,17 +188,20 @@ def _serve_fast(job: Path, cfg: dict) -> int:
     from .fast.build import build_fast
     from .fast.jobs import pack
     from .fast.sim import PERIOD_NS, FastBus, FastSim
+    from .faults import FaultyBus, video_schedule
 
     frames = np.load(job / "frames.npy")
+    faults = [parse(f) for f in cfg.get("faults", [])]
     sim = FastSim(build_fast(cfg["generics"]))
     sim.reset()
-    for img in frames:
-        sim.push_frame(pack(img), cfg["h_blank"], cfg["v_blank"])  # as orb_sim.video.Gaps("blanking")
+    # as orb_sim.video.Gaps("blanking"), with the cuts of the faults
+    for program in video_schedule([pack(img) for img in frames], faults, cfg["h_blank"], cfg["v_blank"]):
+        sim.push(*program)
     sim.set_loop(True)
     listener = listen(job, cfg["host"], cfg["port"])
     info = server_info(cfg, len(frames), PERIOD_NS, "fast")
     try:
-        serve(listener, FastBus(sim), info)
+        serve(listener, FaultyBus(FastBus(sim), faults), info)
     finally:
         listener.close()
         sim.close()

@@ -18,7 +18,7 @@ import argparse
 import signal
 import sys
 import time
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from contextlib import ExitStack, contextmanager
 from pathlib import Path
 
@@ -58,6 +58,9 @@ def add_bus_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--sim-top", choices=TOPLEVELS, default=TOPLEVELS[0],
                    help="simulated top: the accelerator, or the board's Vivado wrapper (RBG video)")  # fmt: skip
     p.add_argument("--sim-max-frames", type=int, default=50, help="at most this many frames from a video (50)")
+    p.add_argument("--sim-fault", metavar="SPEC", action="append", default=[],
+                   help="a fault the simulator injects (repeatable): cut:EVERY:PERIODS (fast engine) or "
+                        "buserr:OP:WHERE:FIRST[:EVERY[:RESP]] (docs/driver.md, Faults and recovery)")  # fmt: skip
     p.add_argument("--timeout", type=float, help=f"seconds to wait for a frame (board: {BOARD_TIMEOUT_S:g}; "
                    f"simulator: {SIM_TIMEOUT_FRAMES} frame periods of simulated time)")  # fmt: skip
 
@@ -97,6 +100,13 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     srv.add_argument("--top", choices=TOPLEVELS, default=TOPLEVELS[0])
     srv.add_argument("--engine", choices=ENGINES, default="ghdl", help="fast: the netlist in Verilator")
     srv.add_argument("--max-frames", type=int, default=50)
+    srv.add_argument(
+        "--fault",
+        metavar="SPEC",
+        action="append",
+        default=[],
+        help="a fault to inject (repeatable; docs/driver.md, Faults and recovery)",
+    )
 
     bag = sub.add_parser("bag", help="convert a ROS 1 bag of /orb_accel/features (docs/ros-bags.md)")
     bsub2 = bag.add_subparsers(dest="bag_command", required=True, parser_class=type(bag))
@@ -125,18 +135,20 @@ def _size(text: str | None, config: str) -> tuple[int, int] | None:
 
 def _start_sim(stack: ExitStack, paths: list[Path], config: str, size: str | None, max_frames: int, top: str,
                engine: str = "ghdl", port: int = 0, scales: int | None = None, step: str | None = None,
-               sectors: int | None = None, mem_depth: int | None = None) -> str:  # fmt: skip
+               sectors: int | None = None, mem_depth: int | None = None,
+               faults: Sequence[str] = ()) -> str:  # fmt: skip
     from orb_sim.sim_server import SimServer
     from orb_tools.images import load_frames
 
     frames = load_frames(paths, _size(size, config), max_frames)
     h, w = frames.shape[1:3]
     server = SimServer(frames, config, scales=scales, sectors=sectors, mem_depth=mem_depth, toplevel=top, port=port,
-                       engine=engine, step=None if step is None else parse_step(step))  # fmt: skip
+                       engine=engine, step=None if step is None else parse_step(step), faults=faults)  # fmt: skip
     g = server.generics
     print(f"starting the simulator ({engine}): {top} {w}x{h}, {config}: {g['SCALES_g']} scales of "
           f"{g['STEP_NUM_g']}:{g['STEP_DEN_g']}, {g['SECTORS_g']} sectors, {g['MEM_DEPTH_g']} slots per bank, "
-          f"{len(frames)} frame(s) round and round ...", flush=True)  # fmt: skip
+          f"{len(frames)} frame(s) round and round"
+          f"{', faults ' + ' '.join(server.config['faults']) if faults else ''} ...", flush=True)  # fmt: skip
     stack.enter_context(server)
     print(f"simulator listening on {server.address} (log: {server.log})", flush=True)
     return server.address
@@ -161,6 +173,7 @@ def open_bus(args: argparse.Namespace) -> Iterator[tuple[Bus, str, float]]:
                 step=args.sim_step,
                 sectors=args.sim_sectors,
                 mem_depth=args.sim_mem_depth,
+                faults=args.sim_fault,
             )
             bus = stack.enter_context(SocketBus(address))
             g = bus.info["generics"]
@@ -170,6 +183,7 @@ def open_bus(args: argparse.Namespace) -> Iterator[tuple[Bus, str, float]]:
         elif args.devmem is not None:
             from orb_accel.devmem import DevMemBus
 
+            _traceback_on_sigbus()
             yield (
                 stack.enter_context(DevMemBus(args.devmem)),
                 f"/dev/mem at {args.devmem:#x}",
@@ -178,9 +192,19 @@ def open_bus(args: argparse.Namespace) -> Iterator[tuple[Bus, str, float]]:
         else:
             from orb_accel.uio import UioBus
 
+            _traceback_on_sigbus()
             name = args.uio or "orb-accel"
             bus = stack.enter_context(UioBus.open(name))
             yield bus, f"UIO device {name!r}", args.timeout or BOARD_TIMEOUT_S
+
+
+def _traceback_on_sigbus() -> None:
+    """On the board an error response to a load is a SIGBUS that ends the process (docs/driver.md,
+    "Faults and recovery"): leave the Python stack of the access on stderr."""
+    import faulthandler
+
+    if not faulthandler.is_enabled():
+        faulthandler.enable()
 
 
 def _counters_line(counters: dict[str, int]) -> str:
@@ -191,7 +215,7 @@ def cmd_info(args: argparse.Namespace) -> int:
     from golden_model import regs
 
     with open_bus(args) as (bus, what, _):
-        accel = OrbAccel(bus)
+        accel = OrbAccel(bus, release_stale=False)  # it only looks: another program may be reading a bank
         major, minor = accel.version()
         hw = accel.hw
         status = accel.read(regs.STATUS)
@@ -341,7 +365,8 @@ def cmd_ros_env(_args: argparse.Namespace) -> int:
 def cmd_sim_server(args: argparse.Namespace) -> int:
     with ExitStack() as stack:
         _start_sim(stack, args.frames, args.config, args.size, args.max_frames, args.top, args.engine, args.port,
-                   scales=args.scales, step=args.step, sectors=args.sectors, mem_depth=args.mem_depth)  # fmt: skip
+                   scales=args.scales, step=args.step, sectors=args.sectors, mem_depth=args.mem_depth,
+                   faults=args.fault)  # fmt: skip
         print("serving until Ctrl-C", flush=True)
         while True:
             time.sleep(3600)

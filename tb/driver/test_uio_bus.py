@@ -256,7 +256,8 @@ def test_driver_reads_id_config_and_bank(device: FakeDevice) -> None:
             return super().read32(addr)
 
     with Spy(device.map_file, MAP_SIZE, irq_fd=device.irq.fileno()) as bus:
-        accel = OrbAccel(bus, bank_read="slot")
+        # the fake's bank 0 is READY with its interrupt taken: a looking driver leaves it alone
+        accel = OrbAccel(bus, bank_read="slot", release_stale=False)
         assert (accel.hw.width, accel.hw.height, accel.hw.scales, accel.hw.sectors, accel.hw.mem_depth) == (
             W, H, SCALES, SECTORS, DEPTH)  # fmt: skip
         assert accel.mode == "orb"
@@ -273,7 +274,7 @@ def test_driver_reads_id_config_and_bank(device: FakeDevice) -> None:
         assert bus.reads - reads_before == words
         assert bus.writes == 0
         # the default: the bank's whole slots in one block, the same frame
-        whole = OrbAccel(bus)
+        whole = OrbAccel(bus, release_stale=False)
         reads_before = bus.reads
         register_reads.clear()
         again = whole.read_bank(0)
@@ -327,9 +328,11 @@ def test_short_interrupt_read(device: FakeDevice) -> None:
 
 
 def test_next_frame_acknowledges_and_releases(device: FakeDevice) -> None:
+    # bank 0's frame-done interrupt pending: a frame to take, not a stale bank
+    set_word(device.map_file, regs.IRQ_STATUS.offset, regs.IRQ_STATUS.field("frame_done").put(1))
     with uio_bus(device) as bus:
         accel = OrbAccel(bus)
-        set_word(device.map_file, regs.IRQ_STATUS.offset, regs.IRQ_STATUS.field("frame_done").put(1))
+        assert accel.released_at_open == [] and word_at(device.map_file, regs.BANK_RELEASE.offset) == RELEASE_MARK
         kernel = FakeKernel(device.kernel, [1, None])
         frame = accel.next_frame(timeout_s=5.0)
         diff = first_difference(frame.features, model_features())
@@ -342,6 +345,21 @@ def test_next_frame_acknowledges_and_releases(device: FakeDevice) -> None:
             accel.next_frame(WAIT_S)
         assert time.monotonic() - t0 < 2.0
         kernel.join()
+
+
+@pytest.mark.parametrize("release_stale", [True, False])
+def test_open_releases_a_dead_predecessors_bank(device: FakeDevice, release_stale: bool) -> None:
+    """Bank 0 READY and its interrupt already taken (IRQ_STATUS 0): a process died holding it. The
+    driver releases it at open (and counts it); a looking driver (board info) does not."""
+    with uio_bus(device) as bus:
+        accel = OrbAccel(bus, release_stale=release_stale)
+        if release_stale:
+            assert accel.released_at_open == [0] and accel.faults.stale_banks == 1
+            assert word_at(device.map_file, regs.BANK_RELEASE.offset) == 0  # was RELEASE_MARK
+            assert bus.writes == 1
+        else:
+            assert accel.released_at_open == [] and accel.faults.stale_banks == 0 and bus.writes == 0
+            assert word_at(device.map_file, regs.BANK_RELEASE.offset) == RELEASE_MARK
 
 
 # ------------------------------------------------------------------------------------------------

@@ -24,6 +24,7 @@ from cocotb.triggers import RisingEdge
 from orb_sim.accel_bench import AccelBench
 from orb_sim.bus_server import listen, serve, server_info
 from orb_sim.cocotb_bus import PERIOD_NS
+from orb_sim.faults import FaultyBus, parse
 from orb_sim.video import Gaps
 
 
@@ -61,7 +62,7 @@ async def sim_server(dut) -> None:
     listener = listen(job, cfg["host"], cfg["port"])
     info = server_info(cfg, len(frames), PERIOD_NS, "ghdl")
     try:
-        await bridge(serve)(listener, b.bus, info)
+        await bridge(serve)(listener, FaultyBus(b.bus, [parse(f) for f in cfg.get("faults", [])]), info)
     finally:
         listener.close()
         log.close()
