@@ -34,7 +34,7 @@ module orb_axis_chk #(
     if (ASSUME) begin : gen_assume
       always @(*) if (past_ok) assume (hold_ok);
     end else begin : gen_assert
-      always @(*) if (past_ok) assert (hold_ok);
+      always @(*) if (past_ok) hold: assert (hold_ok);
     end
   endgenerate
 endmodule

@@ -56,7 +56,7 @@ TOOLS = {
 SBY = "yowasp-sby"
 PORT_RE = re.compile(r"^\s*\(?\s*(input|output)\s+(?:\[(\d+):0\]\s+)?(\w+)[,)]", re.M)
 AXIS_RE = re.compile(r"^([sm])_axis_(\w+)_tvalid$")
-FAILED_RE = re.compile(r"failed assertion orb_formal_top\.(\S+?)[ .]")
+FAILED_RE = re.compile(r"failed assertion orb_formal_top\.(\S+)")
 
 
 @dataclass(frozen=True)
@@ -71,6 +71,7 @@ class Mutation:
     pattern: str
     repl: str
     expect: str
+    more: tuple[tuple[str, str], ...] = ()  # further (pattern, repl) patches of the same target
 
 
 @dataclass(frozen=True)
@@ -264,13 +265,16 @@ def regmap_ref(generics: Mapping[str, int | str]) -> str:
     return "\n".join(out) + "\n"
 
 
-def sby_text(check: Check, checker_files: Sequence[str]) -> str:
+def sby_text(check: Check, checker_files: Sequence[str], only: str | None = None) -> str:
+    """The sby file; only: keep this property's assertions (a label, or an instance: its labels) and remove the
+    others (a planted bug's run: the named property alone must catch it)."""
     reads = "\n".join(f"read_verilog -formal -sv {f}" for f in checker_files)
+    keep = "" if only is None else f"flatten\nchformal -assert -remove t:$check */{only} */{only}.* %u %d\n"
     files = "\n".join(["top.v", *checker_files, "wrapper.sv"])
     return (
         f"[options]\nmode {check.mode}\ndepth {check.depth}\n\n[engines]\nsmtbmc boolector\n\n"
         f"[script]\nread_verilog -formal top.v\n{reads}\nread_verilog -formal -sv wrapper.sv\n"
-        f"prep -top orb_formal_top\n\n[files]\n{files}\n"
+        f"prep -top orb_formal_top\n{keep}\n[files]\n{files}\n"
     )
 
 
@@ -316,10 +320,11 @@ def ghdl_exe() -> str:
 
 
 def _patch(text: str, mut: Mutation) -> str:
-    new, n = re.subn(mut.pattern, mut.repl, text, flags=re.M)
-    if n != 1:
-        raise ValueError(f"planted bug {mut.name}: pattern {mut.pattern!r} matched {n} times (1 expected)")
-    return new
+    for pattern, repl in ((mut.pattern, mut.repl), *mut.more):
+        text, n = re.subn(pattern, repl, text, flags=re.M)
+        if n != 1:
+            raise ValueError(f"planted bug {mut.name}: pattern {pattern!r} matched {n} times (1 expected)")
+    return text
 
 
 def run_one(check: Check, cdir: Path, mut: Mutation | None = None, timeout: float = 1800) -> dict[str, Any]:
@@ -348,7 +353,7 @@ def run_one(check: Check, cdir: Path, mut: Mutation | None = None, timeout: floa
     if "s_axil_awvalid" in {p.name for p in plist}:
         (cdir / "orb_axil_regmap_ref.sv").write_text(regmap_ref(check.generics))
         checker_files.append("orb_axil_regmap_ref.sv")
-    (cdir / "check.sby").write_text(sby_text(check, checker_files))
+    (cdir / "check.sby").write_text(sby_text(check, checker_files, None if mut is None else mut.expect))
     env = dict(os.environ, PATH=f"{tool_bin()}{os.pathsep}{os.environ.get('PATH', '')}")
     proc = subprocess.run(
         [sby_exe(), "-f", "check.sby"], cwd=cdir, env=env, capture_output=True, text=True, timeout=timeout
@@ -357,11 +362,15 @@ def run_one(check: Check, cdir: Path, mut: Mutation | None = None, timeout: floa
     rec["wall_s"]["sby"] = round(time.monotonic() - t0 - rec["wall_s"]["ghdl"], 1)
     done = re.search(r"DONE \((\w+), rc=\d+\)", proc.stdout)
     rec["status"] = done.group(1) if done else "ERROR"
-    rec["failed"] = sorted(set(FAILED_RE.findall(proc.stdout)))
+    # the failed assertion's path below the wrapper, without yosys's witness names (unlabelled asserts)
+    rec["failed"] = sorted({re.sub(r"\._witness_\..*$", "", f) for f in FAILED_RE.findall(proc.stdout)})
     rec["properties"] = bound_props(plist, check)
     step = re.search(r"failed assertion .* step (\d+)", proc.stdout)
     rec["cex_step"] = int(step.group(1)) if step else None
-    traces = sorted(p.relative_to(ROOT).as_posix() for p in cdir.glob("check/engine_*/trace*.vcd"))
+    traces = sorted(
+        (p.relative_to(ROOT) if p.is_relative_to(ROOT) else p).as_posix()
+        for p in cdir.glob("check/engine_*/trace*.vcd")
+    )
     rec["traces"] = traces
     return rec
 
@@ -399,8 +408,46 @@ def run_check(check: Check, mutations: bool = True, out: Path = OUT) -> dict[str
     return rec
 
 
-# The checks, quick ones first. Generics: narrow data, the smallest legal sizes.
+# The checks, quick ones first. Generics: narrow data, the smallest legal sizes (the test-tiny configuration's
+# where a size matters). Planted bugs are patches of the entity's VHDL (a copy in the run's folder).
 _FG = "input/orb_frame_gate.vhd"
+
+
+def _stall_bug(path: str, pattern: str, repl: str, port: str) -> Mutation:
+    """The common planted bug of a pipeline: its stage loads whatever m_axis_<port>_tready says."""
+    return Mutation(
+        "ignores_tready",
+        "the output stage loads a new beat although the stalled one was not taken (tready ignored)",
+        path,
+        pattern,
+        repl,
+        f"chk_m_axis_{port}",
+    )
+
+
+def _always_ready(port: str) -> str:
+    """The documented sink contract: s_axis_<port>_tready is 1 in every clock out of reset."""
+    return f"  always @(*) if (!init && !rst) {port}_ready: assert (s_axis_{port}_tready);"
+
+
+_VIDEO_CHECK_EXTRA = """  // the documented contract: the detector behind orb_video_check never stalls it
+  always @(*) if (!init) assume (m_axis_video_tready);
+  // the position of the next output beat in its frame, from the output beats alone
+  reg [15:0] ox = 0, oy = 0;
+  always @(posedge clk)
+    if (rst) begin
+      ox <= 0;
+      oy <= 0;
+    end else if (m_axis_video_tvalid && m_axis_video_tready) begin
+      ox <= (ox == {W} - 1) ? 0 : ox + 1;
+      if (ox == {W} - 1) oy <= (oy == {H} - 1) ? 0 : oy + 1;
+    end
+  always @(*) if (!init && !rst) begin
+    frame_shape: assert (!m_axis_video_tvalid ||
+                         (m_axis_video_tuser == (ox == 0 && oy == 0) && m_axis_video_tlast == (ox == {W} - 1)));
+    frame_end_last: assert (frame_end == (m_axis_video_tvalid && ox == {W} - 1 && oy == {H} - 1));
+  end"""
+
 CHECKS: dict[str, Check] = {
     c.entity: c
     for c in (
@@ -428,11 +475,244 @@ CHECKS: dict[str, Check] = {
             ),
         ),
         Check(
+            "orb_rgb_luma",
+            {"INPUT_g": "RGB"},
+            mutations=(
+                _stall_bug(
+                    "input/orb_rgb_luma.vhd",
+                    r"adv    := o_valid = '0' or m_axis_video_tready = '1';",
+                    "adv    := true;",
+                    "video",
+                ),
+            ),
+        ),
+        Check(
+            "orb_desc_rotate",
+            {"SECTORS_g": 16},
+            mutations=(
+                _stall_bug(
+                    "describe/orb_desc_rotate.vhd",
+                    r"take <= not q_valid or m_axis_feat_tready;",
+                    "take <= '1';",
+                    "feat",
+                ),
+            ),
+        ),
+        Check(
+            "orb_video_check",
+            {"WIDTH_g": 4, "HEIGHT_g": 2},
+            mode="bmc",
+            depth=24,
+            extra=_VIDEO_CHECK_EXTRA.format(W=4, H=2),
+            extra_props={
+                "frame_shape": "every output frame is WIDTH_g x HEIGHT_g: tuser at (0, 0), tlast at x = WIDTH_g - 1",
+                "frame_end_last": "frame_end exactly with the frame's last output beat",
+            },
+            mutations=(
+                Mutation(
+                    "tlast_copied",
+                    "m_axis_video_tlast copied from the input's tlast instead of the position",
+                    "input/orb_video_check.vhd",
+                    r"o_last  <= '1' when x = WIDTH_g - 1 else '0';",
+                    "o_last  <= placed.last;",
+                    "frame_shape",
+                ),
+                Mutation(
+                    "frame_end_early",
+                    "frame_end one position early (at x = WIDTH_g - 2 of the last line)",
+                    "input/orb_video_check.vhd",
+                    r"frame_last  <= emit_v and x = WIDTH_g - 1 and y = HEIGHT_g - 1;",
+                    "frame_last  <= emit_v and x = WIDTH_g - 2 and y = HEIGHT_g - 1;",
+                    "frame_end_last",
+                ),
+            ),
+        ),
+        Check(
+            "orb_feat_merge",
+            {"SCALES_g": 2, "FIFO_DEPTH_g": 2, "DESC_g": "false"},
+            mutations=(
+                _stall_bug(
+                    "core/orb_feat_merge.vhd",
+                    r"go_v    := o_valid = '0' or m_axis_feat_tready = '1';",
+                    "go_v    := true;",
+                    "feat",
+                ),
+            ),
+        ),
+        Check(
+            "orb_overlay",
+            {"WIDTH_g": 64, "HEIGHT_g": 48, "SCALES_g": 1, "BLOCK_LOG2_g": 2},
+            extra=_always_ready("feat"),
+            extra_props={"feat_ready": "s_axis_feat_tready is 1 in every clock out of reset (documented)"},
+            mutations=(
+                _stall_bug(
+                    "output/orb_overlay.vhd", r"ce    <= m_axis_video_tready or not m_valid;", "ce    <= '1';", "video"
+                ),
+                Mutation(
+                    "feat_stalls",
+                    "s_axis_feat_tready low while a video beat waits",
+                    "output/orb_overlay.vhd",
+                    r"s_axis_feat_tready <= '1';",
+                    "s_axis_feat_tready <= ce;",
+                    "feat_ready",
+                ),
+            ),
+        ),
+        Check(
+            "orb_feat_mem",
+            {"DEPTH_g": 16, "SEL_SLOTS_g": 2},
+            extra=_always_ready("feat"),
+            extra_props={"feat_ready": "s_axis_feat_tready is 1 in every clock out of reset (documented)"},
+            mutations=(
+                Mutation(
+                    "feat_stalls",
+                    "s_axis_feat_tready low while a bank is released",
+                    "host/orb_feat_mem.vhd",
+                    r"s_axis_feat_tready <= '1';",
+                    "s_axis_feat_tready <= not release_valid;",
+                    "feat_ready",
+                ),
+            ),
+        ),
+        Check(
             "orb_axil_regs",
-            {"WIDTH_g": 128, "HEIGHT_g": 96, "SCALES_g": 2, "SECTORS_g": 32, "MEM_DEPTH_g": 1024, "MEM_LATENCY_g": 2},
+            {"WIDTH_g": 128, "HEIGHT_g": 96, "SCALES_g": 2, "SECTORS_g": 32, "MEM_DEPTH_g": 512, "MEM_LATENCY_g": 2},
             mode="bmc",
             depth=12,
-            axil={"MAXW": 2, "MAXR": 1, "BOUND": 4, "RBOUND": 4, "REGMAP": 1, "MEM_DEPTH": 1024},
+            axil={"MAXW": 2, "MAXR": 1, "BOUND": 4, "RBOUND": 4, "REGMAP": 1, "MEM_DEPTH": 512},
+            mutations=(
+                Mutation(
+                    "bresp_always_okay",
+                    "every write answered OKAY",
+                    "host/orb_axil_regs.vhd",
+                    r"bresp_r       <= OKAY_c when decoded.ok = '1' else SLVERR_c;",
+                    "bresp_r       <= OKAY_c;",
+                    "chk_s_axil.b_slverr",
+                ),
+                Mutation(
+                    "rresp_unknown_okay",
+                    "a read of an unknown register answered OKAY",
+                    "host/orb_axil_regs.vhd",
+                    r"rresp_r <= OKAY_c;\n(\s*)else\n(\s*)rresp_r <= SLVERR_c;",
+                    "rresp_r <= OKAY_c;\n\\1else\n\\2rresp_r <= OKAY_c;",
+                    "chk_s_axil.r_slverr",
+                ),
+                Mutation(
+                    "b_dropped",
+                    "bvalid cleared without bready",
+                    "host/orb_axil_regs.vhd",
+                    r"if bvalid_r = '1' and s_axil_bready = '1' then",
+                    "if bvalid_r = '1' then",
+                    "chk_s_axil.b_held",
+                ),
+                Mutation(
+                    "r_dropped",
+                    "rvalid cleared without rready",
+                    "host/orb_axil_regs.vhd",
+                    r"if rvalid_r = '1' and s_axil_rready = '1' then",
+                    "if rvalid_r = '1' then",
+                    "chk_s_axil.r_held",
+                ),
+                Mutation(
+                    "b_without_w",
+                    "a write decoded without waiting for its W (executed with the last W's data and strobes)",
+                    "host/orb_axil_regs.vhd",
+                    r"write_take <= aw_full = '1' and w_full = '1' and",
+                    "write_take <= aw_full = '1' and",
+                    "chk_s_axil.b_slverr",
+                ),
+                Mutation(
+                    "b_on_read",
+                    "a B response raised by a read request",
+                    "host/orb_axil_regs.vhd",
+                    r"if decoded_valid = '1' then\n(\s*)decoded_valid <= '0';",
+                    "if decoded_valid = '1' or s_axil_arvalid = '1' then\n\\1decoded_valid <= '0';",
+                    "chk_s_axil.b_no_req",
+                ),
+                Mutation(
+                    "r_on_write",
+                    "an R response raised by a write request",
+                    "host/orb_axil_regs.vhd",
+                    r"if mem_pipe\(mem_pipe'high\) = '1' then",
+                    "if mem_pipe(mem_pipe'high) = '1' or s_axil_awvalid = '1' then",
+                    "chk_s_axil.r_no_req",
+                ),
+                Mutation(
+                    "ar_while_busy",
+                    "arready 1 while a read is answered (a second read taken)",
+                    "host/orb_axil_regs.vhd",
+                    r"s_axil_arready <= not ar_busy;",
+                    "s_axil_arready <= '1';",
+                    "chk_s_axil.r_outstanding",
+                    more=((r"if s_axil_arvalid = '1' and ar_busy = '0' then", "if s_axil_arvalid = '1' then"),),
+                ),
+                Mutation(
+                    "write_waits_rready",
+                    "a write decoded only while rready is 1 (the master may hold it low)",
+                    "host/orb_axil_regs.vhd",
+                    r"and decoded_valid = '0';",
+                    "and decoded_valid = '0' and s_axil_rready = '1';",
+                    "chk_s_axil.b_bound",
+                ),
+                Mutation(
+                    "aw_waits_w",
+                    "awready only while wvalid is 1 (the documented AW-before-W order refused)",
+                    "host/orb_axil_regs.vhd",
+                    r"s_axil_awready <= not aw_full;",
+                    "s_axil_awready <= not aw_full and s_axil_wvalid;",
+                    "chk_s_axil.aw_live",
+                    more=(
+                        (
+                            r"if s_axil_awvalid = '1' and aw_full = '0' then",
+                            "if s_axil_awvalid = '1' and aw_full = '0' and s_axil_wvalid = '1' then",
+                        ),
+                    ),
+                ),
+                Mutation(
+                    "w_waits_aw",
+                    "wready only while awvalid is 1 (the documented W-before-AW order refused)",
+                    "host/orb_axil_regs.vhd",
+                    r"s_axil_wready  <= not w_full;",
+                    "s_axil_wready  <= not w_full and s_axil_awvalid;",
+                    "chk_s_axil.w_live",
+                    more=(
+                        (
+                            r"if s_axil_wvalid = '1' and w_full = '0' then",
+                            "if s_axil_wvalid = '1' and w_full = '0' and s_axil_awvalid = '1' then",
+                        ),
+                    ),
+                ),
+                Mutation(
+                    "ar_waits_aw",
+                    "arready low while awvalid is 1 (reads starved by a waiting write)",
+                    "host/orb_axil_regs.vhd",
+                    r"s_axil_arready <= not ar_busy;",
+                    "s_axil_arready <= not ar_busy and not s_axil_awvalid;",
+                    "chk_s_axil.ar_live",
+                    more=(
+                        (
+                            r"if s_axil_arvalid = '1' and ar_busy = '0' then",
+                            "if s_axil_arvalid = '1' and ar_busy = '0' and s_axil_awvalid = '0' then",
+                        ),
+                    ),
+                ),
+                Mutation(
+                    "aw_while_full",
+                    "awready 1 while the AW buffer is full (a request overwritten)",
+                    "host/orb_axil_regs.vhd",
+                    r"s_axil_awready <= not aw_full;",
+                    "s_axil_awready <= '1';",
+                    "chk_s_axil.w_outstanding",
+                ),
+                Mutation(
+                    "ar_stuck",
+                    "arready held low after a read of the memory window",
+                    "host/orb_axil_regs.vhd",
+                    r"elsif addr_v >= MEM_BASE_c then\n(\s*)mem_en_r <= '1';",
+                    "elsif addr_v >= MEM_BASE_c then\n\\1mem_en_r <= '0';",
+                    "chk_s_axil.r_bound",
+                ),
+            ),
         ),
     )
 }
