@@ -85,6 +85,8 @@ class Check:
     extra_props: Mapping[str, str] = field(default_factory=dict)  # label -> what it says
     mutations: tuple[Mutation, ...] = ()
     axil: Mapping[str, int] = field(default_factory=dict)  # orb_axil_chk parameters
+    # planted bugs of another check that fail these properties on the same RTL (property prefix -> check)
+    bugs_of: Mapping[str, str] = field(default_factory=dict)
 
 
 # the AXI4-Lite slave checker's ports (s_axil_<name> of the entity) and its asserted properties (labels in
@@ -166,6 +168,8 @@ def wrapper(check: Check, plist: Sequence[Port]) -> str:
         "  reg init = 1'b1;",
         "  always @(posedge clk) init <= 1'b0;",
         "  always @(*) if (init) assume (rst);",
+        "  reg rst_q = 1'b1;  // rst at the last edge",
+        "  always @(posedge clk) rst_q <= rst;",
         f"  {check.entity} dut (",
         ",\n".join(f"    .{p.name}({p.name})" for p in plist),
         "  );",
@@ -429,8 +433,9 @@ def _stall_bug(path: str, pattern: str, repl: str, port: str) -> Mutation:
 
 
 def _always_ready(port: str) -> str:
-    """The documented sink contract: s_axis_<port>_tready is 1 in every clock out of reset."""
-    return f"  always @(*) if (!init && !rst) {port}_ready: assert (s_axis_{port}_tready);"
+    """The documented sink contract: s_axis_<port>_tready is 1 in every clock out of reset (from the first
+    clock after the last reset clock on)."""
+    return f"  always @(*) if (!init && !rst && !rst_q) {port}_ready: assert (s_axis_{port}_tready);"
 
 
 _VIDEO_CHECK_EXTRA = """  // the documented contract: the detector behind orb_video_check never stalls it
@@ -587,6 +592,32 @@ CHECKS: dict[str, Check] = {
             ),
         ),
         Check(
+            "orb_core",
+            {"WIDTH_g": 64, "HEIGHT_g": 48, "SCALES_g": 1, "SECTORS_g": 16, "FIFO_DEPTH_g": 2, "BUDGET_MAX_g": 15},
+            extra=_always_ready("video"),
+            extra_props={"video_ready": "s_axis_video_tready is 1 in every clock out of reset (documented)"},
+            mutations=(
+                Mutation(
+                    "ignores_tready",
+                    "the output stage (orb_desc_rotate's) loads whatever tready says and offers a beat every "
+                    "other clock by itself (reachable right after reset: no feature reaches the output that soon)",
+                    "describe/orb_desc_rotate.vhd",
+                    r"take <= not q_valid or m_axis_feat_tready;",
+                    "take <= '1';",
+                    "chk_m_axis_feat",
+                    more=((r"q_valid <= s_axis_feat_tvalid;", "q_valid <= s_axis_feat_tvalid or not q_valid;"),),
+                ),
+                Mutation(
+                    "video_stalls",
+                    "s_axis_video_tready low in the clock after a start of frame",
+                    "core/orb_core.vhd",
+                    r"^      ready       <= '1';",
+                    "      ready       <= not s_axis_video_tuser;",
+                    "video_ready",
+                ),
+            ),
+        ),
+        Check(
             "orb_axil_regs",
             {"WIDTH_g": 128, "HEIGHT_g": 96, "SCALES_g": 2, "SECTORS_g": 32, "MEM_DEPTH_g": 512, "MEM_LATENCY_g": 2},
             mode="bmc",
@@ -726,8 +757,62 @@ CHECKS: dict[str, Check] = {
                 ),
             ),
         ),
+        Check(
+            "orb_accel_top",
+            {
+                "WIDTH_g": 64,
+                "HEIGHT_g": 48,
+                "SCALES_g": 1,
+                "SECTORS_g": 16,
+                "MEM_DEPTH_g": 16,
+                "INPUT_g": "LUMA",
+                "BLOCK_LOG2_g": 2,
+            },
+            mode="bmc",
+            depth=10,
+            quick=False,
+            axil={"MAXW": 2, "MAXR": 1, "BOUND": 4, "RBOUND": 6, "REGMAP": 1, "MEM_DEPTH": 16},
+            bugs_of={"chk_s_axil": "orb_axil_regs"},
+            mutations=(
+                Mutation(
+                    "soft_reset_drops_video",
+                    "the old top: CTRL.soft_reset resets the overlay at once, withdrawing a beat that waits on "
+                    "m_axis_video",
+                    "top/orb_accel_top.vhd",
+                    r"^  ov_rst <= rst or hard_rst or .*$",
+                    "  ov_rst <= core_rst;",
+                    "chk_m_axis_video",
+                ),
+            ),
+        ),
     )
 }
+
+
+def table(summary: Mapping[str, Any]) -> str:
+    """docs/formal.md's results table from a summary: per entity and property the result, the planted bug that
+    fails it, and the run times."""
+    rows = [
+        "| entity (generics) | property | result | planted bug that fails it (step of the counterexample) | run |",
+        "|---|---|---|---|---|",
+    ]
+    for name, rec in summary.items():
+        gens = ", ".join(f"{k}={v}" for k, v in rec["generics"].items())
+        first = True
+        for prop in rec["properties"]:
+            if prop["kind"] != "assert":
+                continue
+            bugs = [
+                f"`{m['name']}`: {m['what']} ({'step ' + str(m['cex_step']) if m['caught'] else 'NOT CAUGHT'})"
+                for m in rec["mutations"]
+                if prop["name"] == m["expect"] or prop["name"].startswith(m["expect"] + ".")
+            ]
+            head = f"`{name}` ({gens})" if first else ""
+            run = f"{rec['wall_s']['sby']} s" if first else ""
+            result = prop.get("result", rec["status"])
+            rows.append(f"| {head} | `{prop['name']}`: {prop['what']} | {result} | {'; '.join(bugs) or '-'} | {run} |")
+            first = False
+    return "\n".join(rows) + "\n"
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -736,17 +821,22 @@ def main(argv: Sequence[str] | None = None) -> int:
     ap.add_argument("--no-mutations", action="store_true", help="skip the planted bugs")
     ap.add_argument("--quick", action="store_true", help="only the quick checks (those make test runs)")
     ap.add_argument("--list", action="store_true", help="list the checks and exit")
+    ap.add_argument("--table", action="store_true", help="print docs/formal.md's table from the summary and exit")
     ap.add_argument("--out", type=Path, default=OUT)
     args = ap.parse_args(argv)
     if args.list:
         for c in CHECKS.values():
             print(f"{c.entity:16} {c.mode} depth {c.depth} {'quick' if c.quick else 'slow'} {dict(c.generics)}")
         return 0
+    summary_path = args.out / "summary.json"
+    if args.table:
+        summary = json.loads(summary_path.read_text())
+        print(table({k: summary[k] for k in CHECKS if k in summary}), end="")
+        return 0
     names = args.entities or [c.entity for c in CHECKS.values() if c.quick or not args.quick]
     unknown = [n for n in names if n not in CHECKS]
     if unknown:
         ap.error(f"no check for {', '.join(unknown)} (known: {', '.join(CHECKS)})")
-    summary_path = args.out / "summary.json"
     summary = json.loads(summary_path.read_text()) if summary_path.exists() else {}
     ok = True
     for name in names:
