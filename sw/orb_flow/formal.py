@@ -594,6 +594,7 @@ CHECKS: dict[str, Check] = {
         Check(
             "orb_core",
             {"WIDTH_g": 64, "HEIGHT_g": 48, "SCALES_g": 1, "SECTORS_g": 16, "FIFO_DEPTH_g": 2, "BUDGET_MAX_g": 15},
+            quick=False,  # 20 s, its planted bugs 10-25 s each
             extra=_always_ready("video"),
             extra_props={"video_ready": "s_axis_video_tready is 1 in every clock out of reset (documented)"},
             mutations=(
