@@ -87,6 +87,11 @@ class Check:
     axil: Mapping[str, int] = field(default_factory=dict)  # orb_axil_chk parameters
     # planted bugs of another check that fail these properties on the same RTL (property prefix -> check)
     bugs_of: Mapping[str, str] = field(default_factory=dict)
+    name: str = ""  # the check's name where an entity has several checks (default: the entity)
+
+    @property
+    def key(self) -> str:
+        return self.name or self.entity
 
 
 # the AXI4-Lite slave checker's ports (s_axil_<name> of the entity) and its asserted properties (labels in
@@ -339,7 +344,12 @@ def run_one(check: Check, cdir: Path, mut: Mutation | None = None, timeout: floa
     if cdir.exists():
         shutil.rmtree(cdir)
     cdir.mkdir(parents=True)
-    rec: dict[str, Any] = {"entity": check.entity, "generics": dict(check.generics), "mode": check.mode}
+    rec: dict[str, Any] = {
+        "check": check.key,
+        "entity": check.entity,
+        "generics": dict(check.generics),
+        "mode": check.mode,
+    }
     files = list(sources())
     if mut is not None and mut.target != "wrapper":
         src = ROOT / "hdl" / mut.target
@@ -387,7 +397,7 @@ def result_text(check: Check) -> str:
 
 
 def run_check(check: Check, mutations: bool = True, out: Path = OUT) -> dict[str, Any]:
-    rec = run_one(check, out / check.entity)
+    rec = run_one(check, out / check.key)
     for p in rec["properties"]:
         if p["kind"] == "assert":
             p["result"] = result_text(check) if rec["status"] == "PASS" else rec["status"]
@@ -395,7 +405,7 @@ def run_check(check: Check, mutations: bool = True, out: Path = OUT) -> dict[str
     rec["mutations"] = []
     if mutations:
         for mut in check.mutations:
-            m = run_one(check, out / check.entity / f"bug_{mut.name}", mut)
+            m = run_one(check, out / check.key / f"bug_{mut.name}", mut)
             caught = m["status"] == "FAIL" and any(
                 f == mut.expect or f.startswith(mut.expect + ".") for f in m["failed"]
             )
@@ -438,6 +448,22 @@ def _always_ready(port: str) -> str:
     return f"  always @(*) if (!init && !rst && !rst_q) {port}_ready: assert (s_axis_{port}_tready);"
 
 
+def _conserve(src: str, dst: str, cap: int) -> str:
+    """Nothing out that did not go in: the beats taken on s_axis_<src> minus those given on m_axis_<dst> (a small
+    counter) stay within 0 .. cap (the stages' room), and no beat is offered on the output with none inside.
+    cap 0: one register stage, the beat inside is the one on the output (inside == tvalid: inductive)."""
+    s, m = f"s_axis_{src}", f"m_axis_{dst}"
+    rule = f"inside == {m}_tvalid" if cap == 0 else f"inside <= {cap} && (!{m}_tvalid || inside != 0)"
+    return (
+        "  reg [3:0] inside = 0;  // beats taken on the input and not yet given on the output\n"
+        "  always @(posedge clk)\n"
+        "    if (rst) inside <= 0;\n"
+        f"    else inside <= inside + ({s}_tvalid && {s}_tready) - ({m}_tvalid && {m}_tready);\n"
+        "  always @(*) if (!init && !rst)\n"
+        f"    no_invention: assert ({rule});"
+    )
+
+
 _VIDEO_CHECK_EXTRA = """  // the documented contract: the detector behind orb_video_check never stalls it
   always @(*) if (!init) assume (m_axis_video_tready);
   // the position of the next output beat in its frame, from the output beats alone
@@ -457,7 +483,7 @@ _VIDEO_CHECK_EXTRA = """  // the documented contract: the detector behind orb_vi
   end"""
 
 CHECKS: dict[str, Check] = {
-    c.entity: c
+    c.key: c
     for c in (
         Check(
             "orb_frame_gate",
@@ -495,9 +521,39 @@ CHECKS: dict[str, Check] = {
             ),
         ),
         Check(
+            "orb_rgb_luma",
+            {"INPUT_g": "RGB"},
+            name="orb_rgb_luma.conserve",
+            mode="bmc",
+            depth=20,
+            extra=_conserve("video", "video", 4),
+            extra_props={"no_invention": "nothing out that did not go in; at most 4 beats inside (its 4 registers)"},
+            bugs_of={"chk_m_axis_video": "orb_rgb_luma"},
+            mutations=(
+                Mutation(
+                    "invents_beats",
+                    "the output stage offers the beat of an empty stage when its tuser bit is set",
+                    "input/orb_rgb_luma.vhd",
+                    r"o_valid <= p_valid;",
+                    "o_valid <= p_valid or p_user;",
+                    "no_invention",
+                ),
+            ),
+        ),
+        Check(
             "orb_desc_rotate",
             {"SECTORS_g": 16},
+            extra=_conserve("feat", "feat", 0),
+            extra_props={"no_invention": "nothing out that did not go in: the beat inside is the one on the output"},
             mutations=(
+                Mutation(
+                    "invents_beats",
+                    "the stage offers a beat whenever it may load, whether one came in or not",
+                    "describe/orb_desc_rotate.vhd",
+                    r"q_valid <= s_axis_feat_tvalid;",
+                    "q_valid <= '1';",
+                    "no_invention",
+                ),
                 _stall_bug(
                     "describe/orb_desc_rotate.vhd",
                     r"take <= not q_valid or m_axis_feat_tready;",
@@ -808,6 +864,13 @@ def table(summary: Mapping[str, Any]) -> str:
                 for m in rec["mutations"]
                 if prop["name"] == m["expect"] or prop["name"].startswith(m["expect"] + ".")
             ]
+            check = CHECKS.get(name)
+            if not bugs and check is not None:
+                bugs = [
+                    f"those of `{other}` (the same RTL)"
+                    for prefix, other in check.bugs_of.items()
+                    if prop["name"] == prefix or prop["name"].startswith(prefix + ".")
+                ]
             head = f"`{name}` ({gens})" if first else ""
             run = f"{rec['wall_s']['sby']} s" if first else ""
             result = prop.get("result", rec["status"])
@@ -827,14 +890,14 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = ap.parse_args(argv)
     if args.list:
         for c in CHECKS.values():
-            print(f"{c.entity:16} {c.mode} depth {c.depth} {'quick' if c.quick else 'slow'} {dict(c.generics)}")
+            print(f"{c.key:16} {c.mode} depth {c.depth} {'quick' if c.quick else 'slow'} {dict(c.generics)}")
         return 0
     summary_path = args.out / "summary.json"
     if args.table:
         summary = json.loads(summary_path.read_text())
         print(table({k: summary[k] for k in CHECKS if k in summary}), end="")
         return 0
-    names = args.entities or [c.entity for c in CHECKS.values() if c.quick or not args.quick]
+    names = args.entities or [c.key for c in CHECKS.values() if c.quick or not args.quick]
     unknown = [n for n in names if n not in CHECKS]
     if unknown:
         ap.error(f"no check for {', '.join(unknown)} (known: {', '.join(CHECKS)})")

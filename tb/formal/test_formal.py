@@ -29,7 +29,7 @@ def _mark(check: formal.Check) -> tuple[pytest.MarkDecorator, ...]:
     return () if check.quick else (pytest.mark.slow,)
 
 
-@pytest.mark.parametrize("check", [pytest.param(c, id=c.entity, marks=_mark(c)) for c in CHECKS])
+@pytest.mark.parametrize("check", [pytest.param(c, id=c.key, marks=_mark(c)) for c in CHECKS])
 def test_check(check: formal.Check, tmp_path: Path) -> None:
     """The check passes, and each of its asserted properties has a planted bug aimed at it."""
     try:
@@ -50,7 +50,7 @@ def test_check(check: formal.Check, tmp_path: Path) -> None:
 
 @pytest.mark.parametrize(
     ("check", "bug"),
-    [pytest.param(c, m, id=f"{c.entity}-{m.name}", marks=_mark(c)) for c in CHECKS for m in c.mutations],
+    [pytest.param(c, m, id=f"{c.key}-{m.name}", marks=_mark(c)) for c in CHECKS for m in c.mutations],
 )
 def test_planted_bug(check: formal.Check, bug: formal.Mutation, tmp_path: Path) -> None:
     """The planted bug fails in the property it names, the other properties removed."""
