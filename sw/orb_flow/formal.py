@@ -464,6 +464,28 @@ def _conserve(src: str, dst: str, cap: int) -> str:
     )
 
 
+_FEAT_MEM_BANKS = """  // the bank protocol at the ports (docs/feature-memory.md): a READY bank keeps its header until
+  // the CPU releases it, and stops being READY only after a release of it (registered: 1 or 2
+  // clocks) or rst; a release lets the next frame be published into the bank at once
+  reg [1:0] ready_q = 0, rel_q1 = 0, rel_q2 = 0;
+  reg [63:0] hdr0_q, hdr1_q;
+  wire [63:0] hdr0 = {bank0_count, bank0_frame, bank0_trunc[15:0], bank0_dropped};
+  wire [63:0] hdr1 = {bank1_count, bank1_frame, bank1_trunc[15:0], bank1_dropped};
+  always @(posedge clk) begin
+    ready_q <= bank_ready;
+    hdr0_q <= hdr0;
+    hdr1_q <= hdr1;
+    rel_q1 <= {release_valid && release_bank, release_valid && !release_bank};
+    rel_q2 <= rel_q1;
+  end
+  always @(*) if (!init && !rst && !rst_q) begin
+    held_header_stable: assert ((!(ready_q[0] && bank_ready[0]) || hdr0 == hdr0_q || rel_q1[0] || rel_q2[0]) &&
+                                (!(ready_q[1] && bank_ready[1]) || hdr1 == hdr1_q || rel_q1[1] || rel_q2[1]));
+    ready_until_release: assert ((!ready_q[0] || bank_ready[0] || rel_q1[0] || rel_q2[0]) &&
+                                 (!ready_q[1] || bank_ready[1] || rel_q1[1] || rel_q2[1]));
+  end"""
+
+
 _VIDEO_CHECK_EXTRA = """  // the documented contract: the detector behind orb_video_check never stalls it
   always @(*) if (!init) assume (m_axis_video_tready);
   // the position of the next output beat in its frame, from the output beats alone
@@ -644,6 +666,37 @@ CHECKS: dict[str, Check] = {
                     r"s_axis_feat_tready <= '1';",
                     "s_axis_feat_tready <= not release_valid;",
                     "feat_ready",
+                ),
+            ),
+        ),
+        Check(
+            "orb_feat_mem",
+            {"DEPTH_g": 16, "SEL_SLOTS_g": 2},
+            name="orb_feat_mem.banks",
+            mode="bmc",
+            depth=20,
+            extra=_FEAT_MEM_BANKS,
+            extra_props={
+                "held_header_stable": "a READY bank's header (count, frame, truncated, dropped) does not change "
+                "until the CPU releases it",
+                "ready_until_release": "a READY bank stays READY until the CPU releases it (or rst)",
+            },
+            mutations=(
+                Mutation(
+                    "header_overwritten",
+                    "every end of frame writes both banks' headers (the held one's too)",
+                    "host/orb_feat_mem.vhd",
+                    r"^            if wbank = BANK_c\(k\) then",
+                    "            if true then",
+                    "held_header_stable",
+                ),
+                Mutation(
+                    "ready_dropped_on_abort",
+                    "a frame_abort pulse also frees the READY banks",
+                    "host/orb_feat_mem.vhd",
+                    r"if in_rel = '1' and in_relb = BANK_c\(k\) then",
+                    "if (in_rel = '1' and in_relb = BANK_c(k)) or in_abort = '1' then",
+                    "ready_until_release",
                 ),
             ),
         ),
