@@ -162,8 +162,8 @@ architecture rtl of orb_core is
 
   type param_q_t is array (0 to PARAM_FRAMES_c - 1) of frame_params_t;
 
-  signal prm_q    : param_q_t := (others => ((others => '0'), (others => '0'), '0', '0', (others => '0'),
-                                             (others => '0'), (others => '0')));
+  signal prm_q : param_q_t := (others => ((others => '0'), (others => '0'), '0', '0', (others => '0'),
+                                          (others => '0'), (others => '0')));
   -- frames pushed and popped, mod 8: entry (count mod 4); their difference is the frames in flight
   signal prm_wr   : unsigned(2 downto 0) := (others => '0');
   signal prm_rd   : unsigned(2 downto 0) := (others => '0');
