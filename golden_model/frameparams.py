@@ -52,6 +52,12 @@ class FrameParams:
                    mode="orb" if values["mode_orb"] else "fast", selection="grid" if values["select_grid"] else "all",
                    budget=int(values["budget"]), cols=int(values["cols"]), rows=int(values["rows"]))  # fmt: skip
 
+    def text(self) -> str:
+        """One line: "threshold 20, orb, grid 300 in 8x6 cells, low threshold 14" or "threshold 35, fast, all"."""
+        sel = (f"grid {self.budget} in {self.cols}x{self.rows} cells, low threshold {self.threshold_lo}"
+               if self.selection == "grid" else "all")  # fmt: skip
+        return f"threshold {self.threshold}, {self.mode}, {sel}"
+
     def config(self, base: Config) -> Config:
         """`base` (the bitstream's shape) with this frame's parameters: the model configuration that
         reproduces the frame."""

@@ -382,6 +382,12 @@ class OrbAccel:
         self.mode, self.enabled, self.threshold = mode, bool(enable), int(threshold)
         self.selection = Selection(selection, int(budget), (int(cols), int(rows)), int(threshold_lo))
 
+    def written(self) -> FrameParams:
+        """The parameters this driver last wrote (read back at open): those of every frame that
+        starts after the write. A frame's own, as the accelerator sampled them, are Frame.params."""
+        s = self.selection
+        return FrameParams(self.threshold, s.threshold_lo, self.mode, s.mode, s.budget, *s.cells)
+
     def configure_as(self, cfg: Config, enable: bool = True, irq: tuple[str, ...] = ("frame_done",)) -> None:
         """configure() with a model configuration's threshold, mode and selection (budget, cells
         and low threshold in `grid`), so that a frame compares with golden_model.extract(img, cfg)."""

@@ -257,7 +257,7 @@ class FeatureNode:
                 return None
             with self.accel.holding(bank):  # released on the way out, also when a write below fails
                 stamp = self.rospy.Time.now()
-                assumed = self._written()  # written before this frame started (if the write made the blanking)
+                assumed = self.accel.written()  # before this frame started (if the write made the blanking)
                 requests = self._take()
                 self._apply_params(requests)  # right after the interrupt: from the next frame on
                 done = [r for r in requests if not r.reset]
@@ -275,11 +275,6 @@ class FeatureNode:
         self.last_counters = frame.counters
         self._diagnostics(force=False)
         return frame
-
-    def _written(self) -> FrameParams:
-        """The parameters the node has written (its record, not the hardware's)."""
-        sel = self.accel.selection
-        return FrameParams(self.params.threshold, sel.threshold_lo, self.params.mode, sel.mode, sel.budget, *sel.cells)
 
     def _apply(self, requests: list[Request], done: list[Request], after_frame: int) -> None:
         """Write the queued changes not yet written (the parameters, then a reset) and answer them."""
