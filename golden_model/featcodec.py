@@ -17,7 +17,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from .features import NO_SECTOR, Features
-from .frameparams import FrameParams
 from .featword import (
     EOF_BEAT,
     FEAT_BITS,
@@ -32,6 +31,7 @@ from .featword import (
     Field,
     Layout,
 )
+from .frameparams import FrameParams
 
 CHUNK = SLOT_WORD_BITS  # bits of one column of a chunk array (a CPU word)
 DESC_BYTES = FEATURE_BEAT.field("descriptor").width // 8

@@ -64,4 +64,3 @@ class FrameParams:
         return dataclasses.replace(base, threshold=self.threshold, threshold_lo=self.threshold_lo, mode=self.mode,
                                    selection=self.selection, budget=self.budget, cols=self.cols,
                                    rows=self.rows)  # fmt: skip
-

@@ -3,9 +3,10 @@
 
 The monitor wakes only while tvalid is high, so an idle stream costs no Python per clock.
 Beats decode into frames: the features between two end-of-frame beats, plus that beat's frame
-number, drop count and the parameters the frame was processed with. Every word is checked and decoded by golden_model.featcodec, the one codec
-of the layout (a feature word holds score, x, y and scale, and, when the merge carries
-descriptors, the orientation sector and the 256-bit descriptor).
+number, drop count and the parameters the frame was processed with. Every word is checked and
+decoded by golden_model.featcodec, the one codec of the layout (a feature word holds score, x, y
+and scale, and, when the merge carries descriptors, the orientation sector and the 256-bit
+descriptor).
 """
 
 from __future__ import annotations

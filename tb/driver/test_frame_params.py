@@ -5,13 +5,15 @@ engine: orb_accel_top's netlist in Verilator, the 128x96 colour photographs of t
 
 Each change of the parameters (threshold, low threshold, mode, selection, budget, cells) is written
 half-way through a frame: after a frame-done interrupt (its bank released unread) the test waits
-half a frame period (the simulated time runs while the bus waits) before configure(). The frame in flight was started with
-the old values, so its record must say the old ones while every register already holds the new
+half a frame period (the simulated time runs while the bus waits) before configure(). The frame in
+flight was started with the old values, so its record must say the old ones while every register already holds the new
 ones (the label the driver's own state would give is wrong), and its features must be the model's
 under the old ones; the next frame must say, and be, the new ones.
 """
 
 from __future__ import annotations
+
+import itertools
 
 import numpy as np
 import pytest
@@ -89,7 +91,7 @@ def test_a_change_written_mid_frame_labels_each_frame_right(lumas: list[np.ndarr
         assert accel.records_params, "the simulated accelerator's register map predates the frames' parameters"
         configure(accel, STEPS[0])
         check_made_with(accel.settle(timeout), STEPS[0], lumas, "after settle")
-        for old, new in zip(STEPS, STEPS[1:], strict=False):
+        for old, new in itertools.pairwise(STEPS):
             number = sync(accel, timeout)
             # half a frame period on: the next frame has started with the old values
             assert not bus.wait_irq(0.5 * period * 1e-9), "a frame ended within half a period of the last"

@@ -39,8 +39,8 @@ from golden_model.featcodec import (
     record_slot,
     resolve_selection,
 )
-from golden_model.frameparams import FrameParams
 from golden_model.featword import EOF_BEAT, FEATURE_BEAT, SLOT_BYTES, SLOT_WORD_BITS, SLOT_WORDS, SLOT_WORDS_USED
+from golden_model.frameparams import FrameParams
 from golden_model.latency import FEAT_MEM_READ_LAT
 from orbtb.runner import run
 from orbtb.unit import SIM_ENV, env_int

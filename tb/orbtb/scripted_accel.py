@@ -24,8 +24,8 @@ import numpy as np
 from golden_model import regs
 from golden_model.config import MODES, SELECTIONS
 from golden_model.featcodec import encode_eof, record_slot
-from golden_model.frameparams import FrameParams
 from golden_model.featword import SLOT_BYTES
+from golden_model.frameparams import FrameParams
 from orb_accel import BusError
 
 W, H, SCALES, SECTORS, DEPTH = 128, 96, 2, 32, 16
@@ -59,9 +59,9 @@ class ScriptedAccel:
         thr, sel = self.threshold, self.select
         return FrameParams(
             threshold=regs.THRESHOLD.field("threshold").get(thr), threshold_lo=regs.THRESHOLD.field("low").get(thr),
-            mode=MODES[regs.CTRL.field("mode").get(self.ctrl)], selection=SELECTIONS[regs.SELECT.field("mode").get(sel)],
-            budget=regs.SELECT.field("budget").get(sel), cols=regs.SELECT.field("cols").get(sel),
-            rows=regs.SELECT.field("rows").get(sel),
+            mode=MODES[regs.CTRL.field("mode").get(self.ctrl)],
+            selection=SELECTIONS[regs.SELECT.field("mode").get(sel)], budget=regs.SELECT.field("budget").get(sel),
+            cols=regs.SELECT.field("cols").get(sel), rows=regs.SELECT.field("rows").get(sel),
         )  # fmt: skip
 
     def finish_frame(self) -> None:

@@ -42,6 +42,8 @@ ARRAYS = ("x", "y", "size", "angle", "response", "octave", "scale_x", "scale_y",
 COUNTERS = ("frames_total", "dropped_total", "overflow_total", "overrun_total", "protocol_errors_total",
             "desc_lost_total", "discarded_total")  # fmt: skip
 T0 = 1_700_000_000_123_456_789  # ns
+GRID54 = dataclasses.replace(ORB, threshold=30, scales=4, step_num=5, step_den=4, selection="grid", budget=50, cols=5,
+                             rows=4, threshold_lo=9)  # fmt: skip
 
 
 @dataclasses.dataclass(frozen=True)
@@ -60,8 +62,7 @@ def frames() -> list[Frame]:
     frame numbers wrap."""
     cases = [
         (ORB, photo("astronaut", 128, 96)),
-        (dataclasses.replace(ORB, threshold=30, scales=4, step_num=5, step_den=4, selection="grid", budget=50, cols=5,
-                             rows=4, threshold_lo=9), photo("coffee", 128, 96)),
+        (GRID54, photo("coffee", 128, 96)),
         (dataclasses.replace(ORB, mode="fast"), photo("astronaut", 128, 96)),
         (ORB, flat(128, 96)),
     ]
@@ -135,7 +136,8 @@ def assert_same(want: Features, got: Features, what: str) -> None:
 
 def write_frame(d: CsvDir, fr: Frame) -> Path:
     return d.write(
-        fr.features, frame=fr.frame, stamp=fr.stamp_ns / 1e9, params=FrameParams.of(fr.cfg), width=fr.cfg.width, height=fr.cfg.height, dropped=fr.dropped, truncated=fr.truncated,
+        fr.features, frame=fr.frame, stamp=fr.stamp_ns / 1e9, params=FrameParams.of(fr.cfg), width=fr.cfg.width,
+        height=fr.cfg.height, dropped=fr.dropped, truncated=fr.truncated,
     )  # fmt: skip
 
 
