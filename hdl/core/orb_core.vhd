@@ -20,8 +20,9 @@
 -- 3 SCALES_g + 1 clocks after it (orb_latency_pkg, docs/latency.md) and the scale paths take
 -- their share at their pixel (0, 1). The sampled values also wait, one entry per frame in flight
 -- (PARAM_FRAMES_c = 4, as the scale paths' per-frame queues), from the frame's first pixel to its
--- end-of-frame beat, which carries them (orb_feat_pkg's EOF_ fields): each frame says how it was
--- made, whatever was written since (docs/feature-memory.md). Pixels
+-- end-of-frame beat, which carries them (orb_feat_pkg's EOF_ fields, written as the beat leaves
+-- the core): each frame says how it was made, whatever was written since
+-- (docs/feature-memory.md). Pixels
 -- outside the configured WIDTH_g x HEIGHT_g frame (a long line or extra lines) are ignored and
 -- counted in bad_pixels; features the descriptor path had to discard (only on a malformed frame)
 -- are counted in desc_lost.
@@ -146,8 +147,10 @@ architecture rtl of orb_core is
 
   -- The parameters of each frame in flight (docs/feature-word.md, the end-of-frame beat): pushed
   -- with the values sampled at the frame's start of frame, popped when its end-of-frame beat leaves
-  -- the merge. Every start of frame has one end-of-frame beat (orb_video_check completes every
-  -- frame; orb_feat_mem never stalls the stream, so the merge never joins two frame ends), in order.
+  -- the core (written into the beat after the orbit rotation, so that nothing is added in front of
+  -- the rotator; orb_feat_mem registers the word at its input). Every start of frame has one
+  -- end-of-frame beat (orb_video_check completes every frame; orb_feat_mem never stalls the stream,
+  -- so the merge never joins two frame ends), in order.
   type frame_params_t is record
     threshold    : std_logic_vector(7 downto 0);
     threshold_lo : std_logic_vector(7 downto 0);
@@ -169,12 +172,15 @@ architecture rtl of orb_core is
   signal prm_rd   : unsigned(2 downto 0) := (others => '0');
   signal prm_head : frame_params_t;
 
-  -- the merged stream, before the shared orbit rotation (mg_word: with the frame's parameters)
-  signal mg_word   : std_logic_vector(FEAT_BITS_c - 1 downto 0);
+  -- the merged stream, before the shared orbit rotation
   signal mg_tdata  : std_logic_vector(FEAT_BITS_c - 1 downto 0);
   signal mg_tvalid : std_logic;
   signal mg_tready : std_logic;
   signal mg_tlast  : std_logic;
+  -- the output stream before the end-of-frame beat gets its frame's parameters
+  signal out_word   : std_logic_vector(FEAT_BITS_c - 1 downto 0);
+  signal out_tvalid : std_logic;
+  signal out_tlast  : std_logic;
 
 begin
 
@@ -285,11 +291,11 @@ begin
   params_out : process (clk) is
   begin
     if rising_edge(clk) then
-      if mg_tvalid = '1' and mg_tready = '1' and mg_tlast = '1' then
+      if out_tvalid = '1' and m_axis_feat_tready = '1' and out_tlast = '1' then
         prm_rd <= prm_rd + 1;
       end if;
       -- pragma translate_off
-      assert not (mg_tvalid = '1' and mg_tlast = '1' and prm_rd = prm_wr)
+      assert not (out_tvalid = '1' and out_tlast = '1' and prm_rd = prm_wr)
         report "orb_core: an end-of-frame beat without its frame's parameters"
         severity failure;
       -- pragma translate_on
@@ -305,8 +311,8 @@ begin
   eof_params : process (all) is
     variable word_v : std_logic_vector(FEAT_BITS_c - 1 downto 0);
   begin
-    word_v := mg_word;
-    if mg_tlast = '1' then
+    word_v := out_word;
+    if out_tlast = '1' then
       word_v(EOF_THRESHOLD_LO_c + EOF_THRESHOLD_BITS_c - 1 downto EOF_THRESHOLD_LO_c) := prm_head.threshold;
       word_v(EOF_TLO_LO_c + EOF_TLO_BITS_c - 1 downto EOF_TLO_LO_c)                   := prm_head.threshold_lo;
       word_v(EOF_MODE_ORB_BIT_c)                                                      := prm_head.mode_orb;
@@ -315,8 +321,11 @@ begin
       word_v(EOF_COLS_LO_c + EOF_COLS_BITS_c - 1 downto EOF_COLS_LO_c)                := prm_head.cols;
       word_v(EOF_ROWS_LO_c + EOF_ROWS_BITS_c - 1 downto EOF_ROWS_LO_c)                := prm_head.rows;
     end if;
-    mg_tdata <= word_v;
+    m_axis_feat_tdata <= word_v;
   end process eof_params;
+
+  m_axis_feat_tvalid <= out_tvalid;
+  m_axis_feat_tlast  <= out_tlast;
 
   -- The budget's split (docs/spec.md section 14), level after level, three clocks each (the
   -- product, its rounding, the minimum and the remainder: one carry chain per clock), over and
@@ -486,7 +495,7 @@ begin
       in_sector          => f_sect,
       in_desc            => f_desc,
       in_done            => f_done,
-      m_axis_feat_tdata  => mg_word,
+      m_axis_feat_tdata  => mg_tdata,
       m_axis_feat_tvalid => mg_tvalid,
       m_axis_feat_tready => mg_tready,
       m_axis_feat_tlast  => mg_tlast,
@@ -507,18 +516,18 @@ begin
         s_axis_feat_tvalid => mg_tvalid,
         s_axis_feat_tready => mg_tready,
         s_axis_feat_tlast  => mg_tlast,
-        m_axis_feat_tdata  => m_axis_feat_tdata,
-        m_axis_feat_tvalid => m_axis_feat_tvalid,
+        m_axis_feat_tdata  => out_word,
+        m_axis_feat_tvalid => out_tvalid,
         m_axis_feat_tready => m_axis_feat_tready,
-        m_axis_feat_tlast  => m_axis_feat_tlast
+        m_axis_feat_tlast  => out_tlast
       );
 
   else generate
 
-    m_axis_feat_tdata  <= mg_tdata;
-    m_axis_feat_tvalid <= mg_tvalid;
-    m_axis_feat_tlast  <= mg_tlast;
-    mg_tready          <= m_axis_feat_tready;
+    out_word   <= mg_tdata;
+    out_tvalid <= mg_tvalid;
+    out_tlast  <= mg_tlast;
+    mg_tready  <= m_axis_feat_tready;
 
   end generate gen_rotate;
 
