@@ -90,6 +90,8 @@ async def photo_stream(dut) -> None:
         check_frame(feats, exp, f"frame {k} ({b.selection})")
         assert 0 < len(exp) <= budget, f"frame {k}: {len(exp)} features for a budget of {budget}"
         assert (record.frame, record.dropped, record.truncated, record.truncated_flag) == (k, 0, 0, False), record
+        # the parameters the frame was processed with, as the registers held them at its start
+        assert record.params == b.accel.written(), f"frame {k}: {record.params} != {b.accel.written()}"
         if k > 0:
             # video frame k showed the features of frame k - 1 (its end-of-frame beat came in blanking)
             while len(b.captured) < k + 1:
