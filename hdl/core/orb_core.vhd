@@ -171,6 +171,12 @@ architecture rtl of orb_core is
   signal prm_wr   : unsigned(2 downto 0) := (others => '0');
   signal prm_rd   : unsigned(2 downto 0) := (others => '0');
   signal prm_head : frame_params_t;
+  -- an end-of-frame beat offered and not taken keeps the parameters it was offered with
+  -- (AXI4-Stream: its data is held until taken, whatever the queue does meanwhile)
+  signal eof_waiting : std_logic := '0';
+  signal prm_hold    : frame_params_t := ((others => '0'), (others => '0'), '0', '0', (others => '0'),
+                                          (others => '0'), (others => '0'));
+  signal prm_out     : frame_params_t;
 
   -- the merged stream, before the shared orbit rotation
   signal mg_tdata  : std_logic_vector(FEAT_BITS_c - 1 downto 0);
@@ -294,18 +300,23 @@ begin
       if out_tvalid = '1' and m_axis_feat_tready = '1' and out_tlast = '1' then
         prm_rd <= prm_rd + 1;
       end if;
+      eof_waiting <= out_tvalid and out_tlast and not m_axis_feat_tready;
+      prm_hold    <= prm_out;
       -- pragma translate_off
       assert not (out_tvalid = '1' and out_tlast = '1' and prm_rd = prm_wr)
         report "orb_core: an end-of-frame beat without its frame's parameters"
         severity failure;
       -- pragma translate_on
       if rst = '1' then
-        prm_rd <= (others => '0');
+        prm_rd      <= (others => '0');
+        eof_waiting <= '0';
       end if;
     end if;
   end process params_out;
 
   prm_head <= prm_q(to_integer(prm_rd(1 downto 0)));
+  prm_out  <= prm_hold when eof_waiting = '1' else
+              prm_head;
 
   -- the end-of-frame beat with its frame's parameters in its EOF_ fields (0 in the merge's word)
   eof_params : process (all) is
@@ -313,13 +324,13 @@ begin
   begin
     word_v := out_word;
     if out_tlast = '1' then
-      word_v(EOF_THRESHOLD_LO_c + EOF_THRESHOLD_BITS_c - 1 downto EOF_THRESHOLD_LO_c) := prm_head.threshold;
-      word_v(EOF_TLO_LO_c + EOF_TLO_BITS_c - 1 downto EOF_TLO_LO_c)                   := prm_head.threshold_lo;
-      word_v(EOF_MODE_ORB_BIT_c)                                                      := prm_head.mode_orb;
-      word_v(EOF_SELECT_GRID_BIT_c)                                                   := prm_head.select_grid;
-      word_v(EOF_BUDGET_LO_c + EOF_BUDGET_BITS_c - 1 downto EOF_BUDGET_LO_c)          := prm_head.budget;
-      word_v(EOF_COLS_LO_c + EOF_COLS_BITS_c - 1 downto EOF_COLS_LO_c)                := prm_head.cols;
-      word_v(EOF_ROWS_LO_c + EOF_ROWS_BITS_c - 1 downto EOF_ROWS_LO_c)                := prm_head.rows;
+      word_v(EOF_THRESHOLD_LO_c + EOF_THRESHOLD_BITS_c - 1 downto EOF_THRESHOLD_LO_c) := prm_out.threshold;
+      word_v(EOF_TLO_LO_c + EOF_TLO_BITS_c - 1 downto EOF_TLO_LO_c)                   := prm_out.threshold_lo;
+      word_v(EOF_MODE_ORB_BIT_c)                                                      := prm_out.mode_orb;
+      word_v(EOF_SELECT_GRID_BIT_c)                                                   := prm_out.select_grid;
+      word_v(EOF_BUDGET_LO_c + EOF_BUDGET_BITS_c - 1 downto EOF_BUDGET_LO_c)          := prm_out.budget;
+      word_v(EOF_COLS_LO_c + EOF_COLS_BITS_c - 1 downto EOF_COLS_LO_c)                := prm_out.cols;
+      word_v(EOF_ROWS_LO_c + EOF_ROWS_BITS_c - 1 downto EOF_ROWS_LO_c)                := prm_out.rows;
     end if;
     m_axis_feat_tdata <= word_v;
   end process eof_params;
