@@ -15,7 +15,7 @@ SECTORS ?=
 THRESHOLD ?=
 JOBS   ?= 2
 
-.PHONY: setup test test-all sim bench bench-sim bench-driver eval figures lint synth netlist-sim tools pattern docs views clean \
+.PHONY: setup test test-all sim bench bench-sim bench-driver eval figures lint synth formal netlist-sim tools pattern docs views clean \
 	help bitstream board-estimate board-dryrun ros-sim
 
 help:
@@ -37,6 +37,8 @@ help:
 	@echo "make synth   LUT/FF/BRAM/DSP estimate of orb_core 640x480x1 + 1920x1080x2, checked (GHDL + yosys; about 10 min, cached;"
 	@echo "             SIZE=1920x1080x2 or CONFIG=board-720p, TOP=orb_accel_top|orb_accel_zynq: also the logic-delay pass + worst paths (STA=0: not);"
 	@echo "             GENERICS=\"STEP_NUM_g=5 STEP_DEN_g=4 SECTORS_g=64\": more generics of the top)"
+	@echo "make formal  formal property checks of the interfaces (SymbiYosys on GHDL's Verilog; K=entity ...,"
+	@echo "             MUTATIONS=0: without the planted bugs; docs/formal.md)"
 	@echo "make netlist-sim  unit tests on GHDL's synthesised netlists (~15 min; K=entity, QUICK=1; docs/netlist-sim.md)"
 	@echo "make views   regenerate every generated view from its data (orb_flow.gen.views; docs/conventions.md)"
 	@echo "make tools   which of ghdl, yosys, python3 are installed, and how to install the rest"
@@ -143,6 +145,12 @@ lint: $(STAMP)
 TOP ?=
 GENERICS ?=
 STA ?= $(if $(SIZE)$(CONFIG),1,)
+# formal property checks (docs/formal.md): the yowasp tools come with the formal extra (make setup)
+MUTATIONS ?= 1
+formal: $(STAMP)
+	@sh scripts/flow/check_tools.sh ghdl
+	$(BIN)/python -m orb_flow.formal $(K) $(if $(filter 0 no false,$(MUTATIONS)),--no-mutations)
+
 synth:
 	@sh scripts/flow/check_tools.sh ghdl yosys python3
 	PYTHONPATH=sw $(PYTHON) -m orb_flow.synth --jobs $(JOBS) $(if $(TOP),--top $(TOP)) $(foreach c,$(SIZE),--config $(c)) \

@@ -31,6 +31,7 @@ from .featword import (
     Field,
     Layout,
 )
+from .frameparams import FrameParams
 
 CHUNK = SLOT_WORD_BITS  # bits of one column of a chunk array (a CPU word)
 DESC_BYTES = FEATURE_BEAT.field("descriptor").width // 8
@@ -142,10 +143,12 @@ class FeatureBeat:
 
 @dataclass(frozen=True)
 class EofBeat:
-    """One decoded end-of-frame word: the frame number and the features it lost upstream."""
+    """One decoded end-of-frame word: the frame number, the features it lost upstream and the
+    parameters the frame was processed with."""
 
     frame: int
     drops: int
+    params: FrameParams
 
 
 def is_eof(word: int) -> bool:
@@ -173,9 +176,10 @@ def encode_feature(*, scale: int, x: int, y: int, score: int, sector: int = 0, d
                                "sel_replace": sel_replace})  # fmt: skip
 
 
-def encode_eof(frame: int, drops: int = 0) -> int:
-    """An end-of-frame word (frame and drops must fit their fields)."""
-    return pack(EOF_BEAT, {"frame": frame, "drops": drops})
+def encode_eof(frame: int, drops: int = 0, params: FrameParams | None = None) -> int:
+    """An end-of-frame word (frame and drops must fit their fields) carrying the frame's `params`
+    (None: every parameter field 0, as in a word no core wrote)."""
+    return pack(EOF_BEAT, {"frame": frame, "drops": drops} | (params.fields() if params else {}))
 
 
 def decode_feature(word: int, check: bool = True) -> FeatureBeat:
@@ -189,7 +193,8 @@ def decode_eof(word: int, check: bool = True) -> EofBeat:
     """Decode an end-of-frame word; with `check`, raise LayoutError unless it is well-formed."""
     if check and (err := eof_error(word)):
         raise LayoutError(err)
-    return EofBeat(**unpack(EOF_BEAT, word))
+    v = unpack(EOF_BEAT, word)
+    return EofBeat(frame=v["frame"], drops=v["drops"], params=FrameParams.from_fields(v))
 
 
 def resolve_selection(words: Sequence[int]) -> list[int]:
@@ -244,13 +249,15 @@ def _features(layout: Layout, ch: np.ndarray, sectors_total: int, descriptors: b
 
 @dataclass(frozen=True)
 class EndOfFrame:
-    """The end-of-frame record of a bank."""
+    """The end-of-frame record of a bank; `params`: the parameters the frame was processed with (as
+    orb_core sampled them with its first pixel)."""
 
     count: int
     frame: int
     dropped: int
     truncated: int
     truncated_flag: bool
+    params: FrameParams
 
 
 def slot_words(layout: Layout, values: Mapping[str, int]) -> list[int]:
@@ -295,7 +302,7 @@ def decode_record(words: Sequence[int] | np.ndarray) -> EndOfFrame:
         raise ValueError(f"not an end-of-frame record: {flag.name} flag 0 (word {k} = {w[k]:#010x})")
     v = unpack(SLOT_RECORD, word)
     return EndOfFrame(count=v["count"], frame=v["frame"], dropped=v["dropped"], truncated=v["truncated"],
-                      truncated_flag=bool(v["truncated_flag"]))  # fmt: skip
+                      truncated_flag=bool(v["truncated_flag"]), params=FrameParams.from_fields(v))  # fmt: skip
 
 
 def decode_slot_features(words: np.ndarray, sectors_total: int, descriptors: bool = True) -> Features:

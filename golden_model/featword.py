@@ -104,6 +104,48 @@ EOF_BEAT = Layout(
             width=16,
             meaning="features of the frame lost to a full FIFO (saturating)",
         ),
+        Field(
+            name="threshold",
+            lsb=40,
+            width=8,
+            meaning="FAST threshold t as sampled with the frame's first pixel (THRESHOLD.threshold)",
+        ),
+        Field(
+            name="threshold_lo",
+            lsb=48,
+            width=8,
+            meaning="low FAST threshold t_lo as sampled (THRESHOLD.low; used in grid selection only)",
+        ),
+        Field(
+            name="mode_orb",
+            lsb=56,
+            width=1,
+            meaning="mode as sampled: 1 orb (detect + describe), 0 fast (detection only)",
+        ),
+        Field(
+            name="select_grid",
+            lsb=57,
+            width=1,
+            meaning="selection as sampled: 1 grid, 0 all (SELECT.mode)",
+        ),
+        Field(
+            name="budget",
+            lsb=64,
+            width=12,
+            meaning="grid selection's budget N as sampled (SELECT.budget)",
+        ),
+        Field(
+            name="cols",
+            lsb=76,
+            width=4,
+            meaning="grid selection's cells across the frame as sampled (SELECT.cols)",
+        ),
+        Field(
+            name="rows",
+            lsb=80,
+            width=4,
+            meaning="grid selection's cells down the frame as sampled (SELECT.rows)",
+        ),
     ),
 )
 BEATS: tuple[Layout, ...] = (FEATURE_BEAT, EOF_BEAT)
@@ -221,11 +263,60 @@ SLOT_RECORD = Layout(
             width=32,
             meaning="features of the frame not stored because the bank was full",
         ),
+        Field(
+            name="threshold",
+            lsb=160,
+            width=8,
+            meaning="FAST threshold t the frame was processed with",
+            source="threshold",
+        ),
+        Field(
+            name="threshold_lo",
+            lsb=168,
+            width=8,
+            meaning="low FAST threshold t_lo (grid selection only)",
+            source="threshold_lo",
+        ),
+        Field(
+            name="mode_orb",
+            lsb=176,
+            width=1,
+            meaning="1: orb mode, 0: fast mode",
+            source="mode_orb",
+        ),
+        Field(
+            name="select_grid",
+            lsb=177,
+            width=1,
+            meaning="1: grid selection, 0: all",
+            source="select_grid",
+        ),
+        Field(
+            name="budget",
+            lsb=192,
+            width=16,
+            meaning="grid selection's budget N (the beat's 12 bits)",
+            source="budget",
+        ),
+        Field(
+            name="cols",
+            lsb=208,
+            width=4,
+            meaning="grid cells across the frame",
+            source="cols",
+        ),
+        Field(
+            name="rows",
+            lsb=212,
+            width=4,
+            meaning="grid cells down the frame",
+            source="rows",
+        ),
     ),
 )
 SLOTS: tuple[Layout, ...] = (SLOT_FEATURE, SLOT_RECORD)
 SLOT_FEATURE_WORDS = 10  # words 0 .. 9 hold its fields
-SLOT_RECORD_WORDS = 5  # words 0 .. 4 hold its fields
+SLOT_RECORD_WORDS = 7  # words 0 .. 6 hold its fields
 SLOT_BEAT: dict[str, Layout] = {  # the stream beat each slot layout is filled from
     "feature": FEATURE_BEAT,
     "record": EOF_BEAT,

@@ -11,7 +11,7 @@ from golden_model._fields import Register
 
 ORB_ID = 0x4F524231  # magic identification word, ASCII "ORB1"
 VERSION_MAJOR = 3  # register map major version (incompatible changes)
-VERSION_MINOR = 0  # register map minor version (compatible additions)
+VERSION_MINOR = 1  # register map minor version (compatible additions)
 MEM_BASE = 0x10000  # byte address of the feature-memory window; register offsets lie below it
 BANKS = 2  # feature-memory banks (double buffering)
 

@@ -18,7 +18,11 @@
 -- are sampled with each frame's first pixel (tuser) and hold for every scale of that frame; the
 -- budget's split is computed from the sampled budget in the core_split_lat(SCALES_g) =
 -- 3 SCALES_g + 1 clocks after it (orb_latency_pkg, docs/latency.md) and the scale paths take
--- their share at their pixel (0, 1). Pixels
+-- their share at their pixel (0, 1). The sampled values also wait, one entry per frame in flight
+-- (PARAM_FRAMES_c = 4, as the scale paths' per-frame queues), from the frame's first pixel to its
+-- end-of-frame beat, which carries them (orb_feat_pkg's EOF_ fields, written as the beat leaves
+-- the core): each frame says how it was made, whatever was written since
+-- (docs/feature-memory.md). Pixels
 -- outside the configured WIDTH_g x HEIGHT_g frame (a long line or extra lines) are ignored and
 -- counted in bad_pixels; features the descriptor path had to discard (only on a malformed frame)
 -- are counted in desc_lost.
@@ -141,11 +145,48 @@ architecture rtl of orb_core is
   signal grid_frm   : std_logic := '0';
   signal tlo_frm    : std_logic_vector(7 downto 0) := (others => '0');
 
+  -- The parameters of each frame in flight (docs/feature-word.md, the end-of-frame beat): pushed
+  -- with the values sampled at the frame's start of frame, popped when its end-of-frame beat leaves
+  -- the core (written into the beat after the orbit rotation, so that nothing is added in front of
+  -- the rotator; orb_feat_mem registers the word at its input). Every start of frame has one
+  -- end-of-frame beat (orb_video_check completes every frame; orb_feat_mem never stalls the stream,
+  -- so the merge never joins two frame ends), in order.
+  type frame_params_t is record
+    threshold    : std_logic_vector(7 downto 0);
+    threshold_lo : std_logic_vector(7 downto 0);
+    mode_orb     : std_logic;
+    select_grid  : std_logic;
+    budget       : std_logic_vector(SEL_SLOT_BITS_c - 1 downto 0);
+    cols         : std_logic_vector(GRID_BITS_c - 1 downto 0);
+    rows         : std_logic_vector(GRID_BITS_c - 1 downto 0);
+  end record frame_params_t;
+
+  constant PARAM_FRAMES_c : positive := 4;
+
+  type param_q_t is array (0 to PARAM_FRAMES_c - 1) of frame_params_t;
+
+  signal prm_q : param_q_t := (others => ((others => '0'), (others => '0'), '0', '0', (others => '0'),
+                                          (others => '0'), (others => '0')));
+  -- frames pushed and popped, mod 8: entry (count mod 4); their difference is the frames in flight
+  signal prm_wr   : unsigned(2 downto 0) := (others => '0');
+  signal prm_rd   : unsigned(2 downto 0) := (others => '0');
+  signal prm_head : frame_params_t;
+  -- an end-of-frame beat offered and not taken keeps the parameters it was offered with
+  -- (AXI4-Stream: its data is held until taken, whatever the queue does meanwhile)
+  signal eof_waiting : std_logic := '0';
+  signal prm_hold    : frame_params_t := ((others => '0'), (others => '0'), '0', '0', (others => '0'),
+                                          (others => '0'), (others => '0'));
+  signal prm_out     : frame_params_t;
+
   -- the merged stream, before the shared orbit rotation
   signal mg_tdata  : std_logic_vector(FEAT_BITS_c - 1 downto 0);
   signal mg_tvalid : std_logic;
   signal mg_tready : std_logic;
   signal mg_tlast  : std_logic;
+  -- the output stream before the end-of-frame beat gets its frame's parameters
+  signal out_word   : std_logic_vector(FEAT_BITS_c - 1 downto 0);
+  signal out_tvalid : std_logic;
+  signal out_tlast  : std_logic;
 
 begin
 
@@ -169,6 +210,10 @@ begin
   -- the split takes split_phase_t's phases per level after one clock to restart
   assert core_split_lat(SCALES_g) = (split_phase_t'high + 1) * SCALES_g + 1
     report "orb_core: core_split_lat (orb_latency_pkg) must be the split's clocks"
+    severity failure;
+
+  assert EOF_BUDGET_BITS_c = SEL_SLOT_BITS_c and EOF_COLS_BITS_c = GRID_BITS_c and EOF_ROWS_BITS_c = GRID_BITS_c
+    report "orb_core: the end-of-frame beat's budget, cols and rows must be as wide as the inputs (orb_feat_pkg)"
     severity failure;
 
   assert sectors_legal(SECTORS_g)
@@ -201,6 +246,19 @@ begin
           budget_frm <= budget;
           cols_frm   <= grid_cols;
           rows_frm   <= grid_rows;
+          -- the frame's parameters wait for its end-of-frame beat (constant-index writes, as GHDL
+          -- 2.0 synthesises a variable-indexed write into a small array wrongly: docs/netlist-sim.md)
+          for i in param_q_t'range loop
+            if i = to_integer(prm_wr(1 downto 0)) then
+              prm_q(i) <= (threshold, threshold_lo, mode_orb, select_grid, budget, grid_cols, grid_rows);
+            end if;
+          end loop;
+          prm_wr <= prm_wr + 1;
+          -- pragma translate_off
+          assert prm_wr - prm_rd < PARAM_FRAMES_c
+            report "orb_core: more than PARAM_FRAMES_c frames in flight (their parameters are lost)"
+            severity failure;
+          -- pragma translate_on
           -- all mode reports main corners only: no low threshold
           if select_grid = '1' then
             tlo_frm <= threshold_lo;
@@ -230,9 +288,55 @@ begin
         next_x      <= (others => '0');
         next_y      <= (others => '0');
         bad_cnt     <= (others => '0');
+        prm_wr      <= (others => '0');
       end if;
     end if;
   end process input;
+
+  -- a frame's parameters leave the queue with its end-of-frame beat
+  params_out : process (clk) is
+  begin
+    if rising_edge(clk) then
+      if out_tvalid = '1' and m_axis_feat_tready = '1' and out_tlast = '1' then
+        prm_rd <= prm_rd + 1;
+      end if;
+      eof_waiting <= out_tvalid and out_tlast and not m_axis_feat_tready;
+      prm_hold    <= prm_out;
+      -- pragma translate_off
+      assert not (out_tvalid = '1' and out_tlast = '1' and prm_rd = prm_wr)
+        report "orb_core: an end-of-frame beat without its frame's parameters"
+        severity failure;
+      -- pragma translate_on
+      if rst = '1' then
+        prm_rd      <= (others => '0');
+        eof_waiting <= '0';
+      end if;
+    end if;
+  end process params_out;
+
+  prm_head <= prm_q(to_integer(prm_rd(1 downto 0)));
+  prm_out  <= prm_hold when eof_waiting = '1' else
+              prm_head;
+
+  -- the end-of-frame beat with its frame's parameters in its EOF_ fields (0 in the merge's word)
+  eof_params : process (all) is
+    variable word_v : std_logic_vector(FEAT_BITS_c - 1 downto 0);
+  begin
+    word_v := out_word;
+    if out_tlast = '1' then
+      word_v(EOF_THRESHOLD_LO_c + EOF_THRESHOLD_BITS_c - 1 downto EOF_THRESHOLD_LO_c) := prm_out.threshold;
+      word_v(EOF_TLO_LO_c + EOF_TLO_BITS_c - 1 downto EOF_TLO_LO_c)                   := prm_out.threshold_lo;
+      word_v(EOF_MODE_ORB_BIT_c)                                                      := prm_out.mode_orb;
+      word_v(EOF_SELECT_GRID_BIT_c)                                                   := prm_out.select_grid;
+      word_v(EOF_BUDGET_LO_c + EOF_BUDGET_BITS_c - 1 downto EOF_BUDGET_LO_c)          := prm_out.budget;
+      word_v(EOF_COLS_LO_c + EOF_COLS_BITS_c - 1 downto EOF_COLS_LO_c)                := prm_out.cols;
+      word_v(EOF_ROWS_LO_c + EOF_ROWS_BITS_c - 1 downto EOF_ROWS_LO_c)                := prm_out.rows;
+    end if;
+    m_axis_feat_tdata <= word_v;
+  end process eof_params;
+
+  m_axis_feat_tvalid <= out_tvalid;
+  m_axis_feat_tlast  <= out_tlast;
 
   -- The budget's split (docs/spec.md section 14), level after level, three clocks each (the
   -- product, its rounding, the minimum and the remainder: one carry chain per clock), over and
@@ -423,18 +527,18 @@ begin
         s_axis_feat_tvalid => mg_tvalid,
         s_axis_feat_tready => mg_tready,
         s_axis_feat_tlast  => mg_tlast,
-        m_axis_feat_tdata  => m_axis_feat_tdata,
-        m_axis_feat_tvalid => m_axis_feat_tvalid,
+        m_axis_feat_tdata  => out_word,
+        m_axis_feat_tvalid => out_tvalid,
         m_axis_feat_tready => m_axis_feat_tready,
-        m_axis_feat_tlast  => m_axis_feat_tlast
+        m_axis_feat_tlast  => out_tlast
       );
 
   else generate
 
-    m_axis_feat_tdata  <= mg_tdata;
-    m_axis_feat_tvalid <= mg_tvalid;
-    m_axis_feat_tlast  <= mg_tlast;
-    mg_tready          <= m_axis_feat_tready;
+    out_word   <= mg_tdata;
+    out_tvalid <= mg_tvalid;
+    out_tlast  <= mg_tlast;
+    mg_tready  <= m_axis_feat_tready;
 
   end generate gen_rotate;
 

@@ -10,7 +10,8 @@
 -- map of SEL_SLOTS_g entries (docs/selection.md), so a frame of the grid selection fills slots
 -- 0 .. count - 1 with the selection. Every input (stream, frame_abort, release) is registered
 -- once before the rules below apply (the map's read takes that clock). At the frame's end-of-frame beat (tlast = 1) the bank's header (feature count,
--- frame number, dropped-upstream count, truncated count and flag) is stored, the bank becomes
+-- frame number, dropped-upstream count, truncated count and flag) is stored, the end-of-frame
+-- record also carries the parameters the frame was processed with (from the beat), the bank becomes
 -- READY, frame_done pulses for one clock, and the next frame goes to the other bank. The CPU
 -- reads a READY bank at leisure and releases it (release_valid with release_bank). A frame whose
 -- bank is still READY at the frame's first beat (not released, a release in that very clock
@@ -250,7 +251,8 @@ begin
   begin
     w := (others => '0');
     if in_last = '1' then
-      -- end-of-frame record: count, flags, frame number, dropped upstream, truncated count
+      -- end-of-frame record: count, flags, frame number, dropped upstream, truncated count, and
+      -- the parameters the frame was processed with (the end-of-frame beat's, docs/feature-word.md)
       w(REC_COUNT_LO_c + SLOT_BITS_c - 1 downto REC_COUNT_LO_c) := std_logic_vector(cnt);
       w(SLOT_RECORD_BIT_c)                                      := '1';
       if trunc /= 0 then
@@ -259,6 +261,13 @@ begin
       copy_field(w, REC_FRAME_LO_c, in_data, EOF_FRAME_LO_c, EOF_FRAME_BITS_c);
       copy_field(w, REC_DROPPED_LO_c, in_data, EOF_DROPS_LO_c, EOF_DROPS_BITS_c);
       w(REC_TRUNC_LO_c + trunc'length - 1 downto REC_TRUNC_LO_c) := std_logic_vector(trunc);
+      copy_field(w, REC_THRESHOLD_LO_c, in_data, EOF_THRESHOLD_LO_c, EOF_THRESHOLD_BITS_c);
+      copy_field(w, REC_TLO_LO_c, in_data, EOF_TLO_LO_c, EOF_TLO_BITS_c);
+      w(REC_MODE_ORB_BIT_c)    := in_data(EOF_MODE_ORB_BIT_c);
+      w(REC_SELECT_GRID_BIT_c) := in_data(EOF_SELECT_GRID_BIT_c);
+      copy_field(w, REC_BUDGET_LO_c, in_data, EOF_BUDGET_LO_c, EOF_BUDGET_BITS_c);
+      copy_field(w, REC_COLS_LO_c, in_data, EOF_COLS_LO_c, EOF_COLS_BITS_c);
+      copy_field(w, REC_ROWS_LO_c, in_data, EOF_ROWS_LO_c, EOF_ROWS_BITS_c);
     else
       -- feature: x, y, score, response, scale, low, sector, descriptor (record flag 0)
       copy_field(w, SLOT_X_LO_c, in_data, FEAT_X_LO_c, FEAT_X_BITS_c);

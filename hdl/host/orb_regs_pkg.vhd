@@ -21,7 +21,7 @@ package orb_regs_pkg is
   -- register map major version (incompatible changes)
   constant VERSION_MAJOR_c : natural := 3;
   -- register map minor version (compatible additions)
-  constant VERSION_MINOR_c : natural := 0;
+  constant VERSION_MINOR_c : natural := 1;
   -- byte address of the feature-memory window; register offsets lie below it
   constant MEM_BASE_c : natural := 16#10000#;
   -- feature-memory banks (double buffering)
@@ -39,7 +39,7 @@ package orb_regs_pkg is
   constant REG_VERSION_c         : natural := 16#004#;
   constant REG_VERSION_IDX_c     : natural := 1;
   constant REG_VERSION_MASK_c    : std_logic_vector(31 downto 0) := x"FFFFFFFF";
-  constant REG_VERSION_RESET_c   : std_logic_vector(31 downto 0) := x"00030000";
+  constant REG_VERSION_RESET_c   : std_logic_vector(31 downto 0) := x"00030001";
   constant VERSION_MINOR_LSB_c   : natural := 0;
   constant VERSION_MINOR_MSB_c   : natural := 15;
   constant VERSION_MINOR_RESET_c : natural := VERSION_MINOR_c;
@@ -262,7 +262,7 @@ package orb_regs_pkg is
   (
     -- register              => (offset, access, mask, reset, live, pulse)
     REG_ID_IDX_c             => (REG_ID_c, access_ro, x"FFFFFFFF", x"4F524231", x"00000000", x"00000000"),
-    REG_VERSION_IDX_c        => (REG_VERSION_c, access_ro, x"FFFFFFFF", x"00030000", x"00000000", x"00000000"),
+    REG_VERSION_IDX_c        => (REG_VERSION_c, access_ro, x"FFFFFFFF", x"00030001", x"00000000", x"00000000"),
     REG_CFG_SIZE_IDX_c       => (REG_CFG_SIZE_c, access_ro, x"FFFFFFFF", x"00000000", x"FFFFFFFF", x"00000000"),
     REG_CFG_ORB_IDX_c        => (REG_CFG_ORB_c, access_ro, x"1FFFFF0F", x"00020000", x"1FF0FF0F", x"00000000"),
     REG_CFG_MEM_IDX_c        => (REG_CFG_MEM_c, access_ro, x"0FFFFFFF", x"00000000", x"0FFFFFFF", x"00000000"),

@@ -9,7 +9,9 @@
 -- aborted there, never published) and orb_overlay (the previous frame's features drawn on the
 -- passing video, m_axis_video, in the input's packing). orb_axil_regs holds the registers
 -- (docs/registers.md) and forwards reads at MEM_BASE_c and above to the feature memory. rst
--- resets everything; CTRL.soft_reset resets the video and feature path (not the registers).
+-- resets everything; CTRL.soft_reset resets the video and feature path (not the registers), the
+-- overlay once m_axis_video holds no beat waiting for the sink (a soft reset never withdraws a
+-- beat without its handshake: AXI4-Stream, docs/formal.md).
 -- Ports and generics: docs/entities/orb_accel_top.md
 
 library ieee;
@@ -88,6 +90,9 @@ architecture rtl of orb_accel_top is
   -- resets
   signal soft_reset : std_logic;
   signal core_rst   : std_logic := '1';
+  signal hard_rst   : std_logic := '1';  -- rst, one clock later like core_rst
+  signal ov_soft    : std_logic := '0';  -- a soft reset the overlay has not had yet
+  signal ov_rst     : std_logic;         -- the overlay's reset
 
   -- registers
   signal enable   : std_logic;
@@ -167,13 +172,28 @@ begin
     report "orb_accel_top: MEM_DEPTH_g must be " & MEM_DEPTH_TEXT_c
     severity failure;
 
-  -- The soft reset (a register pulse) resets the video and feature path for one clock after it.
+  -- The soft reset (a register pulse) resets the video and feature path for one clock after it;
+  -- the overlay in that clock too unless m_axis_video holds a beat the sink has not taken: then in
+  -- the clock that takes it (the luma path is reset already; the input waits, ov_ready being 0).
+  -- rst resets the overlay from its own clock on (and the clock after, with the rest).
   resets : process (clk) is
   begin
     if rising_edge(clk) then
       core_rst <= rst or soft_reset;
+      hard_rst <= rst;
+      if soft_reset = '1' then
+        ov_soft <= '1';
+      elsif ov_rst = '1' then
+        ov_soft <= '0';
+      end if;
+      if rst = '1' then
+        ov_soft <= '0';
+      end if;
     end if;
   end process resets;
+
+  -- rst itself too, so that no beat of before a reset is offered on m_axis_video after it
+  ov_rst <= rst or hard_rst or (ov_soft and (m_axis_video_tready or not m_axis_video_tvalid));
 
   regs : entity work.orb_axil_regs
     generic map (
@@ -437,7 +457,7 @@ begin
     )
     port map (
       clk                 => clk,
-      rst                 => core_rst,
+      rst                 => ov_rst,
       s_axis_video_tdata  => ov_data,
       s_axis_video_tvalid => s_axis_video_tvalid and luma_ready,
       s_axis_video_tready => ov_ready,

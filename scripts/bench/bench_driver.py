@@ -33,6 +33,7 @@ import numpy as np
 from golden_model import regs
 from golden_model.featcodec import encode_eof, encode_feature, feature_slot, record_slot
 from golden_model.featmem import SLOT_BYTES
+from golden_model.frameparams import FrameParams
 from orb_accel import OrbAccel, UioBus
 from orb_ros import msgs as rosmsgs
 from orb_ros.node import build_message
@@ -56,7 +57,8 @@ def make_map(path: Path, n: int, depth: int, seed: int = 1) -> int:
         words[reg.offset // 4] = value
 
     put(regs.ID, regs.ORB_ID)
-    put(regs.VERSION, regs.VERSION.field("major").put(regs.VERSION_MAJOR))
+    version = regs.VERSION.field("major").put(regs.VERSION_MAJOR)
+    put(regs.VERSION, regs.VERSION.field("minor").put(regs.VERSION_MINOR, version))
     put(regs.CFG_SIZE, regs.CFG_SIZE.field("height").put(H, regs.CFG_SIZE.field("width").put(W)))
     orb = regs.CFG_ORB.field("sectors").put(SECTORS, regs.CFG_ORB.field("scales").put(SCALES))
     orb = regs.CFG_ORB.field("step_num").put(2, regs.CFG_ORB.field("step_den").put(1, orb))
@@ -77,7 +79,7 @@ def make_map(path: Path, n: int, depth: int, seed: int = 1) -> int:
                               response=int(rng.integers(0, 64)), low=bool(rng.integers(0, 2)))  # fmt: skip
         slot = feature_slot(word)
         words[base + s * SLOT_BYTES // 4 : base + s * SLOT_BYTES // 4 + len(slot)] = slot
-    rec = record_slot(encode_eof(7), n, 0)
+    rec = record_slot(encode_eof(7, 0, FrameParams(20, 14, "orb", "grid", n, 8, 6)), n, 0)
     words[base + n * SLOT_BYTES // 4 : base + n * SLOT_BYTES // 4 + len(rec)] = rec
     path.write_bytes(words.tobytes())
     return size
@@ -120,7 +122,7 @@ def measure(n: int, repeat: int, rospy, numpy_msg, msg_mod) -> dict:
 
     def message(cls: type) -> int:
         buf = io.BytesIO()
-        build_message(cls, frame, 20, rospy.Time(1, 0), "orb_accel").serialize(buf)
+        build_message(cls, frame, rospy.Time(1, 0), "orb_accel").serialize(buf)
         return buf.tell()
 
     msg_bytes = message(np_cls)

@@ -2,7 +2,8 @@
 """A directory of per-frame feature CSVs: the output of `orb-accel board stream --csv DIR` and of
 `orb-accel bag csv` (docs/ros-bags.md). numpy and the standard library only (it runs on the board).
 
-    DIR/index.csv            one row per frame, in the order written (INDEX_COLUMNS)
+    DIR/index.csv            one row per frame, in the order written (INDEX_COLUMNS: with the parameters
+                             the frame was processed with, as its end-of-frame record says)
     DIR/frame_000000.csv     that frame's features, golden_model.features.write_csv's columns
     DIR/frame_000001.csv     ...
 
@@ -22,13 +23,14 @@ import numpy as np
 from golden_model.brief import DESCRIPTOR_BYTES
 from golden_model.config import MODES
 from golden_model.features import Features, read_csv, write_csv
+from golden_model.frameparams import FrameParams
 
 INDEX = "index.csv"
 INDEX_COLUMNS = (
     "index", "file", "frame", "stamp", "threshold", "mode", "sectors", "width", "height", "features", "dropped",
-    "truncated",
+    "truncated", "threshold_lo", "selection", "budget", "cols", "rows",
 )  # fmt: skip
-_TEXT = ("file", "mode")
+_TEXT = ("file", "mode", "selection")
 _FLOAT = ("stamp",)
 
 
@@ -47,18 +49,20 @@ class CsvDir:
         self.count = 0
 
     def write(
-        self, features: Features, *, frame: int, stamp: float, threshold: int, mode: str, width: int, height: int,
+        self, features: Features, *, frame: int, stamp: float, params: FrameParams, width: int, height: int,
         dropped: int, truncated: int,
     ) -> Path:  # fmt: skip
-        """Write one frame's CSV and its index row; returns the CSV's path. ``stamp`` is in seconds."""
-        if mode not in MODES:
-            raise ValueError(f"mode {mode!r} not one of {MODES}")
+        """Write one frame's CSV and its index row; returns the CSV's path. ``stamp`` is in seconds,
+        ``params`` the parameters the frame was processed with (Frame.params, the message's)."""
+        if params.mode not in MODES:
+            raise ValueError(f"mode {params.mode!r} not one of {MODES}")
         name = f"frame_{self.count:06d}.csv"
         path = self.out / name
         write_csv(features, path)
         self._index.writerow([
-            self.count, name, int(frame), repr(float(stamp)), int(threshold), mode, int(features.sectors_total),
-            int(width), int(height), len(features), int(dropped), int(truncated),
+            self.count, name, int(frame), repr(float(stamp)), int(params.threshold), params.mode,
+            int(features.sectors_total), int(width), int(height), len(features), int(dropped), int(truncated),
+            int(params.threshold_lo), params.selection, int(params.budget), int(params.cols), int(params.rows),
         ])  # fmt: skip
         self._fh.flush()
         self.count += 1
@@ -79,7 +83,7 @@ class CsvDir:
 def read_csv_dir(path: Path) -> list[tuple[dict, Features]]:
     """Read a CSV directory back: (index row, features) per frame, in index order.
 
-    Row values are ints, except ``file`` and ``mode`` (str) and ``stamp`` (float seconds).
+    Row values are ints, except ``file``, ``mode`` and ``selection`` (str) and ``stamp`` (float seconds).
     """
     path = Path(path)
     index = path / INDEX

@@ -47,6 +47,7 @@ from golden_model.featmem import (
     decode_record,
 )
 from golden_model.features import Features
+from golden_model.frameparams import FrameParams
 from golden_model.select import best_per_level
 
 from .bus import Bus, BusError
@@ -56,6 +57,9 @@ IRQ_SOURCES = ("frame_done", "error")
 SLOT_WORDS = SLOT_BYTES // 4  # 32-bit words per slot (SLOT_WORDS_USED of them hold data)
 PATCH_DIAMETER = 31  # a keypoint's size at octave 0 (OpenCV ORB's patchSize): 31 * r^octave
 NO_ANGLE = -1.0  # cv2.KeyPoint's angle when there is no orientation (fast mode)
+# the register map version (major, minor) from which the end-of-frame record carries the parameters
+# its frame was processed with (docs/feature-memory.md); an older map's records read 0 there
+PARAMS_VERSION = (3, 1)
 _T = TypeVar("_T")
 
 
@@ -119,8 +123,11 @@ class Selection:
 @dataclass(frozen=True)
 class Frame:
     """One published frame: its bank, features (canonical order: scale, row, column), end-of-frame
-    record, the mode it was decoded in, the configuration, and the counters read with it (the
-    cumulative registers of COUNTERS, lower-case names; empty when not read)."""
+    record, the mode it was decoded in, the configuration, the counters read with it (the
+    cumulative registers of COUNTERS, lower-case names; empty when not read) and `params`, the
+    parameters the frame was processed with as its record says (threshold, threshold_lo, mode,
+    selection, budget, cols, rows: sampled by the accelerator at the frame's first pixel, whatever
+    was written since; None from an accelerator whose register map predates PARAMS_VERSION)."""
 
     bank: int
     features: Features
@@ -128,6 +135,7 @@ class Frame:
     mode: str = "orb"
     hw: HwConfig | None = None
     counters: dict[str, int] = field(default_factory=dict)
+    params: FrameParams | None = None
 
     def __len__(self) -> int:
         return len(self.features)
@@ -247,6 +255,9 @@ class OrbAccel:
             if major != regs.VERSION_MAJOR:
                 raise AccelError(f"register map version {major}.{minor}: this driver reads version "
                                  f"{regs.VERSION_MAJOR}.x (docs/registers.md)")  # fmt: skip
+            self.records_params = (major, minor) >= PARAMS_VERSION
+        else:
+            self.records_params = True  # unchecked: taken to be this driver's map
         self.hw = self.read_config()
         # the mode frames are decoded in: CTRL's (another program may have configured the device),
         # then whatever configure() sets; a frame keeps the mode that was set when it started
@@ -371,6 +382,12 @@ class OrbAccel:
         self.mode, self.enabled, self.threshold = mode, bool(enable), int(threshold)
         self.selection = Selection(selection, int(budget), (int(cols), int(rows)), int(threshold_lo))
 
+    def written(self) -> FrameParams:
+        """The parameters this driver last wrote (read back at open): those of every frame that
+        starts after the write. A frame's own, as the accelerator sampled them, are Frame.params."""
+        s = self.selection
+        return FrameParams(self.threshold, s.threshold_lo, self.mode, s.mode, s.budget, *s.cells)
+
     def configure_as(self, cfg: Config, enable: bool = True, irq: tuple[str, ...] = ("frame_done",)) -> None:
         """configure() with a model configuration's threshold, mode and selection (budget, cells
         and low threshold in `grid`), so that a frame compares with golden_model.extract(img, cfg)."""
@@ -403,7 +420,8 @@ class OrbAccel:
             if regs.STATUS.field("bank_ready").get(status) >> bank & 1:
                 break
         with self.holding(bank) as bank:
-            frame = self.read_bank(bank, mode=old_mode)
+            # decoded in its own mode (its record's), or without one in the mode of its start
+            frame = self.read_bank(bank, mode=None if self.records_params else old_mode)
         self._mode_before = self.mode
         return frame
 
@@ -483,10 +501,10 @@ class OrbAccel:
 
     def read_bank(self, bank: int, mode: str | None = None, counters: bool = True) -> Frame:
         """A ready bank's features and record (the bank stays held: see release), decoded in `mode`
-        (default: the mode last configured; a frame keeps the mode that was set when it started),
-        with the counters when `counters` (len(COUNTERS) more reads)."""
-        mode = self.mode if mode is None else mode
-        if mode not in MODES:
+        (default: the frame's own mode, from its record; from an accelerator whose records carry no
+        parameters, the mode last configured), with the counters when `counters` (len(COUNTERS)
+        more reads)."""
+        if mode is not None and mode not in MODES:
             raise ValueError(f"mode {mode!r} not one of {MODES}")
         if bank not in range(regs.BANKS):
             raise ValueError(f"bank {bank} outside 0..{regs.BANKS - 1}")
@@ -504,9 +522,12 @@ class OrbAccel:
             record = decode_record(self._call(self.bus.read_block, base + count * SLOT_BYTES, SLOT_RECORD_WORDS))
         if record.count != count:
             raise AccelError(f"bank {bank}: record count {record.count}, BANK{bank}_INFO count {count}")
+        params = record.params if self.records_params else None
+        if mode is None:
+            mode = params.mode if params is not None else self.mode
         feats = decode_features(words, self.hw.sectors, descriptors=mode == "orb")
         feats.step = self.hw.step
-        return Frame(bank, feats, record, mode, self.hw, self.counters() if counters else {})
+        return Frame(bank, feats, record, mode, self.hw, self.counters() if counters else {}, params)
 
     def release(self, bank: int) -> None:
         """Give a bank back to the accelerator (after reading it)."""

@@ -7,6 +7,7 @@ the commit, the date and the tools. The docs' results tables are generated from 
     python -m orb_flow.record eval [NAME ...]          # the outputs of `make eval` under build/eval
     python -m orb_flow.record sim NAME REPORT --command "make sim ..."   # a make sim report.json
     python -m orb_flow.record test NAME LOG --command "make test" [--total-s S]  # a make test log
+    python -m orb_flow.record formal                   # make formal's build/formal/summary.json
 
 --commit / --date say when the measured tree is not the checkout's HEAD or today.
 """
@@ -211,6 +212,23 @@ def record_test(name: str, log: Path, command: str, total_s: float | None, commi
     save("test", records)
 
 
+FORMAL_KEPT = ("entity", "generics", "mode", "wall_s", "status", "failed", "properties", "cex_step", "ok", "mutations")
+
+
+def record_formal(summary: Path, command: str, commit: str | None, date: str | None) -> None:
+    """make formal's summary (build/formal/summary.json) into docs/results/formal.json, without the
+    run's paths and logs (the GHDL command, the traces)."""
+    if not summary.exists():
+        raise SystemExit(f"error: {summary} is missing: run `make formal` first")
+    data = {name: {k: rec[k] for k in FORMAL_KEPT if k in rec} for name, rec in _json(summary).items()}
+    for rec in data.values():
+        rec["mutations"] = [{k: v for k, v in m.items() if k != "traces"} for m in rec.get("mutations", [])]
+    records = load("formal")
+    records["runs"]["make-formal"] = entry(command, data, commit, date, "GHDL 2.0.0; Yosys 0.70, SymbiYosys and "
+                                           "Boolector from PyPI (yowasp)")  # fmt: skip
+    save("formal", records)
+
+
 def record_sim(name: str, report: Path, command: str, tools: str, commit: str | None, date: str | None) -> None:
     records = load("sim")
     data = json.loads(report.read_text())
@@ -239,7 +257,10 @@ def main(argv: list[str] | None = None) -> int:
     test.add_argument("log", type=Path)
     test.add_argument("--command", required=True, help="what ran, e.g. 'git clone . X && cd X && make test'")
     test.add_argument("--total-s", type=float, help="the whole command's wall time, set-up included")
-    for p in (ev, bench, sim, test):
+    formal = sub.add_parser("formal", help="make formal's summary into docs/results/formal.json")
+    formal.add_argument("--summary", type=Path, default=ROOT / "build" / "formal" / "summary.json")
+    formal.add_argument("--command", default="make formal")
+    for p in (ev, bench, sim, test, formal):
         p.add_argument("--commit", help="the measured commit (default: HEAD)")
         p.add_argument("--date", help="the measurement's date, YYYY-MM-DD (default: today)")
     args = ap.parse_args(argv)
@@ -249,6 +270,9 @@ def main(argv: list[str] | None = None) -> int:
     elif args.kind == "bench":
         done = record_bench(args.names, args.commit, args.date, args.command)
         print(f"recorded {', '.join(done)} in {RESULTS / 'bench.json'}")
+    elif args.kind == "formal":
+        record_formal(args.summary, args.command, args.commit, args.date)
+        print(f"recorded make-formal in {RESULTS / 'formal.json'}; now `make views`")
     elif args.kind == "test":
         record_test(args.name, args.log, args.command, args.total_s, args.commit, args.date)
         print(f"recorded {args.name} in {RESULTS / 'test.json'}; now `make views`")

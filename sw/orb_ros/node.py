@@ -28,6 +28,7 @@ import numpy as np
 
 from golden_model import limits, regs
 from golden_model.config import MODES, ConfigError
+from golden_model.frameparams import FrameParams
 from orb_accel.bus import Bus, BusError
 from orb_accel.driver import AccelError, Frame, OrbAccel
 
@@ -88,18 +89,25 @@ def message_arrays(frame: Frame) -> dict[str, np.ndarray | bytes]:
     return arrays
 
 
-def build_message(msg_cls: type, frame: Frame, threshold: int, stamp: object, frame_id: str,
-                  budget: int = 0) -> object:  # fmt: skip
+def build_message(msg_cls: type, frame: Frame, stamp: object, frame_id: str,
+                  assumed: FrameParams | None = None) -> object:  # fmt: skip
     """An orb_accel_msgs/Features message (`msg_cls`: the generated class, or its numpy_msg form)
-    of a frame detected with `threshold`."""
+    of a frame, labelled with the parameters its end-of-frame record says it was processed with
+    (Frame.params); `assumed`, the parameters written before the frame started, labels a frame of
+    an accelerator whose records carry none (a register map before 3.1)."""
     hw = frame.hw
     assert hw is not None, "a frame read by OrbAccel.read_bank carries its configuration"
+    p = frame.params or assumed
+    if p is None:
+        raise ValueError("the frame's record carries no parameters and none were assumed")
     msg = msg_cls(**message_arrays(frame))
     msg.header.stamp = stamp
     msg.header.frame_id = frame_id
     msg.width, msg.height, msg.frame = hw.width, hw.height, frame.number
-    msg.threshold, msg.mode, msg.scales, msg.sectors = threshold, frame.mode, hw.scales, hw.sectors
-    msg.step_num, msg.step_den, msg.budget = hw.step_num, hw.step_den, budget
+    msg.threshold, msg.mode, msg.scales, msg.sectors = p.threshold, frame.mode, hw.scales, hw.sectors
+    msg.step_num, msg.step_den = hw.step_num, hw.step_den
+    msg.budget = p.budget if p.selection == "grid" else 0
+    msg.selection, msg.threshold_lo, msg.cols, msg.rows = p.selection, p.threshold_lo, p.cols, p.rows
     msg.dropped, msg.truncated = frame.dropped, frame.truncated
     c = frame.counters
     msg.frames_total, msg.dropped_total = c.get("frame_count", 0), c.get("dropped", 0)
@@ -249,17 +257,18 @@ class FeatureNode:
                 return None
             with self.accel.holding(bank):  # released on the way out, also when a write below fails
                 stamp = self.rospy.Time.now()
-                frame_params = self.params  # in force when this frame started
+                assumed = self.accel.written()  # before this frame started (if the write made the blanking)
                 requests = self._take()
                 self._apply_params(requests)  # right after the interrupt: from the next frame on
                 done = [r for r in requests if not r.reset]
-                frame = self.accel.read_bank(bank, mode=frame_params.mode)
+                # decoded and labelled as its record says (an old map: as written before it started)
+                frame = self.accel.read_bank(bank, mode=None if self.accel.records_params else assumed.mode)
             self._apply(requests, done, frame.number)
         except (BusError, AccelError) as exc:
             self._fault(exc, requests, done)
             return None
         self._frame_came(frame)
-        self.pub.publish(build_message(self.msg_cls, frame, frame_params.threshold, stamp, self.frame_id, self.budget))
+        self.pub.publish(build_message(self.msg_cls, frame, stamp, self.frame_id, assumed))
         self.published += 1
         self._stats["published"] += 1
         self._stats["features"] += len(frame)

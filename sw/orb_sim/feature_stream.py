@@ -3,9 +3,10 @@
 
 The monitor wakes only while tvalid is high, so an idle stream costs no Python per clock.
 Beats decode into frames: the features between two end-of-frame beats, plus that beat's frame
-number and drop count. Every word is checked and decoded by golden_model.featcodec, the one codec
-of the layout (a feature word holds score, x, y and scale, and, when the merge carries
-descriptors, the orientation sector and the 256-bit descriptor).
+number, drop count and the parameters the frame was processed with. Every word is checked and
+decoded by golden_model.featcodec, the one codec of the layout (a feature word holds score, x, y
+and scale, and, when the merge carries descriptors, the orientation sector and the 256-bit
+descriptor).
 """
 
 from __future__ import annotations
@@ -23,6 +24,7 @@ from golden_model.featcodec import (
     feature_error,
 )
 from golden_model.features import Features
+from golden_model.frameparams import FrameParams
 
 __all__ = ["FeatureBeat", "FeatureMonitor", "Frame", "decode_feature"]
 
@@ -32,6 +34,7 @@ class Frame:
     beats: list[int] = field(default_factory=list)  # feature beats of this frame
     number: int = -1
     drops: int = 0
+    params: FrameParams | None = None  # the parameters its end-of-frame beat says it was processed with
     eof_cycle: int = -1  # clock count when the end-of-frame beat was accepted
 
     def decoded(self) -> list[FeatureBeat]:
@@ -73,7 +76,7 @@ class FeatureMonitor:
             if err := eof_error(word):
                 raise AssertionError(f"tlast beat: {err}")
             eof = decode_eof(word)
-            self.current.number, self.current.drops = eof.frame, eof.drops
+            self.current.number, self.current.drops, self.current.params = eof.frame, eof.drops, eof.params
             self.frames.append(self.current)
             self.current = Frame()
         else:

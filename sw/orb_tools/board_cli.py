@@ -262,11 +262,14 @@ def cmd_stream(args: argparse.Namespace) -> int:
             n += 1
             total += len(frame)
             per_scale = "/".join(str(int((frame.scale == s).sum())) for s in range(hw.scales))
+            # the frame's own parameters (its record); an accelerator before map 3.1: those written
+            made_with = frame.params or accel.written()
             print(f"frame {frame.number}: {len(frame)} features (per scale {per_scale}), dropped {frame.dropped}, "
-                  f"truncated {frame.truncated}; {n / (time.monotonic() - t0):.2f} frames/s", flush=True)  # fmt: skip
+                  f"truncated {frame.truncated}; {made_with.text()}; {n / (time.monotonic() - t0):.2f} frames/s",
+                  flush=True)  # fmt: skip
             if csv is not None:
-                csv.write(frame.features, frame=frame.number, stamp=time.time(), threshold=args.threshold,
-                          mode=frame.mode, width=hw.width, height=hw.height, dropped=frame.dropped,
+                csv.write(frame.features, frame=frame.number, stamp=time.time(), params=made_with,
+                          width=hw.width, height=hw.height, dropped=frame.dropped,
                           truncated=frame.truncated)  # fmt: skip
         wall = time.monotonic() - t0
         print(f"{n} frames in {wall:.2f} s: {n / wall if wall else 0:.2f} frames/s, "

@@ -28,6 +28,7 @@ from rosbags.typesys.store import Typestore
 from golden_model.brief import DESCRIPTOR_BYTES
 from golden_model.config import MODES, check_step
 from golden_model.features import NO_SECTOR, Features
+from golden_model.frameparams import FrameParams
 from orb_accel.csvdir import CsvDir
 
 TOPIC = "/orb_accel/features"
@@ -191,6 +192,13 @@ def _clean_up(out: Path, existed: bool) -> None:
         out.mkdir(exist_ok=True)
 
 
+def params_from_msg(msg: object) -> FrameParams:
+    """The parameters a message says its frame was processed with (docs/ros.md)."""
+    return FrameParams(threshold=int(msg.threshold), threshold_lo=int(msg.threshold_lo), mode=str(msg.mode),
+                       selection=str(msg.selection), budget=int(msg.budget), cols=int(msg.cols),
+                       rows=int(msg.rows))  # fmt: skip
+
+
 def bag_to_csv(bag: Path, out: Path, topic: str = TOPIC) -> int:
     """Convert the topic of a ROS 1 bag to a CSV directory (orb_accel.csvdir); returns the frame count.
 
@@ -206,7 +214,7 @@ def bag_to_csv(bag: Path, out: Path, topic: str = TOPIC) -> int:
                 for _, msg in _messages(reader, conns):
                     csv_dir.write(
                         features_from_msg(msg), frame=msg.frame, stamp=_stamp_seconds(msg.header.stamp),
-                        threshold=msg.threshold, mode=msg.mode, width=msg.width, height=msg.height,
+                        params=params_from_msg(msg), width=msg.width, height=msg.height,
                         dropped=msg.dropped, truncated=msg.truncated,
                     )  # fmt: skip
             except BaseException:

@@ -25,7 +25,9 @@ import pytest
 
 from golden_model import featcodec as fc
 from golden_model import featword as fw
+from golden_model.config import Config
 from golden_model.features import NO_SECTOR, Features
+from golden_model.frameparams import FrameParams
 from orb_flow.gen import featword as gen_featword
 from orb_sim.hdl import sources
 from orbtb.runner import ghdl_path_env
@@ -214,9 +216,11 @@ def test_stream_round_trip() -> None:
         assert fc.decode_feature(word) == fc.FeatureBeat(**v)
         assert fc.pack(FEATURE, fc.unpack(FEATURE, word)) == word
         e = random_values(rng, EOF)
-        eword = fc.encode_eof(e["frame"], e["drops"])
+        params = FrameParams.from_fields(e)
+        eword = fc.encode_eof(e["frame"], e["drops"], params)
         assert fc.eof_error(eword) is None and fc.is_eof(eword)
-        assert fc.decode_eof(eword) == fc.EofBeat(**e)
+        assert eword == fc.pack(EOF, e), "encode_eof must fill every field of the beat"
+        assert fc.decode_eof(eword) == fc.EofBeat(e["frame"], e["drops"], params)
     beat = fc.decode_feature(fc.encode_feature(scale=1, x=2, y=3, score=4, descriptor=bytes(range(32))))
     assert beat.descriptor_bytes == bytes(range(32))
 
@@ -298,16 +302,32 @@ def test_record_round_trip() -> None:
     rng = np.random.default_rng(7)
     for truncated in (0, 1, 12345, (1 << 32) - 1):
         frame, drops, count = (int(v) for v in rng.integers(0, 1 << 16, 3))
-        slot = fc.record_slot(fc.encode_eof(frame, drops), count, truncated)
+        params = FrameParams.from_fields(random_values(rng, EOF))
+        slot = fc.record_slot(fc.encode_eof(frame, drops, params), count, truncated)
         assert fc.is_record(slot) and len(slot) == fw.SLOT_WORDS
         assert fc.decode_record(slot[: fw.SLOT_RECORD_WORDS]) == fc.EndOfFrame(
-            count=count, frame=frame, dropped=drops, truncated=truncated, truncated_flag=truncated != 0
+            count=count, frame=frame, dropped=drops, truncated=truncated, truncated_flag=truncated != 0, params=params
         )
         assert not any(slot[fw.SLOT_RECORD_WORDS :])
         with pytest.raises(ValueError):
             fc.decode_slot_features(np.array([slot[: fw.SLOT_WORDS_USED]], dtype=np.uint32), 64)
     with pytest.raises(ValueError):
         fc.decode_record(fc.feature_slot(fc.encode_feature(scale=0, x=1, y=2, score=3)))
+
+
+def test_frame_params_are_the_beats_and_the_records() -> None:
+    """Every field FrameParams fills is a field of the end-of-frame beat and one of the record that
+    copies it, and every beat field but the frame number and the drops is one of them; a model
+    configuration round-trips through the beat and the record."""
+    cfg = Config(64, 48, threshold=33, mode="fast", threshold_lo=9, selection="grid", budget=4095, cols=15, rows=1)
+    params = FrameParams.of(cfg)
+    names = set(params.fields())
+    assert names == {f.name for f in EOF.fields} - {"frame", "drops"}
+    assert names == {f.source for f in fw.SLOT_RECORD.fields if f.source} - {"frame", "drops"}
+    assert fc.decode_eof(fc.encode_eof(1, 2, params)).params == params
+    assert fc.decode_record(fc.record_slot(fc.encode_eof(1, 2, params), 3, 0)).params == params
+    assert params.config(Config(64, 48, threshold=1)) == cfg
+    assert FrameParams.of(Config(64, 48, threshold=7)).threshold_lo == 7  # no low threshold: t_lo = t
 
 
 def test_featmem_names_the_codec() -> None:

@@ -8,7 +8,10 @@ frame with the model's features: scale, x, y, score, response and low flag in fa
 sector and descriptor in orb mode. The pytest runners below pick widths, heights, scales,
 sectors, modes, selections (`all`, or `grid:BUDGET:COLSxROWS:LOW`), images, thresholds and input gaps.
 A selection that changes waits SELECT_SETTLE idle clocks before its frame (the budget's split is
-formed from the inputs, orb_core's header).
+formed from the inputs, orb_core's header). Every end-of-frame beat must carry the parameters its
+frame was started with (docs/feature-word.md); with ORB_EARLY_WRITE the next frame's parameters (the
+last frame: a set that differs in every field) are written half-way through each frame, so the
+inputs hold other values when the frame's end-of-frame beat leaves.
 """
 
 from __future__ import annotations
@@ -21,7 +24,8 @@ from cocotb.clock import Clock
 from cocotb.triggers import ClockCycles, RisingEdge
 
 from golden_model.config import RECOMMENDED_SCALES, RECOMMENDED_SECTORS, RECOMMENDED_STEP, parse_step
-from orb_sim.core_inputs import SELECT_SETTLE, drive_selection
+from golden_model.frameparams import FrameParams
+from orb_sim.core_inputs import SELECT_SETTLE, drive_params, selection_params
 from orb_sim.feature_stream import FeatureMonitor
 from orb_sim.video import Gaps, VideoSource
 from orbtb import images
@@ -33,6 +37,19 @@ EOF_TIMEOUT_CYCLES = 5000
 
 def _env_list(name: str, default: str) -> list[str]:
     return [v for v in os.environ.get(name, default).split(",") if v]
+
+
+def other_params(p: FrameParams) -> FrameParams:
+    """Legal parameters that differ from `p` in every field."""
+    return FrameParams(threshold=p.threshold ^ 0x55, threshold_lo=p.threshold_lo ^ 0x3C,
+                       mode="fast" if p.mode == "orb" else "orb", selection="all" if p.selection == "grid" else "grid",
+                       budget=p.budget ^ 0x2A5, cols=p.cols % 15 + 1, rows=p.rows % 15 + 1)  # fmt: skip
+
+
+async def write_mid_frame(dut, clk, clocks: int, params: FrameParams) -> None:
+    """Drive `params` on orb_core's inputs `clocks` clocks from now (inside the frame being sent)."""
+    await ClockCycles(clk, clocks)
+    drive_params(dut, params)
 
 
 @cocotb.test()
@@ -50,12 +67,17 @@ async def detect_frames(dut) -> None:
     step = parse_step(os.environ.get("ORB_STEP", "2:1"))
     selections = _env_list("ORB_SELECT", "all")
     selections = [selections[i % len(selections)] for i in range(len(frames))]
+    params = [selection_params(sel, t, m) for sel, t, m in zip(selections, thresholds, modes, strict=True)]
+    early = os.environ.get("ORB_EARLY_WRITE", "0") == "1"
+    # what is written half-way through each frame (early): the next frame's parameters
+    later = [*params[1:], other_params(params[-1])]
+    if early:
+        for i, (p, q) in enumerate(zip(params, later, strict=True)):
+            assert p != q, f"frame {i}: the mid-frame write repeats its parameters, the test would prove nothing"
 
     clk = dut.clk
     dut.rst.value = 1
-    dut.threshold.value = thresholds[0]
-    dut.mode_orb.value = int(modes[0] == "orb")
-    drive_selection(dut, selections[0], thresholds[0])
+    drive_params(dut, params[0])
     dut.m_axis_feat_tready.value = 1
     source = VideoSource(dut, clk)
     source.idle()
@@ -68,13 +90,13 @@ async def detect_frames(dut) -> None:
 
     await ClockCycles(clk, SELECT_SETTLE)
     previous = selections[0]
-    for frame, t, mode, sel in zip(frames, thresholds, modes, selections, strict=True):
-        dut.threshold.value = t
-        dut.mode_orb.value = int(mode == "orb")
-        drive_selection(dut, sel, t)
+    for i, (frame, sel) in enumerate(zip(frames, selections, strict=True)):
+        drive_params(dut, params[i])
         if sel != previous:
             await ClockCycles(clk, SELECT_SETTLE)
             previous = sel
+        if early:
+            cocotb.start_soon(write_mid_frame(dut, clk, w * h // 2, later[i]))
         await source.send_frame(frame, gaps)
     latency = 0
     while len(monitor.frames) < len(frames):
@@ -86,6 +108,7 @@ async def detect_frames(dut) -> None:
                                                        strict=True)):  # fmt: skip
         assert got.number == i, f"frame {i}: end-of-frame beat numbered {got.number}"
         assert got.drops == 0, f"frame {i}: {got.drops} features dropped"
+        assert got.params == params[i], f"frame {i}: end-of-frame beat says {got.params}, it was made with {params[i]}"
         orb = mode == "orb"
         exp = expected_features(frame, scales, t, mode, sectors, step, sel)
         check_frame(got.features(sectors, descriptors=orb), exp, f"frame {i} ({mode}, threshold {t}, {sel})")
@@ -105,7 +128,7 @@ async def detect_frames(dut) -> None:
 
 def run_detect(width: int, height: int, scales: int, images_: str, thresholds: str, gaps: str = "none",
                modes: str = "fast", sectors: int = 32, step: tuple[int, int] = (2, 1),
-               selections: str = "all") -> None:  # fmt: skip
+               selections: str = "all", early_write: bool = False) -> None:  # fmt: skip
     generics = {"WIDTH_g": width, "HEIGHT_g": height, "SCALES_g": scales, "SECTORS_g": sectors}
     if step != (2, 1):
         generics |= {"STEP_NUM_g": step[0], "STEP_DEN_g": step[1]}
@@ -120,6 +143,7 @@ def run_detect(width: int, height: int, scales: int, images_: str, thresholds: s
             "ORB_MODES": modes,
             "ORB_STEP": f"{step[0]}:{step[1]}",
             "ORB_SELECT": selections,
+            "ORB_EARLY_WRITE": str(int(early_write)),
         },
     )
 
@@ -140,6 +164,14 @@ def run_detect(width: int, height: int, scales: int, images_: str, thresholds: s
 def test_grid_selection(width: int, height: int, scales: int, step: tuple[int, int], images_: str, thresholds: str,
                         gaps: str, modes: str, selections: str) -> None:  # fmt: skip
     run_detect(width, height, scales, images_, thresholds, gaps, modes, 32, step, selections)
+
+
+# Every frame says how it was made (issue 26, part 5): each frame's parameters are overwritten half-way
+# through it (back to back, so its end-of-frame beat also leaves after the next frame's start); every
+# end-of-frame beat must carry the parameters the frame was started with, and its features match them.
+def test_frame_params_written_mid_frame() -> None:
+    run_detect(96, 64, 2, "photo:astronaut,photo:coffee,photo:camera", "15,30,20", "none", "orb,fast,orb", 32, (2, 1),
+               "grid:40:5x4:7,all,grid:25:3x2:9", early_write=True)  # fmt: skip
 
 
 @pytest.mark.parametrize(

@@ -13,6 +13,7 @@ the next good frame bit-exact.
 
 from __future__ import annotations
 
+import dataclasses
 import warnings
 
 import cocotb
@@ -22,6 +23,8 @@ from cocotb.triggers import ClockCycles, Event, with_timeout
 
 from golden_model.featcodec import decode_eof, is_eof
 from golden_model.featword import FEAT_BITS
+from golden_model.frameparams import FrameParams
+from orb_sim.core_inputs import drive_params, selection_params
 from orb_sim.feature_stream import Frame
 from orbtb import images
 from orbtb.runner import run
@@ -34,6 +37,13 @@ warnings.filterwarnings("ignore", category=DeprecationWarning, module=r"cocotb_b
 from cocotbext.axi import AxiStreamBus, AxiStreamFrame, AxiStreamSink, AxiStreamSource  # noqa: E402
 
 FEATURE_BYTE_SIZE = FEAT_BITS  # one 320-bit word per beat (no tkeep on m_axis_feat)
+LOW = 7  # the low threshold input, held (all selection ignores it; the end-of-frame beat reports it)
+
+
+def params_at(threshold: int) -> FrameParams:
+    """The run-time inputs of a frame sent with `threshold` (fast mode, all selection), as its
+    end-of-frame beat must report them (only the threshold port changes here)."""
+    return dataclasses.replace(selection_params("all", threshold, "fast"), threshold_lo=LOW)
 
 
 class Bench:
@@ -46,8 +56,7 @@ class Bench:
     async def start(self, idle_prob: float, stall_prob: float) -> None:
         dut = self.dut
         dut.rst.value = 1
-        dut.threshold.value = 0
-        dut.mode_orb.value = 0
+        drive_params(dut, params_at(0))
         dut.s_axis_video_tvalid.value = 0
         dut.s_axis_video_tuser.value = 0
         dut.s_axis_video_tlast.value = 0
@@ -96,6 +105,7 @@ class Bench:
         assert not [w for w in frame.beats if is_eof(w)], f"{what}: end-of-frame flag without tlast"
         assert frame.number == self.frames_seen, f"{what}: end-of-frame beat numbered {frame.number}"
         assert frame.drops == 0, f"{what}: {frame.drops} features dropped"
+        assert e.params == params_at(threshold), f"{what}: the end-of-frame beat says {e.params}"
         check_frame(frame.features(), expected_features(img, self.scales, threshold), f"{what} (threshold {threshold})")
         self.dut._log.info("%s: %d features bit-exact", what, len(frame.beats))
         self.frames_seen += 1

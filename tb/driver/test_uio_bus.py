@@ -43,6 +43,7 @@ from golden_model.config import Config
 from golden_model.featcodec import encode_eof, encode_feature, feature_slot, record_slot
 from golden_model.featmem import SLOT_BYTES, SLOT_RECORD_WORDS, SLOT_WORDS_USED
 from golden_model.features import Features, first_difference
+from golden_model.frameparams import FrameParams
 from golden_model.latency import FEAT_MEM_READ_LAT
 from golden_model.pipeline import extract
 from orb_accel import UIO_NAME, DevMemBus, OrbAccel, UioBus, find_uio
@@ -53,6 +54,8 @@ ROOT = Path(__file__).resolve().parents[2]
 W, H, SCALES, SECTORS, DEPTH = 128, 96, 2, 32, 2048
 MAP_SIZE = 0x100000
 FRAME = 7
+# the parameters the frame's record says it was made with (the registers show others: the record wins)
+PARAMS = FrameParams(threshold=31, threshold_lo=9, mode="orb", selection="grid", budget=100, cols=5, rows=4)
 SLOT_WORDS = SLOT_BYTES // 4
 ENABLE = (1).to_bytes(4, sys.byteorder)  # b"\x01\x00\x00\x00" on the little-endian ARM and x86
 # BANK_RELEASE is write-only on the device; the file starts with a mark the driver's write must replace
@@ -94,7 +97,7 @@ def device_words(feats: Features) -> np.ndarray:
                               descriptor=bytes(feats.descriptor[s]), response=int(feats.response[s]),
                               low=int(feats.low[s]))  # fmt: skip
         words[base + s * SLOT_WORDS : base + (s + 1) * SLOT_WORDS] = feature_slot(beat)
-    words[base + n * SLOT_WORDS : base + (n + 1) * SLOT_WORDS] = record_slot(encode_eof(FRAME), n, 0)
+    words[base + n * SLOT_WORDS : base + (n + 1) * SLOT_WORDS] = record_slot(encode_eof(FRAME, 0, PARAMS), n, 0)
     return words
 
 
@@ -269,6 +272,7 @@ def test_driver_reads_id_config_and_bank(device: FakeDevice) -> None:
         assert diff is None, diff
         assert len(want) > 20
         assert (frame.record.count, frame.record.frame, frame.record.truncated) == (len(want), FRAME, 0)
+        assert frame.params == PARAMS and frame.mode == "orb", (frame.params, frame.mode)
         assert regs.BANK0_INFO.offset in register_reads
         words = len(want) * SLOT_WORDS_USED + SLOT_RECORD_WORDS + len(register_reads)
         assert bus.reads - reads_before == words

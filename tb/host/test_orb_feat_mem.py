@@ -40,6 +40,7 @@ from golden_model.featcodec import (
     resolve_selection,
 )
 from golden_model.featword import EOF_BEAT, FEATURE_BEAT, SLOT_BYTES, SLOT_WORD_BITS, SLOT_WORDS, SLOT_WORDS_USED
+from golden_model.frameparams import FrameParams
 from golden_model.latency import FEAT_MEM_READ_LAT
 from orbtb.runner import run
 from orbtb.unit import SIM_ENV, env_int
@@ -68,8 +69,13 @@ def feature_beat(rng: np.random.Generator) -> int:
     return encode_feature(scale=scale, x=x, y=y, score=score, sector=sector, descriptor=desc)
 
 
-def eof_beat(number: int, dropped: int) -> int:
-    return encode_eof(number, dropped)
+def frame_params(rng: np.random.Generator) -> FrameParams:
+    """Random parameters of a frame (every field of the end-of-frame beat that carries them random)."""
+    return FrameParams.from_fields({f.name: int(rng.integers(0, 1 << f.width)) for f in EOF_BEAT.fields})
+
+
+def eof_beat(number: int, dropped: int, params: FrameParams) -> int:
+    return encode_eof(number, dropped, params)
 
 
 def feature_words(tdata: int) -> list[int]:
@@ -77,9 +83,9 @@ def feature_words(tdata: int) -> list[int]:
     return feature_slot(tdata)
 
 
-def record_words(count: int, number: int, dropped: int, truncated: int) -> list[int]:
-    """The 16 words of the end-of-frame record as the CPU reads them."""
-    return record_slot(encode_eof(number, dropped), count, truncated & M32)
+def record_words(count: int, number: int, dropped: int, truncated: int, params: FrameParams) -> list[int]:
+    """The 16 words of the end-of-frame record as the CPU reads them (with the frame's parameters)."""
+    return record_slot(encode_eof(number, dropped, params), count, truncated & M32)
 
 
 @dataclass
@@ -88,10 +94,11 @@ class TxFrame:
 
     number: int
     features: list[int]
-    dropped: int = 0
+    dropped: int
+    params: FrameParams  # the parameters its end-of-frame beat carries (random: the record must copy them)
 
     def beats(self) -> list[Beat]:
-        return [(f, 0) for f in self.features] + [(eof_beat(self.number, self.dropped), 1)]
+        return [(f, 0) for f in self.features] + [(eof_beat(self.number, self.dropped, self.params), 1)]
 
 
 @dataclass
@@ -206,7 +213,7 @@ class MemModel:
         eof = decode_eof(data)
         number, dropped = eof.frame, eof.drops
         if store and not abort_now:
-            self.mem[base + self.cnt] = record_words(self.cnt, number, dropped, self.trunc)[:STORED]
+            self.mem[base + self.cnt] = record_words(self.cnt, number, dropped, self.trunc, eof.params)[:STORED]
         if abort_now:
             self.aborted += 1
         elif not store:
@@ -355,7 +362,7 @@ class MemBench:
         """The next frame of the stream (numbers count up like the merge's), with n features."""
         if dropped is None:
             dropped = int(self.rng.integers(0, DROPS_LIMIT))
-        f = TxFrame(self.frame_no, [feature_beat(self.rng) for _ in range(n)], dropped)
+        f = TxFrame(self.frame_no, [feature_beat(self.rng) for _ in range(n)], dropped, frame_params(self.rng))
         self.frame_no = (self.frame_no + 1) & FRAME_MASK
         return f
 
@@ -423,7 +430,7 @@ class MemBench:
         assert len(view.features) == len(kept), f"bank {bank}: {len(view.features)} features, expected {len(kept)}"
         for k, (g, f) in enumerate(zip(view.features, kept, strict=True)):
             assert g == feature_words(f), f"bank {bank}, frame {tx.number}, feature {k}: {g} != {feature_words(f)}"
-        exp = record_words(len(kept), tx.number, tx.dropped, trunc)
+        exp = record_words(len(kept), tx.number, tx.dropped, trunc, tx.params)
         assert view.record == exp, f"bank {bank}: record {view.record}, expected {exp}"
         hdr = [int(getattr(self.dut, f"bank{bank}_{n}").value) for n in ("count", "frame", "dropped", "trunc")]
         assert hdr == [len(kept), tx.number, tx.dropped, trunc], f"bank {bank}: header {hdr}"
@@ -566,7 +573,7 @@ def selection_frame(b: MemBench, n_new: int, n_repl: int) -> tuple[TxFrame, list
         target = taken[int(b.rng.integers(0, len(taken)))]
         words.append(feature_beat(b.rng) | FEATURE_BEAT.field("sel_slot").put(target)
                      | FEATURE_BEAT.field("sel_replace").put(1))  # fmt: skip
-    f = TxFrame(b.frame_no, words, int(b.rng.integers(0, DROPS_LIMIT)))
+    f = TxFrame(b.frame_no, words, int(b.rng.integers(0, DROPS_LIMIT)), frame_params(b.rng))
     b.frame_no = (b.frame_no + 1) & FRAME_MASK
     return f, resolve_selection(words)
 
@@ -586,7 +593,7 @@ async def selection_replaces(dut) -> None:
         assert b.model.published[-1].number == f.number
         b.clear_reads()
         await b.run([], reads=b.bank_reads(bank))
-        b.check_frame(bank, TxFrame(f.number, kept, f.dropped))
+        b.check_frame(bank, TxFrame(f.number, kept, f.dropped, f.params))
         await b.run([], releases={0: bank})
 
 

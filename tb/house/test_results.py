@@ -41,6 +41,7 @@ def _copy_root(tmp: Path) -> Path:
         Path("docs/results/sim.json"),
         Path("docs/results/bench.json"),
         Path("docs/results/test.json"),
+        Path("docs/results/formal.json"),
     ]:
         (tmp / rel).parent.mkdir(parents=True, exist_ok=True)
         shutil.copyfile(ROOT / rel, tmp / rel)

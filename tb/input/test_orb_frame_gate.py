@@ -1,8 +1,10 @@
 # SPDX-License-Identifier: MIT
 """orb_frame_gate against a reference model of its rule (docs/frame-gate.md).
 
-The rule: `enable` is sampled with each start of frame, at the clock edge that takes the frame's
-tuser beat; a frame sampled with enable 1 passes whole, in order, however enable changes later; a
+The rule: `enable` is sampled with each start of frame, at the first clock edge that sees the
+frame's tuser beat on the input (the edge that takes it, unless a passing one waits on a stalled
+output: it keeps passing, AXI4-Stream's rule); a frame sampled with enable 1 passes whole, in order,
+however enable changes later; a
 frame sampled with enable 0 is taken whole (s_axis_video_tready 1 at every one of its beats, no
 stall whatever the output does) and never appears on the output; out of reset the gate is open
 (the rest of a frame cut by a reset passes). Latency 0: a passed beat is on the output in the
@@ -11,7 +13,9 @@ same clock as on the input, and tready comes back from the output.
 `GateModel` implements that rule one clock edge at a time. A monitor reads the ports at every edge,
 steps the model and checks: an input beat the model passes is on m_axis_video at that edge with the
 same data, tuser and tlast, and s_axis_video_tready equals m_axis_video_tready; a beat the model
-drops is taken at once (tready 1) and m_axis_video_tvalid is 0. At the end: every input beat was
+drops is taken at once (tready 1) and m_axis_video_tvalid is 0; and, whatever the model says, a beat on
+m_axis_video that is not taken is there at the next edge with the same data, tuser and tlast
+(AXI4-Stream's source rule, which the formal check proves: docs/formal.md). At the end: every input beat was
 taken once, in order; the output beats (seen by the monitor and, in the random runs, received by
 cocotbext-axi's AxiStreamSink) are exactly the model's passed beats; the directed scenarios also
 compare the output with the frames they name by hand.
@@ -20,7 +24,8 @@ Directed: the gate open out of reset (beats without a start of frame pass while 
 enable falling during a passed frame (it still passes whole) and rising during a dropped frame (it
 stays blocked); enable changing in the same clock as the tuser beat (the new value decides), in the
 clock after it (the old value decides) and while the tuser beat is stalled by the output (the
-value at the edge that takes it decides); back-to-back frames; reset in mid-frame reopens the gate;
+value of its first clock decides: enable falling while it waits does not drop it, the regression
+test of the violation the formal check found); back-to-back frames; reset in mid-frame reopens the gate;
 one beat per clock without gaps or back-pressure. Random (seed ORB_SEED): frames of random sizes,
 random input gaps, AxiStreamSink back-pressure from a pause generator, enable toggling at random
 clocks plus on and right after start-of-frame beats, resets at random points; the run must have hit
@@ -87,26 +92,34 @@ Step = Send | Idle | Reset
 class GateModel:
     """The frame gate's rule, one clock edge at a time.
 
-    A frame passes or is dropped as a whole; which is decided by `enable` at the clock edge that
-    takes its start-of-frame (tuser) beat. Beats after a reset and before the next start of frame
-    pass (the gate is open out of reset)."""
+    A frame passes or is dropped as a whole; which is decided by `enable` at the first clock edge
+    that sees its start-of-frame (tuser) beat on the input: a dropped one is taken there, a passing
+    one that the output stalls keeps passing until taken (`sof_hold`). Beats after a reset and
+    before the next start of frame pass (the gate is open out of reset)."""
 
     def __init__(self) -> None:
         self.frame_passes = True
+        self.sof_hold = False  # a passing tuser beat was not taken at the last edge
 
     def passes(self, user: int, enable: int) -> bool:
         """Whether the beat on the input at this edge is one of a passed frame (were it taken now)."""
         if user:
-            return enable == 1
+            return enable == 1 or self.sof_hold
         return self.frame_passes
 
-    def take(self, user: int, enable: int) -> None:
-        """The input beat is taken at this edge."""
-        if user:
-            self.frame_passes = enable == 1
+    def step(self, user: int, passes: bool, taken: bool) -> None:
+        """The input beat (user, passes) is taken at this edge, or waits (not taken)."""
+        if user and taken:
+            self.frame_passes = passes
+        self.sof_hold = bool(user and passes and not taken)
+
+    def idle(self) -> None:
+        """No beat on the input at this edge."""
+        self.sof_hold = False
 
     def reset(self) -> None:
         self.frame_passes = True
+        self.sof_hold = False
 
 
 def port_beat(dut, prefix: str) -> Beat:
@@ -162,6 +175,7 @@ class Bench:
         sof_enable: int | None = None  # enable at the start of the frame under way (None: none since rst)
         reopened = False  # the gate was closed when rst came: later beats of that frame must pass
         waiting: Beat | None = None  # a passing tuser beat the output stalled at the last edge
+        m_held: Beat | None = None  # the beat on m_axis_video not taken at the last edge
         while True:
             await RisingEdge(dut.clk)
             self.edge += 1
@@ -174,6 +188,9 @@ class Bench:
                 m_beat = port_beat(dut, "m_axis_video")
                 if m_ready:
                     self.out.append((self.edge, m_beat))
+            if m_held is not None and m_beat != m_held:
+                self._error(f"m_axis_video beat {m_held} not taken, then {m_beat} (tvalid {m_valid}): AXI4-Stream")
+            m_held = m_beat if m_valid and not m_ready and not rst else None
             if after_sof is not None and en != after_sof:
                 cov["enable changed in the clock after a start of frame"] += 1
             after_sof = None
@@ -195,8 +212,8 @@ class Bench:
                         self._error(f"dropped beat {beat} not taken (s_axis_video_tready 0)")
                     if not m_ready:
                         cov["dropped beat taken while the output stalls"] += 1
-                if beat.user and not passes and beat == waiting:
-                    cov["tuser beat dropped after waiting for the output"] += 1
+                if beat.user and passes and en == 0 and beat == waiting:
+                    cov["tuser beat kept passing after enable fell while it waited"] += 1
                 waiting = beat if beat.user and passes and not s_ready else None
                 if s_ready:
                     self.taken.append((self.edge, beat, en, passes))
@@ -214,8 +231,9 @@ class Bench:
                         cov["beats passed with enable 0 (it fell in mid-frame)"] += 1
                     elif sof_enable == 0 and en == 1 and not passes:
                         cov["beats dropped with enable 1 (it rose in mid-frame)"] += 1
-                    model.take(beat.user, en)
+                model.step(beat.user, passes, bool(s_ready))
             else:
+                model.idle()
                 waiting = None
                 if m_valid:
                     self._error(f"output beat {m_beat} with no input beat")
@@ -381,7 +399,7 @@ async def enable_changes_mid_frame(dut) -> None:
 async def enable_with_start_of_frame(dut) -> None:
     """Enable changing in the same clock as the tuser beat (the new value decides), in the clock
     after it (the old value decides), and while the tuser beat waits for a stalled output (the
-    value at the edge that takes it decides); frames back to back, without gaps."""
+    value of its first clock decides: it keeps passing); frames back to back, without gaps."""
     b = Bench(dut)
     await b.start(enable=0)
     rng = np.random.default_rng(3)
@@ -392,14 +410,55 @@ async def enable_with_start_of_frame(dut) -> None:
         *sends(f[2], b1={"enable": 1}),  # 0 -> 1 in the clock after the tuser beat: dropped
         *sends(f[3], b1={"enable": 0}),  # (enable 1 at its tuser beat) 1 -> 0 in the clock after: passes
         *sends(f[4], b0={"enable": 1, "stall": 3}),  # tuser beat stalled 3 clocks, enable 1: passes
-        *sends(f[5], b0={"stall": 2, "enable_late": 0}),  # stalled, enable falls before taken: dropped
+        *sends(f[5], b0={"stall": 2, "enable_late": 0}),  # stalled, enable falls before taken: passes
         *sends(f[6], b0={"gap": 2, "enable": 1}),  # after a gap: passes
         *sends(f[7], b0={"enable": 0}, b1={"enable": 1}),  # 1 -> 0 with the tuser beat, back 1 after: dropped
         *sends(f[8]),  # passes
     ]
     await b.drive(steps)
-    b.check(steps, "enable with the start of frame", expect=f[0] + f[3] + f[4] + f[6] + f[8])
-    assert b.cov["tuser beat dropped after waiting for the output"] == 1
+    b.check(steps, "enable with the start of frame", expect=f[0] + f[3] + f[4] + f[5] + f[6] + f[8])
+    assert b.cov["tuser beat kept passing after enable fell while it waited"] == 1
+
+
+@cocotb.test()
+async def sof_waiting_keeps_tvalid(dut) -> None:
+    """The regression test of the violation the formal check found (docs/formal.md): enable falls
+    while a passing start-of-frame beat waits on a stalled output. The old gate dropped
+    m_axis_video_tvalid there without a handshake (and the beat with it); now the beat stays on
+    m_axis_video with its data until taken, its frame passes whole and the next one is dropped."""
+    b = Bench(dut)
+    await b.start(enable=1)
+    rng = np.random.default_rng(6)
+    f = [frame(rng, 3, 2, b.bits) for _ in range(3)]
+    for stall in (1, 4):
+        dut.s_axis_video_tdata.value = f[0][0].data
+        dut.s_axis_video_tuser.value = 1
+        dut.s_axis_video_tlast.value = f[0][0].last
+        dut.s_axis_video_tvalid.value = 1
+        dut.m_axis_video_tready.value = 0
+        await RisingEdge(dut.clk)  # offered with enable 1, not taken
+        dut.enable.value = 0
+        for _ in range(stall):
+            await RisingEdge(dut.clk)
+            assert dut.m_axis_video_tvalid.value == 1, f"stall {stall}: m_axis_video_tvalid fell, beat not taken"
+            assert port_beat(dut, "m_axis_video") == f[0][0], f"stall {stall}: m_axis_video beat changed"
+            assert dut.s_axis_video_tready.value == 0, f"stall {stall}: the waiting beat was taken"
+        dut.m_axis_video_tready.value = 1
+        await RisingEdge(dut.clk)
+        assert dut.m_axis_video_tvalid.value == 1 and dut.s_axis_video_tready.value == 1, "beat not passed"
+        dut.s_axis_video_tvalid.value = 0
+        dut.enable.value = 1
+        await RisingEdge(dut.clk)
+    b.enable = 1
+    steps: list[Step] = [
+        *sends(f[0], b0={"stall": 3, "enable_late": 0}),  # enable falls while the tuser beat waits: passes
+        *sends(f[1]),  # enable 0: dropped
+        *sends(f[2], b0={"enable": 1}),
+    ]
+    await b.drive(steps)
+    assert not b.errors, "; ".join(b.errors)
+    got = [bt for _, bt in b.out]
+    assert got[-len(f[0] + f[2]) :] == f[0] + f[2], "the frame whose tuser beat waited did not pass whole"
 
 
 @cocotb.test()
@@ -491,6 +550,7 @@ async def random_traffic(dut) -> None:
         "beats dropped with enable 1 (it rose in mid-frame)",
         "beats of a closed frame passed after reset",
         "passing beat stalled by the output",
+        "tuser beat kept passing after enable fell while it waited",
         "dropped beat taken while the output stalls",
     )
     missing = [w for w in wanted if b.cov[w] == 0]

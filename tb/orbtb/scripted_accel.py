@@ -7,7 +7,11 @@ A finished frame goes to the next bank unless that bank is still READY, in which
 skipped (an overrun) and the next frame tries the same bank again; a published frame sets
 IRQ_STATUS.frame_done and STATUS.last_bank. Frames finish when the driver waits for the interrupt
 (while the video plays), or at a chosen STATUS read. Each frame is empty (its record alone), which
-is all the driver's frame handling needs. Faults: `video = False` (a cable cut: no frame
+is all the driver's frame handling needs; its record carries the parameters it was processed with
+(docs/feature-memory.md): those of the registers when the frame finishes (a write between the
+driver's waits landed in the blanking before the frame started), or with `late_writes` those of
+the registers when the frame before it finished (every write after an interrupt missed the
+blanking: the frame in flight had started). Faults: `video = False` (a cable cut: no frame
 finishes, wait_irq times out), `fail(op, addr, nth)` (the nth next access of that kind answers
 SLVERR, the access not done, as the register bank answers one), `lose_irq()` (a published frame's
 interrupt cleared behind the driver's back).
@@ -18,8 +22,10 @@ from __future__ import annotations
 import numpy as np
 
 from golden_model import regs
+from golden_model.config import MODES, SELECTIONS
 from golden_model.featcodec import encode_eof, record_slot
 from golden_model.featword import SLOT_BYTES
+from golden_model.frameparams import FrameParams
 from orb_accel import BusError
 
 W, H, SCALES, SECTORS, DEPTH = 128, 96, 2, 32, 16
@@ -38,6 +44,9 @@ class ScriptedAccel:
         self.overruns = 0
         self.ctrl = 0
         self.threshold = 20
+        self.select = 0
+        self.late_writes = False
+        self.started = self.params()  # the parameters of the frame in flight, with late_writes
         self.finish_on_status_read: int | None = None  # finish a frame at the n-th STATUS read
         self.status_reads = 0
         self.mem: dict[int, int] = {}
@@ -45,16 +54,28 @@ class ScriptedAccel:
         self.failures: dict[tuple[str, int | None], int] = {}  # (op, addr or None for the memory) -> countdown
         self.injected = 0
 
+    def params(self) -> FrameParams:
+        """The parameters the registers hold now."""
+        thr, sel = self.threshold, self.select
+        return FrameParams(
+            threshold=regs.THRESHOLD.field("threshold").get(thr), threshold_lo=regs.THRESHOLD.field("low").get(thr),
+            mode=MODES[regs.CTRL.field("mode").get(self.ctrl)],
+            selection=SELECTIONS[regs.SELECT.field("mode").get(sel)], budget=regs.SELECT.field("budget").get(sel),
+            cols=regs.SELECT.field("cols").get(sel), rows=regs.SELECT.field("rows").get(sel),
+        )  # fmt: skip
+
     def finish_frame(self) -> None:
         b = self.next_bank
         self.frames += 1
+        made_with = self.started if self.late_writes else self.params()
+        self.started = self.params()  # the next frame starts now
         if self.ready[b]:
             self.overruns += 1
             return
         self.ready[b], self.last_bank, self.next_bank = 1, b, b ^ 1
         self.irq_status |= regs.IRQ_STATUS.field("frame_done").put(1)
         base = regs.MEM_BASE + b * DEPTH * SLOT_BYTES
-        for i, w in enumerate(record_slot(encode_eof(self.frames & 0xFFFF), 0, 0)):
+        for i, w in enumerate(record_slot(encode_eof(self.frames & 0xFFFF, 0, made_with), 0, 0)):
             self.mem[base + 4 * i] = w
 
     def lose_irq(self) -> None:
@@ -87,7 +108,9 @@ class ScriptedAccel:
             return regs.STATUS.field("last_bank").put(self.last_bank, word)
         values = {
             regs.ID.offset: regs.ORB_ID,
-            regs.VERSION.offset: regs.VERSION.field("major").put(regs.VERSION_MAJOR),
+            regs.VERSION.offset: regs.VERSION.field("minor").put(
+                regs.VERSION_MINOR, regs.VERSION.field("major").put(regs.VERSION_MAJOR)
+            ),
             regs.CFG_SIZE.offset: regs.CFG_SIZE.field("height").put(H, regs.CFG_SIZE.field("width").put(W)),
             regs.CFG_ORB.offset: regs.CFG_ORB.field("step_den").put(
                 1,
@@ -98,6 +121,7 @@ class ScriptedAccel:
             regs.CFG_MEM.offset: regs.CFG_MEM.field("depth").put(DEPTH),
             regs.CTRL.offset: self.ctrl,
             regs.THRESHOLD.offset: self.threshold,
+            regs.SELECT.offset: self.select,
             regs.IRQ_STATUS.offset: self.irq_status,
             regs.IRQ_ENABLE.offset: self.irq_enable,
             regs.BANK0_INFO.offset: 0,
@@ -118,6 +142,8 @@ class ScriptedAccel:
             self.ctrl = value
         elif addr == regs.THRESHOLD.offset:
             self.threshold = value
+        elif addr == regs.SELECT.offset:
+            self.select = value
 
     def read_block(self, addr: int, count: int) -> np.ndarray:
         self._check("block", addr)

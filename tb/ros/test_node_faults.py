@@ -14,6 +14,7 @@ through a roscore and the simulated netlist is test_ros_node.py's test_node_unde
 
 from __future__ import annotations
 
+import dataclasses
 import threading
 from types import SimpleNamespace
 
@@ -121,3 +122,32 @@ def test_an_error_response_after_the_change_answers_the_call(
     after = n.step()
     assert after is not None and after.number == first.number + 2 and n.frames_missed == 1
     assert "frames_missed +1" in reports(fake)[-1].message
+
+
+@pytest.mark.parametrize("late", [False, True], ids=["in the blanking", "missed the blanking"])
+def test_each_message_carries_its_frames_parameters(node: tuple[FeatureNode, ScriptedAccel, FakeRospy],
+                                                    late: bool) -> None:  # fmt: skip
+    """The message's threshold and mode (and selection) are the frame's record's (docs/ros.md): a
+    change written after a frame-done interrupt that misses the vertical blanking (late) leaves the
+    frame in flight with the old values, and its message says so, while the node's own record (and
+    every register) already holds the new ones; the message after it says the new ones."""
+    n, bus, fake = node
+    bus.late_writes = late
+    n.step()
+    t, out = call_set_params(n, 35)
+    first = n.step()  # the change is written right after this frame's interrupt
+    t.join(5.0)
+    assert first is not None and out and out[0].success and out[0].after_frame == first.number, out
+    n.params = dataclasses.replace(n.params, mode="fast")  # the node's record now disagrees in mode too
+    second, third = n.step(), n.step()
+    assert second is not None and third is not None
+    by_frame = {m.frame: m for m in fake.topics["~features"]}
+    sel = n.accel.selection
+    for frame, threshold in ((first, 20), (second, 20 if late else 35), (third, 35)):
+        m = by_frame[frame.number]
+        assert (m.threshold, m.mode) == (threshold, "orb"), (frame.number, m.threshold, m.mode)
+        assert (m.selection, m.budget, m.cols, m.rows, m.threshold_lo) == (
+            sel.mode, sel.budget if sel.mode == "grid" else 0, *sel.cells, sel.threshold_lo)  # fmt: skip
+        assert frame.params is not None and frame.params.threshold == threshold
+    if late:  # the label the node's own record gives the frame in flight would be wrong
+        assert by_frame[second.number].threshold != n.params.threshold

@@ -19,6 +19,7 @@ from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 
 from golden_model.config import Config
 from golden_model.features import Features, first_difference
+from golden_model.frameparams import FrameParams
 from golden_model.pipeline import extract
 from orb_accel.csvdir import INDEX_COLUMNS, CsvDir, read_csv_dir
 from orb_tools.rosbag_convert import (
@@ -41,6 +42,8 @@ ARRAYS = ("x", "y", "size", "angle", "response", "octave", "scale_x", "scale_y",
 COUNTERS = ("frames_total", "dropped_total", "overflow_total", "overrun_total", "protocol_errors_total",
             "desc_lost_total", "discarded_total")  # fmt: skip
 T0 = 1_700_000_000_123_456_789  # ns
+GRID54 = dataclasses.replace(ORB, threshold=30, scales=4, step_num=5, step_den=4, selection="grid", budget=50, cols=5,
+                             rows=4, threshold_lo=9)  # fmt: skip
 
 
 @dataclasses.dataclass(frozen=True)
@@ -59,7 +62,7 @@ def frames() -> list[Frame]:
     frame numbers wrap."""
     cases = [
         (ORB, photo("astronaut", 128, 96)),
-        (dataclasses.replace(ORB, threshold=30, scales=4, step_num=5, step_den=4), photo("coffee", 128, 96)),
+        (GRID54, photo("coffee", 128, 96)),
         (dataclasses.replace(ORB, mode="fast"), photo("astronaut", 128, 96)),
         (ORB, flat(128, 96)),
     ]
@@ -76,12 +79,15 @@ def make_msg(fr: Frame) -> object:
     """The node's message for one frame (rosbags' ROS 1 classes), as docs of Features.msg say."""
     types = typestore_ros1().types
     f, cfg = fr.features, fr.cfg
+    p = FrameParams.of(cfg)
     mult = (cfg.step_num / cfg.step_den) ** f.scale.astype(np.float64)
     stamp = types["builtin_interfaces/msg/Time"](sec=fr.stamp_ns // 10**9, nanosec=fr.stamp_ns % 10**9)
     return types[MSGTYPE](
         header=types["std_msgs/msg/Header"](seq=fr.frame, stamp=stamp, frame_id="orb_accel"),
         width=cfg.width, height=cfg.height, frame=fr.frame, threshold=cfg.threshold, mode=cfg.mode,
-        scales=cfg.scales, sectors=cfg.sectors, step_num=cfg.step_num, step_den=cfg.step_den, budget=0,
+        scales=cfg.scales, sectors=cfg.sectors, step_num=cfg.step_num, step_den=cfg.step_den,
+        budget=p.budget if p.selection == "grid" else 0, selection=p.selection, threshold_lo=p.threshold_lo,
+        cols=p.cols, rows=p.rows,
         x=((f.x + 0.5) * mult - 0.5).astype(np.float32), y=((f.y + 0.5) * mult - 0.5).astype(np.float32),
         size=(31 * mult).astype(np.float32),
         angle=np.where(f.sector >= 0, f.sector * (360.0 / cfg.sectors), -1.0).astype(np.float32),
@@ -130,8 +136,8 @@ def assert_same(want: Features, got: Features, what: str) -> None:
 
 def write_frame(d: CsvDir, fr: Frame) -> Path:
     return d.write(
-        fr.features, frame=fr.frame, stamp=fr.stamp_ns / 1e9, threshold=fr.cfg.threshold, mode=fr.cfg.mode,
-        width=fr.cfg.width, height=fr.cfg.height, dropped=fr.dropped, truncated=fr.truncated,
+        fr.features, frame=fr.frame, stamp=fr.stamp_ns / 1e9, params=FrameParams.of(fr.cfg), width=fr.cfg.width,
+        height=fr.cfg.height, dropped=fr.dropped, truncated=fr.truncated,
     )  # fmt: skip
 
 
@@ -148,6 +154,8 @@ def test_csv_dir_round_trip(frames: list[Frame], tmp_path: Path) -> None:
             "index": i, "file": paths[i].name, "frame": fr.frame, "stamp": fr.stamp_ns / 1e9,
             "threshold": fr.cfg.threshold, "mode": fr.cfg.mode, "sectors": fr.cfg.sectors, "width": 128,
             "height": 96, "features": len(fr.features), "dropped": fr.dropped, "truncated": fr.truncated,
+            "threshold_lo": fr.cfg.threshold_lo, "selection": fr.cfg.selection, "budget": fr.cfg.budget,
+            "cols": fr.cfg.cols, "rows": fr.cfg.rows,
         }  # fmt: skip
         assert_same(fr.features, feats, f"frame {i}")
 
@@ -244,6 +252,10 @@ def test_bag_to_csv(frames: list[Frame], bag: Path, tmp_path: Path) -> None:
             fr.cfg.threshold, fr.cfg.mode, fr.cfg.sectors, fr.cfg.width, fr.cfg.height,
         )  # fmt: skip
         assert (row["dropped"], row["truncated"], row["features"]) == (fr.dropped, fr.truncated, len(fr.features))
+        p = FrameParams.of(fr.cfg)
+        budget = p.budget if p.selection == "grid" else 0
+        assert (row["threshold_lo"], row["selection"], row["budget"], row["cols"], row["rows"]) == (
+            p.threshold_lo, p.selection, budget, p.cols, p.rows)  # fmt: skip
         assert row["stamp"] == pytest.approx(fr.stamp_ns / 1e9, abs=1e-6)
         assert_same(fr.features, feats, f"frame {fr.frame}")
 
@@ -426,7 +438,7 @@ def test_bag_written_by_debian_rosbag(frames: list[Frame], tmp_path: Path) -> No
     """A bag as `rosbag record` writes it (Debian's rosbag.Bag, a genpy class made from the .msg
     text): accepted (same md5sum) and converted to the same features."""
     scalars = ("width", "height", "frame", "threshold", "mode", "scales", "sectors", "step_num", "step_den", "budget",
-               "dropped", "truncated", *COUNTERS)  # fmt: skip
+               "selection", "threshold_lo", "cols", "rows", "dropped", "truncated", *COUNTERS)  # fmt: skip
     data = []
     for fr in frames:
         m = make_msg(fr)

@@ -18,6 +18,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+from orb_flow import formal
 from orb_flow.gen.codegen import views_main
 
 ROOT = Path(__file__).resolve().parents[3]
@@ -41,6 +42,7 @@ class Records:
         self.sim = self._runs(root / "docs" / "results" / "sim.json")
         self.bench = self._runs(root / "docs" / "results" / "bench.json")
         self.test = self._runs(root / "docs" / "results" / "test.json")
+        self.formal = self._runs(root / "docs" / "results" / "formal.json")
         self.synth = json.loads((root / SYNTH).read_text())["jobs"]
         self.board = json.loads((root / BOARD).read_text())
 
@@ -303,6 +305,17 @@ def test_table(records: Records) -> list[str]:
     return _table(head, rows)
 
 
+def formal_table(records: Records) -> list[str]:
+    run = records.run("formal", "make-formal")
+    order = [k for k in formal.CHECKS if k in run["data"]]
+    missing = [k for k in formal.CHECKS if k not in run["data"]]
+    if missing:
+        raise ResultsError(f"docs/results/formal.json lacks the checks {', '.join(missing)}: run make formal and "
+                           "record it (python -m orb_flow.record formal)")  # fmt: skip
+    text = formal.table({k: run["data"][k] for k in order})
+    return [*text.rstrip("\n").split("\n"), "", f"Measured by {_source(run)} ({run['tools']})."]
+
+
 def sim_table(records: Records) -> list[str]:
     rows = []
     for run in records.sim.values():
@@ -406,6 +419,7 @@ TABLES: dict[str, tuple[Path, Callable[[Records], list[str]]]] = {
     "select-blocks": (Path("docs/selection.md"), lambda r: blocks_table(r, ("orb_harris", "orb_feat_select"))),
     "board-worst-paths": (Path("docs/synthesis.md"), worst_paths_table),
     "make-test": (Path("docs/conventions.md"), test_table),
+    "formal": (Path("docs/formal.md"), formal_table),
 }
 
 
