@@ -67,7 +67,7 @@ import subprocess
 import sys
 import threading
 import time
-from collections.abc import Collection, Sequence
+from collections.abc import Collection, Mapping, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
@@ -786,7 +786,7 @@ def expected_entry(rec: dict[str, Any], cdir: Path, command: str, old: dict[str,
         "command": command,
         "commit": rec["hdl_revision"].removeprefix("commit "),
         "date": rec["date"],
-        "tools": f"{rec['tools']['ghdl']}; {rec['tools']['yosys']}",
+        "tools": ", ".join(" ".join(rec["tools"][t].split()[:2]) for t in ("ghdl", "yosys")),  # GHDL 2.0.0, Yosys 0.23
     }
     entry["wall_s"] = rec["wall_s"]
     stat = cdir / "stat.txt"
@@ -808,8 +808,14 @@ def update_expected(
             continue
         old = expected["jobs"].get(rec["job"], {})
         expected["jobs"][rec["job"]] = expected_entry(rec, cdir, command, old)
-    path.write_text(json.dumps(expected, indent=2, ensure_ascii=False) + "\n")
+    path.write_text(dump_expected(expected))
     return refused
+
+
+def dump_expected(expected: Mapping[str, Any]) -> str:
+    """The expected-values file's text: indented JSON, a block's [smallest, largest] pairs on one line."""
+    text = json.dumps(expected, indent=2, ensure_ascii=False)
+    return re.sub(r"\[\s+(-?[\d.]+),\s+(-?[\d.]+)\s+\]", r"[\1, \2]", text) + "\n"
 
 
 def main(argv: list[str] | None = None) -> int:

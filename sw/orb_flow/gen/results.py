@@ -274,6 +274,12 @@ def blocks_table(records: Records, only: tuple[str, ...] = ()) -> list[str]:
     ]
 
 
+def _endpoint(text: str) -> str:
+    """A path's endpoint in words: a register's name, or a primitive abc named, by its type and pin."""
+    m = re.fullmatch(r"\$abc\$\S+ \((\w+)\.(\w+)\)", text)
+    return f"a {m[1]}'s {m[2]} input" if m else f"`{text}`"
+
+
 def worst_paths_table(records: Records) -> list[str]:
     """The board builds' worst register-to-register paths (the `timing` of their entries)."""
     rows = []
@@ -284,11 +290,11 @@ def worst_paths_table(records: Records) -> list[str]:
                                "make synth CONFIG=... TOP=orb_accel_zynq UPDATE=1")  # fmt: skip
         t = j["timing"]
         for p in t["worst_paths"]:
-            rows.append([name, f"{p['delay_ns']:.3f} ns", str(p["lut_levels"]), f"`{p['block']}`",
-                         f"`{p['start']}`", f"`{p['endpoint']}`"])  # fmt: skip
+            rows.append([name, f"{p['delay_ns']:.3f} ns", str(p["lut_levels"]), f"`{p['start']}`",
+                         _endpoint(p["endpoint"])])  # fmt: skip
         rows.append([name, f"endpoint bits over {t['goal_ns']} ns: {t['endpoints_over_goal']:,} of "
-                           f"{t['endpoints']:,}", "", "", "", ""])  # fmt: skip
-    head = ["build", "logic delay", "LUT levels", "block", "from", "to"]
+                           f"{t['endpoints']:,}", "", "", ""])  # fmt: skip
+    head = ["build", "logic delay", "LUT levels", "from", "to"]
     return [*_table(head, rows), "", f"From the `timing` of `{SYNTH}` (yosys `sta`, pre-route estimates; the "
             "whole list per build: build/synth/orb_accel_zynq/<job>/timing.md)."]  # fmt: skip
 
