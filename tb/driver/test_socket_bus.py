@@ -167,12 +167,18 @@ def test_errors(server: SimServer) -> None:
         after = accel.next_frame(0.01)
         assert after.number == frame.number + 1
 
-        # a frame that never comes: disabled (the frame in flight, if any, still finishes), then
-        # 0.4 ms of simulated time (2.4 frame periods)
+        # a frame that never comes: disabled, then 0.4 ms of simulated time (2.4 frame periods).
+        # Up to two frames still come first: one already complete in the other bank (reading a bank
+        # over AXI4-Lite takes longer than a frame period here) and the one that passed the gate
+        # before the write (docs/frame-gate.md); which of them exist depends on the frames this
+        # worker's server ran before (CI saw two at 868ee63). A third means the disable did nothing.
         accel.configure(threshold=20, enable=False)
+        late = 0
         with pytest.raises(TimeoutError, match=r"no interrupt within 0.0004 s: STATUS = 0x.*IRQ_STATUS"):
-            for _ in range(2):
+            for _ in range(3):
                 accel.next_frame(0.0004)
+                late += 1
+        assert late <= 2, f"{late} frames after the disable"
         accel.configure(threshold=20)
 
 
