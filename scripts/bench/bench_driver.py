@@ -34,6 +34,7 @@ from golden_model import regs
 from golden_model.featcodec import encode_eof, encode_feature, feature_slot, record_slot
 from golden_model.featmem import SLOT_BYTES
 from golden_model.frameparams import FrameParams
+from golden_model.limits import BUDGET_MAX
 from orb_accel import OrbAccel, UioBus
 from orb_ros import msgs as rosmsgs
 from orb_ros.node import build_message
@@ -79,7 +80,11 @@ def make_map(path: Path, n: int, depth: int, seed: int = 1) -> int:
                               response=int(rng.integers(0, 64)), low=bool(rng.integers(0, 2)))  # fmt: skip
         slot = feature_slot(word)
         words[base + s * SLOT_BYTES // 4 : base + s * SLOT_BYTES // 4 + len(slot)] = slot
-    rec = record_slot(encode_eof(7, 0, FrameParams(20, 14, "orb", "grid", n, 8, 6)), n, 0)
+    # a budget-sized frame says grid selection with budget n; a larger one (the dense case) says
+    # every-feature mode, where the budget field is not used (and n may exceed it)
+    grid = n <= BUDGET_MAX
+    params = FrameParams(20, 14, "orb", "grid" if grid else "all", n if grid else 0, 8, 6)
+    rec = record_slot(encode_eof(7, 0, params), n, 0)
     words[base + n * SLOT_BYTES // 4 : base + n * SLOT_BYTES // 4 + len(rec)] = rec
     path.write_bytes(words.tobytes())
     return size
