@@ -13,6 +13,11 @@
 -- the grey value is bits [7:0] and bits [23:8] are ignored. The AXI4-Lite address is
 -- C_S_AXI_CTRL_ADDR_WIDTH bits; orb_accel_top decodes the low max(18, clog2(0x10000 +
 -- 128 * MEM_DEPTH_g)) of them (20 for MEM_DEPTH_g = 4096), the bits above are ignored.
+-- IDLE_TIMEOUT_g > 0 makes the video checker treat the input as a live source (HDMI through
+-- v_vid_in_axi4s, which loses pixels when its FIFO is full): never held, pixels arriving while a
+-- faulty frame is padded discarded, and an open frame idle IDLE_TIMEOUT_g clocks padded at once,
+-- so that a frame cut by an unplugged cable is closed before the video returns; the default 4,096
+-- clocks is longer than a line's blanking in every board mode (docs/board.md, "Recovery").
 -- Ports and generics: docs/entities/orb_accel_zynq.md
 
 library ieee;
@@ -34,6 +39,7 @@ entity orb_accel_zynq is
     MEM_DEPTH_g             : integer := 1024;  -- feature slots per bank
     INPUT_g                 : string  := "RBG"; -- "RGB", "RBG" (Digilent dvi2rgb) or "LUMA"
     BLOCK_LOG2_g            : integer := 3;     -- overlay block size 2^BLOCK_LOG2_g
+    IDLE_TIMEOUT_g          : integer := 4096;  -- HDMI: an open frame idle this many clocks is padded
     C_S_AXI_CTRL_ADDR_WIDTH : integer := 20     -- s_axi_ctrl address bits (at least 18)
   );
   -- vsg_on generic_600
@@ -160,15 +166,16 @@ begin
 
   accel : entity work.orb_accel_top
     generic map (
-      WIDTH_g      => WIDTH_g,
-      HEIGHT_g     => HEIGHT_g,
-      SCALES_g     => SCALES_g,
-      STEP_NUM_g   => STEP_NUM_g,
-      STEP_DEN_g   => STEP_DEN_g,
-      SECTORS_g    => SECTORS_g,
-      MEM_DEPTH_g  => MEM_DEPTH_g,
-      INPUT_g      => INPUT_g,
-      BLOCK_LOG2_g => BLOCK_LOG2_g
+      WIDTH_g        => WIDTH_g,
+      HEIGHT_g       => HEIGHT_g,
+      SCALES_g       => SCALES_g,
+      STEP_NUM_g     => STEP_NUM_g,
+      STEP_DEN_g     => STEP_DEN_g,
+      SECTORS_g      => SECTORS_g,
+      MEM_DEPTH_g    => MEM_DEPTH_g,
+      INPUT_g        => INPUT_g,
+      BLOCK_LOG2_g   => BLOCK_LOG2_g,
+      IDLE_TIMEOUT_g => IDLE_TIMEOUT_g
     )
     port map (
       clk                 => aclk,
