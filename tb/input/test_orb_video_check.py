@@ -88,9 +88,8 @@ class Bench:
             self.edge += 1
             beat = None
             if dut.s_axis_video_tvalid.value == 1 and dut.s_axis_video_tready.value == 1:
-                beat = Beat(
-                    int(dut.s_axis_video_tdata.value), int(dut.s_axis_video_tuser.value), int(dut.s_axis_video_tlast.value)
-                )
+                data, user = int(dut.s_axis_video_tdata.value), int(dut.s_axis_video_tuser.value)
+                beat = Beat(data, user, int(dut.s_axis_video_tlast.value))
             self.taken.append((dut.rst.value == 1, beat))
             if dut.m_axis_video_tvalid.value == 1:
                 beat = OutBeat(
