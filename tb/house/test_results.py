@@ -42,6 +42,7 @@ def _copy_root(tmp: Path) -> Path:
         Path("docs/results/bench.json"),
         Path("docs/results/test.json"),
         Path("docs/results/formal.json"),
+        Path("docs/results/recovery.json"),
     ]:
         (tmp / rel).parent.mkdir(parents=True, exist_ok=True)
         shutil.copyfile(ROOT / rel, tmp / rel)
