@@ -24,12 +24,10 @@ from pathlib import Path
 
 from golden_model import limits
 from golden_model.config import MODES, NAMES, named, parse_step
-from orb_accel.bus import Bus
+from orb_accel.bus import BOARD_TIMEOUT_S, SIM_TIMEOUT_FRAMES, Bus
 from orb_accel.driver import OrbAccel
 from orb_sim.sim_server import DEFAULT_CONFIG, ENGINES, TOPLEVELS  # pure Python at import: fine on the board
 
-BOARD_TIMEOUT_S = 1.0  # a frame at 24 fps and more, with margin
-SIM_TIMEOUT_FRAMES = 3  # in simulation: three frame periods of simulated time
 
 
 def add_bus_options(p: argparse.ArgumentParser) -> None:
@@ -176,9 +174,7 @@ def open_bus(args: argparse.Namespace) -> Iterator[tuple[Bus, str, float]]:
                 faults=args.sim_fault,
             )
             bus = stack.enter_context(SocketBus(address))
-            g = bus.info["generics"]
-            period_s = (g["WIDTH_g"] + bus.info["h_blank"]) * g["HEIGHT_g"] + bus.info["v_blank"]
-            timeout = args.timeout or SIM_TIMEOUT_FRAMES * period_s * bus.info["period_ns"] * 1e-9
+            timeout = args.timeout or SIM_TIMEOUT_FRAMES * bus.frame_period_s()
             yield bus, f"simulator {address} ({bus.info['toplevel']})", timeout
         elif args.devmem is not None:
             from orb_accel.devmem import DevMemBus
