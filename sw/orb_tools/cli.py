@@ -523,6 +523,9 @@ BOARD_COMMANDS = {"info": board_cli.cmd_info, "stream": board_cli.cmd_stream}
 
 
 def _run(argv: list[str]) -> int:
+    if argv[:1] == ["ros2"]:  # everything from --ros-args on is the ROS 2 node's
+        cut = argv.index("--ros-args") if "--ros-args" in argv else len(argv)
+        return board_cli.cmd_ros2(build_parser().parse_args(argv[:cut]), argv[cut:])
     ours, ros_args = board_cli.split_ros_args(argv)
     args = build_parser().parse_args(ours if ours[:1] == ["ros"] else argv)
     if args.command == "ros":
@@ -544,7 +547,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         from . import sim_accel
 
         return sim_accel.main(argv[1:])
-    board_like = argv[:1] in (["board"], ["ros"], ["sim-server"], ["bag"], ["ros-env"])
+    board_like = argv[:1] in (["board"], ["ros"], ["ros2"], ["sim-server"], ["bag"], ["ros-env"])
     try:
         return _run(argv)
     except (UsageError, ImageError, ConfigError, OSError, RtlUnavailable, AccelError, RosUnavailable,
