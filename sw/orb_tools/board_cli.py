@@ -91,6 +91,8 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     ros2.add_argument("--ros2-python", metavar="PYTHON", type=Path,
                       help="the ROS 2 venv's python (default: $ORB_ACCEL_ROS2_PYTHON, else the checkout's "
                            ".venv-ros2/bin/python)")  # fmt: skip
+    ros2.add_argument("--ros-args", nargs=argparse.REMAINDER, metavar="ARG",
+                      help="the rest goes to the node as ROS arguments: -p NAME:=VALUE, -r FROM:=TO")  # fmt: skip
 
     srv = sub.add_parser("sim-server", help="serve a simulated accelerator on a local socket (docs/driver.md)")
     srv.add_argument("frames", nargs="+", type=Path, metavar="IMAGE_OR_VIDEO")

@@ -523,13 +523,12 @@ BOARD_COMMANDS = {"info": board_cli.cmd_info, "stream": board_cli.cmd_stream}
 
 
 def _run(argv: list[str]) -> int:
-    if argv[:1] == ["ros2"]:  # everything from --ros-args on is the ROS 2 node's
-        cut = argv.index("--ros-args") if "--ros-args" in argv else len(argv)
-        return board_cli.cmd_ros2(build_parser().parse_args(argv[:cut]), argv[cut:])
     ours, ros_args = board_cli.split_ros_args(argv)
     args = build_parser().parse_args(ours if ours[:1] == ["ros"] else argv)
     if args.command == "ros":
         return board_cli.cmd_ros(args, ros_args)
+    if args.command == "ros2":
+        return board_cli.cmd_ros2(args, ["--ros-args", *args.ros_args] if args.ros_args is not None else [])
     if args.command == "board":
         return BOARD_COMMANDS[args.board_command](args)
     return COMMANDS[args.command](args)

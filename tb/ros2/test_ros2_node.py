@@ -19,7 +19,7 @@ the reset service is called from a third process. Checked:
 - SIGINT stops the node with status 0 and leaves no process behind (the simulator included);
 - an illegal start-up parameter stops the node with status 2 before it opens the bus.
 
-The serve-as-source test (the node as a client of `orb-accel serve`) waits for the board-side
+The serve-as-source test (the node as a client of the board-side `serve`) waits for that
 stream (docs/ros2.md, "Sources").
 """
 
