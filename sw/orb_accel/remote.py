@@ -173,7 +173,8 @@ class RemoteAccel:
         return self.receive(timeout_s)[0]
 
     def frames(self, count: int | None, timeout_s: float) -> Iterator[Frame]:
-        """`count` frames (None: until the stream ends), as OrbAccel.frames."""
+        """`count` frames (None: on and on), as OrbAccel.frames; StreamClosed when the server
+        ends the stream."""
         n = 0
         while count is None or n < count:
             yield self.next_frame(timeout_s)

@@ -74,9 +74,15 @@ def hello_info(accel: OrbAccel, source: str, frame_wait_s: float) -> dict[str, A
     }  # fmt: skip
 
 
-def recv_exact(sock: socket.socket, n: int) -> bytes:
+def recv_exact(sock: socket.socket, n: int, deadline: float) -> bytes:
+    """Exactly n bytes before `deadline` (time.monotonic()): TimeoutError after it, however the
+    bytes trickle in; ConnectionError when the peer closes first."""
     buf = bytearray()
     while len(buf) < n:
+        left = deadline - time.monotonic()
+        if left <= 0:
+            raise TimeoutError
+        sock.settimeout(left)
         chunk = sock.recv(n - len(buf))
         if not chunk:
             raise ConnectionError(f"closed after {len(buf)} of {n} bytes")
@@ -165,8 +171,8 @@ class StreamServer:
         that does not take them within `timeout_s` is cut. Idempotent."""
         if self._closing.is_set():
             return
-        self._closing.set()
-        with self._lock:
+        with self._lock:  # the handshake's lock: a client is in this list, or refused as the server stops
+            self._closing.set()
             clients = list(self._clients)
         for c in clients:
             with c.cond:
@@ -244,14 +250,14 @@ class StreamServer:
 
     def _handshake(self, c: _Client) -> bool:
         conn, who = c.conn, f"client {c.stats.number} ({c.stats.peer})"
-        conn.settimeout(self.hello_timeout_s)
+        deadline = time.monotonic() + self.hello_timeout_s
         try:
-            kind, length = check_envelope(recv_exact(conn, ENVELOPE.size), who)
+            kind, length = check_envelope(recv_exact(conn, ENVELOPE.size, deadline), who)
             if kind != HELLO:
                 raise StreamError(f"{who} opened with message type {kind}, not HELLO ({HELLO})")
             if length > MAX_HELLO:
                 raise StreamError(f"{who}: a HELLO of {length} bytes (at most {MAX_HELLO})")
-            hello = parse_json(recv_exact(conn, length), f"{who}'s HELLO")
+            hello = parse_json(recv_exact(conn, length, deadline), f"{who}'s HELLO")
         except StreamError as exc:
             self._refuse(conn, str(exc))
             c.stats.why = str(exc)
@@ -261,16 +267,22 @@ class StreamServer:
             self._refuse(conn, f"{who}: {c.stats.why}")
             return False
         c.stats.name = str(hello.get("client", ""))[:80]
-        with self._lock:
+        refusal = ""
+        with self._lock:  # never held across a send: publish() takes it
             active = sum(1 for k in self._clients if k.active)
-            if active >= self.max_clients:
-                c.stats.why = f"refused: {active} clients already (at most {self.max_clients})"
-                self._refuse(conn, f"this server serves at most {self.max_clients} clients at once")
-                return False
-            # registered under the lock, with the HELLO's "seq", so that the first frame it is
-            # offered is the frame HELLO names
-            info = {**self.info, "client": c.stats.number, "seq": self.seq}
-            c.active = True
+            if self._closing.is_set():  # close() has taken its list of clients: this one would get no BYE
+                refusal = "the server is stopping"
+            elif active >= self.max_clients:
+                refusal = f"this server serves at most {self.max_clients} clients at once"
+            else:
+                # registered under the lock, with the HELLO's "seq", so that the first frame it is
+                # offered is the frame HELLO names
+                info = {**self.info, "client": c.stats.number, "seq": self.seq}
+                c.active = True
+        if refusal:
+            c.stats.why = f"refused: {refusal}"
+            self._refuse(conn, refusal)
+            return False
         conn.settimeout(self.send_timeout_s)
         if self.sndbuf is not None:
             conn.setsockopt(socket.SOL_SOCKET, socket.SO_SNDBUF, self.sndbuf)
