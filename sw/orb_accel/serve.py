@@ -143,7 +143,10 @@ class StreamServer:
         self.hello_timeout_s, self.send_timeout_s, self.sndbuf = hello_timeout_s, send_timeout_s, sndbuf
         self.log: Log = log or (lambda line: print(line, flush=True))
         host, port = parse_address(address, "0.0.0.0")
-        self._listen = socket.create_server((host, port), reuse_port=False)
+        try:
+            self._listen = socket.create_server((host, port))
+        except OSError as exc:
+            raise OSError(exc.errno, f"cannot listen on {host}:{port} ({exc.strerror or exc})") from None
         self._listen.settimeout(SLICE_S)
         bound = self._listen.getsockname()
         self.address = f"{bound[0]}:{bound[1]}"

@@ -306,6 +306,8 @@ def test_protocol_errors_get_a_reason_and_the_server_goes_on(server: StreamServe
         server.publish(frame)
         assert_same(good.next_frame(5.0), frame)
     assert any("does not speak" in line for line in server.logs)  # type: ignore[attr-defined]
+    with pytest.raises(OSError, match=f"cannot listen on {server.address}"):
+        StreamServer(INFO, server.address)
 
 
 def fake_server(script) -> str:  # type: ignore[no-untyped-def]
