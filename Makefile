@@ -15,7 +15,7 @@ SECTORS ?=
 THRESHOLD ?=
 JOBS   ?= 2
 
-.PHONY: setup test test-all sim bench bench-sim bench-driver eval figures lint synth formal netlist-sim tools pattern docs views clean \
+.PHONY: setup test test-all sim bench bench-sim bench-driver bench-stream eval figures lint synth formal netlist-sim tools pattern docs views clean \
 	help bitstream board-estimate board-dryrun ros-sim
 
 help:
@@ -29,6 +29,7 @@ help:
 	@echo "make bench   model speed benchmark (scripts/bench/bench_model.py)"
 	@echo "make bench-sim  RTL simulation speed, one 640x480 frame (scripts/bench/bench_sim.py)"
 	@echo "make bench-driver  per-frame CPU cost of the driver and the ROS message, 1,000 and 5,000 features (docs/ros.md)"
+	@echo "make bench-stream  per-frame cost of the feature stream (orb-accel serve): bytes, encode, decode, loopback (docs/stream.md)"
 	@echo "make ros-sim the ROS node on the simulated accelerator, publishing /orb_accel/features (IMAGE=; docs/ros.md)"
 	@echo "make eval    compare-fast, rotation-bench and scale-bench against OpenCV on the evaluation photos (STEP=1: ~7 min);"
 	@echo "             then the held-out photographs (apt-get download, no root): scale-, track- and density-bench"
@@ -88,6 +89,9 @@ bench-sim: $(STAMP)
 bench-driver: $(STAMP)
 	@sh scripts/flow/check_tools.sh ros
 	$(BIN)/python scripts/bench/bench_driver.py
+
+bench-stream: $(STAMP)
+	$(BIN)/python scripts/bench/bench_stream.py
 
 # The ROS node against the simulated accelerator (docs/ros.md), with a roscore of its own when none answers at
 # ROS_MASTER_URI; `rostopic echo /orb_accel/features` in another shell (after `eval $$(.venv/bin/orb-accel ros-env)`).
