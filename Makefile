@@ -20,7 +20,7 @@ SECTORS ?=
 THRESHOLD ?=
 JOBS   ?= 2
 
-.PHONY: setup test test-all sim bench bench-sim bench-driver bench-ros2 ros2-sim eval figures lint synth formal netlist-sim tools pattern docs views clean \
+.PHONY: setup test test-all sim bench bench-sim bench-driver bench-stream bench-ros2 ros2-sim eval figures lint synth formal netlist-sim tools pattern docs views clean \
 	help bitstream board-estimate board-dryrun ros-sim
 
 help:
@@ -34,6 +34,7 @@ help:
 	@echo "make bench   model speed benchmark (scripts/bench/bench_model.py)"
 	@echo "make bench-sim  RTL simulation speed, one 640x480 frame (scripts/bench/bench_sim.py)"
 	@echo "make bench-driver  per-frame CPU cost of the driver and the ROS message, 1,000 and 5,000 features (docs/ros.md)"
+	@echo "make bench-stream  per-frame cost of the feature stream (orb-accel serve): bytes, encode, decode, loopback (docs/stream.md)"
 	@echo "make bench-ros2  per-frame CPU cost of the ROS 2 message, 1,000 features and a bank's capacity (docs/ros2.md)"
 	@echo "make ros2-sim  the ROS 2 node on the simulated accelerator, publishing /orb_accel/features (IMAGE=; docs/ros2.md)"
 	@echo "make ros-sim the ROS 1 node on the simulated accelerator, publishing /orb_accel/features (IMAGE=; docs/ros.md)"
@@ -104,6 +105,9 @@ bench-sim: $(STAMP)
 bench-driver: $(STAMP)
 	@sh scripts/flow/check_tools.sh ros
 	$(BIN)/python scripts/bench/bench_driver.py
+
+bench-stream: $(STAMP)
+	$(BIN)/python scripts/bench/bench_stream.py
 
 # The per-frame cost of the ROS 2 message (docs/ros2.md), in the ROS 2 venv
 bench-ros2: $(STAMP) $(ROS2_STAMP)

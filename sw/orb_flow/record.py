@@ -160,6 +160,7 @@ BENCH = {
     "model": ("make bench", ROOT / "build" / "bench" / "model.json"),
     "sim": ("make bench-sim", ROOT / "build" / "bench" / "sim.json"),
     "driver": ("make bench-driver", ROOT / "build" / "bench" / "driver.json"),
+    "stream": ("make bench-stream", ROOT / "build" / "bench" / "stream.json"),
     "ros2": ("make bench-ros2", ROOT / "build" / "bench" / "ros2.json"),
 }
 
@@ -176,7 +177,7 @@ def record_bench(names: list[str], commit: str | None, date: str | None, command
         data = json.loads(path.read_text())
         if name == "model":
             tools = f"Python {data['meta']['python']}, numpy {data['meta']['numpy']}, {data['meta']['cpu_count']} cores"
-        elif name == "driver":
+        elif name in ("driver", "stream"):
             tools = f"Python {data['python']}, numpy {data['numpy']}, {data['machine']}"
         elif name == "ros2":
             tools = (f"Python {data['python']}, numpy {data['numpy']}, rclpy {data['rclpy']} ({data['rmw']}), "

@@ -518,7 +518,7 @@ def cmd_density_bench(args: argparse.Namespace) -> int:
 COMMANDS = {"extract": cmd_extract, "compare-fast": cmd_compare_fast, "rotation-bench": cmd_rotation_bench,
             "scale-bench": cmd_scale_bench, "eval-photos": cmd_eval_photos, "track-bench": cmd_track_bench,
             "density-bench": cmd_density_bench, "ros-env": board_cli.cmd_ros_env,
-            "sim-server": board_cli.cmd_sim_server, "bag": board_cli.cmd_bag}  # fmt: skip
+            "sim-server": board_cli.cmd_sim_server, "bag": board_cli.cmd_bag, "serve": board_cli.cmd_serve}  # fmt: skip
 BOARD_COMMANDS = {"info": board_cli.cmd_info, "stream": board_cli.cmd_stream}
 
 
@@ -546,7 +546,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         from . import sim_accel
 
         return sim_accel.main(argv[1:])
-    board_like = argv[:1] in (["board"], ["ros"], ["ros2"], ["sim-server"], ["bag"], ["ros-env"])
+    board_like = argv[:1] in (["board"], ["ros"], ["ros2"], ["sim-server"], ["bag"], ["ros-env"], ["serve"])
     try:
         return _run(argv)
     except (UsageError, ImageError, ConfigError, OSError, RtlUnavailable, AccelError, RosUnavailable,

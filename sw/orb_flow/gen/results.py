@@ -229,6 +229,31 @@ def bench_driver_table(records: Records) -> list[str]:
             f"Measured by {_source(run)} ({run['tools']}; median of {d['repeat']})."]  # fmt: skip
 
 
+GIGABIT_BYTES_S = 125e6  # 1 Gb/s (the Zybo Z7-20's Ethernet) in bytes per second, before framing overheads
+
+
+def bench_stream_table(records: Records) -> list[str]:
+    run = records.run("bench", "stream")
+    d = run["data"]
+    slowdown = records.run("bench", "driver")["data"]["a9_slowdown"]  # the driver's stated factor, one source
+    rows = []
+    for r in d["runs"]:
+        rows.append([f"{r['features']:,}", f"{r['message_bytes']:,} B", f"{r['bytes_per_feature']:g}",
+                     f"{r['encode_ms']:.3f} ms", f"{r['decode_ms']:.3f} ms", f"{r['loopback_ms']:.3f} ms",
+                     f"{r['message_bytes'] * 60 / 1e6:.1f} MB/s",
+                     f"{r['message_bytes'] / GIGABIT_BYTES_S * 1e3:.2f} ms",
+                     f"{r['encode_ms'] * slowdown:.2f} ms"])  # fmt: skip
+    head = ["features", "FRAME message", "bytes per feature", "encode (server, once per frame)",
+            "decode (client)", "publish() to the client's Frame, loopback", "at 60 frames/s", "on 1 Gb/s",
+            "encode, Cortex-A9 estimate"]  # fmt: skip
+    notes = (f"The last three columns are arithmetic, not measurements: the message's bytes at 60 frames/s, its "
+             f"time on a 1 Gb/s link (payload only), and the encoding time x {slowdown:g} (the driver benchmark's "
+             f"assumed CPython slowdown of the board's Cortex-A9).")  # fmt: skip
+    return [*_table(head, rows), "", notes, "",
+            f"Measured by {_source(run)} ({run['tools']}; protocol version {d['protocol_version']}; median of "
+            f"{d['repeat']})."]  # fmt: skip
+
+
 def bench_ros2_table(records: Records) -> list[str]:
     run = records.run("bench", "ros2")
     d = run["data"]
@@ -431,6 +456,7 @@ TABLES: dict[str, tuple[Path, Callable[[Records], list[str]]]] = {
     "bench-sim": (Path("docs/benchmarks.md"), bench_sim_table),
     "board-resources": (Path("docs/board.md"), board_table),
     "bench-driver": (Path("docs/ros.md"), bench_driver_table),
+    "bench-stream": (Path("docs/stream.md"), bench_stream_table),
     "bench-ros2": (Path("docs/ros2.md"), bench_ros2_table),
     "synth-jobs": (Path("docs/synthesis.md"), synth_table),
     "synth-blocks": (Path("docs/synthesis.md"), blocks_table),
