@@ -5,12 +5,13 @@ reads the frame, publishes it, and keeps running through faults, counting them f
 diagnostics. The ROS 1 node (orb_ros.node.FeatureNode) and the ROS 2 node (orb_ros2.node) are
 FrameLoops that say how to publish, log and stamp; numpy, the model and the driver only.
 
-The loop reads frames from a FrameSource: `next_frame(timeout_s, at_frame_done)`, the driver's
-next_frame with a hook that runs after the frame-done interrupt and before the bank is read
-(where the node writes queued changes, so that on a live stream they land in the vertical
-blanking: the hardware samples the parameters at a frame's first pixel), plus configure, soft
-reset and what was written. AccelSource is the driver on a bus (UIO, /dev/mem, the simulator's
-socket); `source_of` makes one from anything with the driver's interface.
+The loop reads frames from a NodeSource: a driver's frame source (orb_accel.driver.FrameSource)
+whose `next_frame(timeout_s, at_frame_done)` runs a hook after the frame-done interrupt and before
+the bank is read (where the node writes queued changes, so that on a live stream they land in the
+vertical blanking: the hardware samples the parameters at a frame's first pixel), plus configure,
+soft reset and what was written. AccelSource is the driver on a bus (UIO, /dev/mem, the
+simulator's socket); RemoteSource the frames of an `orb-accel serve` on another machine
+(orb_accel.remote.RemoteAccel), whose parameters the server sets (`takes_changes` False).
 """
 
 from __future__ import annotations
@@ -27,7 +28,7 @@ from golden_model import limits, regs
 from golden_model.config import MODES, ConfigError
 from golden_model.frameparams import FrameParams
 from orb_accel.bus import BusError
-from orb_accel.driver import AccelError, FaultCounts, Frame, HwConfig, OrbAccel
+from orb_accel.driver import AccelError, FaultCounts, Frame, FrameSource, HwConfig, OrbAccel
 
 from .msgs import fields
 
@@ -102,12 +103,13 @@ def check_params(threshold: object, mode: object, enable: object) -> str | None:
     return None
 
 
-class FrameSource(Protocol):
-    """Where the loop's frames come from (AccelSource: the driver on a bus)."""
+class NodeSource(Protocol):
+    """Where the loop's frames come from (AccelSource: the driver on a bus; RemoteSource: a stream)."""
 
     hw: HwConfig
     faults: FaultCounts
     released_at_open: list[int]
+    takes_changes: bool  # False: configure and soft_reset are not this node's to call (the server's)
 
     def next_frame(self, timeout_s: float, at_frame_done: Callable[[], None]) -> Frame: ...
 
@@ -121,6 +123,8 @@ class FrameSource(Protocol):
 class AccelSource:
     """The driver (OrbAccel) as a FrameSource: wait for the frame-done interrupt, run the hook, read
     the bank, release it (also when the hook or the read fails)."""
+
+    takes_changes = True
 
     def __init__(self, accel: OrbAccel) -> None:
         self.accel = accel
@@ -151,6 +155,40 @@ class AccelSource:
         self.accel.write(regs.IRQ_STATUS, 0xFFFFFFFF)
 
 
+class RemoteSource:
+    """The frames of an `orb-accel serve` (orb_accel.remote.RemoteAccel, or anything with the driver's
+    FrameSource interface) as a NodeSource: the hook runs once a frame has come; the accelerator's
+    parameters are the server's (set there: `orb-accel serve --threshold ...`), so a node refuses
+    changes and resets, and every frame is labelled with its own record's parameters."""
+
+    takes_changes = False
+
+    def __init__(self, remote: FrameSource, what: str) -> None:
+        self.remote, self.what = remote, what
+        self.hw, self.faults, self.released_at_open = remote.hw, FaultCounts(), []
+        self._params: FrameParams | None = None
+
+    def next_frame(self, timeout_s: float, at_frame_done: Callable[[], None]) -> Frame:
+        frame = self.remote.next_frame(timeout_s)
+        self._params = frame.params
+        at_frame_done()
+        return frame
+
+    def refusal(self) -> str:
+        return f"the frames come from {self.what}, which sets the accelerator's parameters: change them there"
+
+    def configure(self, params: Params, budget: int) -> None:
+        raise ValueError(self.refusal())
+
+    def soft_reset(self) -> None:
+        raise ValueError(self.refusal())
+
+    def written(self) -> FrameParams:
+        if self._params is None:
+            raise ValueError(f"{self.what}'s frame carries no parameters (a register map before 3.1)")
+        return self._params
+
+
 @dataclass
 class Request:
     """A change queued by a service or a parameter callback for the loop: new parameters, or a soft reset."""
@@ -176,7 +214,7 @@ class FrameLoop:
     """The loop, its queue of changes and its fault bookkeeping; a subclass publishes (publish,
     publish_report), stamps (now) and logs (logwarn, loginfo)."""
 
-    def __init__(self, source: FrameSource, params: Params, timeout_s: float, diag_period_s: float = 1.0,
+    def __init__(self, source: NodeSource, params: Params, timeout_s: float, diag_period_s: float = 1.0,
                  service_timeout_s: float = 600.0, budget: int | None = None) -> None:  # fmt: skip
         self.source = source
         self.params, self.timeout_s = params, timeout_s
@@ -211,6 +249,8 @@ class FrameLoop:
         them), a clean start (AccelSource.start), the parameters written."""
         if self.source.released_at_open:
             self.logwarn(f"{NODE_NAME}: released bank(s) {self.source.released_at_open} a previous process left held")
+        if not self.source.takes_changes:  # the server's parameters
+            return
         start = getattr(self.source, "start", None)
         if start is not None:
             start()

@@ -12,7 +12,8 @@ Run in the ROS 2 venv (`make setup` makes .venv-ros2; rclpy is imported nowhere 
     python -m orb_ros2.node --uio orb-accel          # on a board with ROS 2
 
 `orb-accel ros2` (the main venv's CLI) starts it, and with `--sim` a simulator for it. The frame
-source is one function, open_source(): the driver on UIO, /dev/mem or the simulator's socket.
+source is one function, open_source(): the driver on UIO, /dev/mem or the simulator's socket, or
+the frames of an `orb-accel serve` on another machine (--remote; its parameters are the server's).
 """
 
 from __future__ import annotations
@@ -47,8 +48,9 @@ from orb_ros.loop import (
     NODE_NAME,
     AccelSource,
     FrameLoop,
-    FrameSource,
+    NodeSource,
     Params,
+    RemoteSource,
     Report,
     Request,
     check_params,
@@ -145,7 +147,7 @@ class Ros2FeatureNode(FrameLoop):
     loop runs in the caller's thread (run()); the parameter callback and ~/reset run in the
     executor's threads and wait until the loop has written their change."""
 
-    def __init__(self, node: Node, msgs: ModuleType, source: FrameSource, settings: Settings, timeout_s: float,
+    def __init__(self, node: Node, msgs: ModuleType, source: NodeSource, settings: Settings, timeout_s: float,
                  hardware_id: str) -> None:  # fmt: skip
         budget = None if settings.budget == RECOMMENDED_BUDGET else settings.budget
         super().__init__(source, settings.params, timeout_s, settings.diag_period_s, budget=budget)
@@ -199,6 +201,8 @@ class Ros2FeatureNode(FrameLoop):
         new = Params(int(values["threshold"]), str(values["mode"]), bool(values["enable"]))
         if new == base:
             return SetParametersResult(successful=True)
+        if isinstance(self.source, RemoteSource):
+            return SetParametersResult(successful=False, reason=self.source.refusal())
         if self.stopping.is_set():
             return SetParametersResult(successful=False, reason="the node is shutting down")
         r = self.submit(Request(params=new))
@@ -207,6 +211,9 @@ class Ros2FeatureNode(FrameLoop):
         return SetParametersResult(successful=r.success, reason=r.message)
 
     def _on_reset(self, _request: object, response: object) -> object:
+        if isinstance(self.source, RemoteSource):
+            response.success, response.message = False, self.source.refusal()  # type: ignore[attr-defined]
+            return response
         r = self.submit(Request(reset=True))
         response.success, response.message = r.success, r.message  # type: ignore[attr-defined]
         if r.success:
@@ -219,10 +226,18 @@ class Ros2FeatureNode(FrameLoop):
 
 
 @contextmanager
-def open_source(args: argparse.Namespace) -> Iterator[tuple[FrameSource, str, float]]:
+def open_source(args: argparse.Namespace) -> Iterator[tuple[NodeSource, str, float]]:
     """(frame source, what it is, the default frame timeout) of the command line: the driver on the
-    board (--uio, the default; --devmem) or on a simulator's socket (--connect)."""
+    board (--uio, the default; --devmem) or on a simulator's socket (--connect), or the frames of
+    an `orb-accel serve` on another machine (--remote)."""
     with ExitStack() as stack:
+        if args.remote:
+            from orb_accel.remote import RemoteAccel
+
+            remote = stack.enter_context(RemoteAccel(args.remote, name=f"{NODE_NAME} (ROS 2)"))
+            what = f"orb-accel serve at {args.remote}"
+            yield RemoteSource(remote, what), what, remote.frame_wait_s
+            return
         if args.connect:
             from orb_accel.socket_bus import SocketBus
 
@@ -248,6 +263,7 @@ def _parser() -> argparse.ArgumentParser:
     g.add_argument("--uio", metavar="NAME", nargs="?", const="orb-accel", help="UIO device NAME (the default)")
     g.add_argument("--devmem", metavar="BASE", type=lambda t: int(t, 0), help="/dev/mem at physical address BASE")
     g.add_argument("--connect", metavar="HOST:PORT", help="a running simulator (orb-accel sim-server)")
+    g.add_argument("--remote", metavar="HOST:PORT", help="the frames of an orb-accel serve (its parameters)")
     p.add_argument("--threshold", type=int, default=20, help="start-up threshold (parameter threshold wins)")
     p.add_argument("--mode", default="orb", help="start-up mode (parameter mode wins)")
     return p

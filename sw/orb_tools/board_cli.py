@@ -106,7 +106,7 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     sub.add_parser("ros-env", help="print shell exports under which rostopic/rosbag know orb_accel_msgs")
 
     ros2 = sub.add_parser("ros2", help="the ROS 2 node: /orb_accel/features (docs/ros2.md); --ros-args ... to the node")
-    add_bus_options(ros2)
+    add_bus_options(ros2, remote=True)
     ros2.add_argument("--threshold", type=int, default=20, help="start-up threshold (parameter threshold wins)")
     ros2.add_argument("--mode", choices=MODES, default="orb", help="start-up mode (parameter mode wins)")
     ros2.add_argument("--ros2-python", metavar="PYTHON", type=Path,
@@ -539,6 +539,8 @@ def cmd_ros2(args: argparse.Namespace, ros_args: list[str]) -> int:
             bus = ["--connect", address]
         elif args.connect:
             bus = ["--connect", args.connect]
+        elif args.remote:
+            bus = ["--remote", args.remote]
         elif args.devmem is not None:
             bus = ["--devmem", hex(args.devmem)]
         else:

@@ -19,8 +19,8 @@ the reset service is called from a third process. Checked:
 - SIGINT stops the node with status 0 and leaves no process behind (the simulator included);
 - an illegal start-up parameter stops the node with status 2 before it opens the bus.
 
-The serve-as-source test (the node as a client of the board-side `serve`) waits for that
-stream (docs/ros2.md, "Sources").
+test_ros2_node_on_a_serve_stream: `orb-accel serve` on the simulator and the node as its client
+(`orb-accel ros2 --remote`): every message bit-exact, changes and resets refused (the server's).
 """
 
 from __future__ import annotations
@@ -29,6 +29,7 @@ import functools
 import itertools
 import os
 import re
+import signal
 import subprocess
 import sys
 import time
@@ -37,6 +38,7 @@ from pathlib import Path
 from types import SimpleNamespace
 
 import cv2
+import numpy as np
 import pytest
 
 from golden_model.config import RECOMMENDED_COLS, RECOMMENDED_ROWS, RECOMMENDED_THRESHOLD_LO, named
@@ -203,3 +205,63 @@ def test_illegal_startup_parameter(ros2: tuple[Path, dict[str, str]], param: str
     assert r.returncode == 2, r.stdout + r.stderr
     assert message in r.stderr and "Traceback" not in r.stderr, r.stderr
     assert "127.0.0.1:1" not in r.stderr, "the bus was opened before the parameters were checked"
+
+
+def test_ros2_node_on_a_serve_stream(ros2: tuple[Path, dict[str, str]], tmp_path: Path) -> None:
+    """`orb-accel serve` on the simulator (as on the board) and the ROS 2 node on another process as
+    its client (`orb-accel ros2 --remote`): every message bit-exact with the model at the server's
+    threshold, frame numbers increasing, a parameter change and a reset refused (the server's), a
+    clean stop of both."""
+    from orb_sim.sim_server import SimServer
+
+    python, env = ros2
+    frames = np.stack([colour_photo(name, W, H) for name in PHOTOS])
+    heard, node_log = tmp_path / "heard.jsonl", tmp_path / "node.log"
+    marker = f"ORB_TEST_ROS2_REMOTE={tmp_path.name}"
+    env = {**env, marker.split("=")[0]: marker.split("=")[1]}
+    procs: dict[str, subprocess.Popen] = {}
+    with SimServer(frames, TINY.name, engine="fast", job_dir=tmp_path / "sim") as sim:
+        serve_cmd = [sys.executable, "-m", "orb_tools.cli", "serve", "--connect", sim.address, "--listen",
+                     "127.0.0.1:0", "--threshold", "20", "--budget", str(BUDGET)]  # fmt: skip
+        procs["serve"] = subprocess.Popen(serve_cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                                          text=True, start_new_session=True)  # fmt: skip
+        first = procs["serve"].stdout.readline()  # type: ignore[union-attr]
+        assert "serving the frames of simulator" in first, first
+        host, port = first.split(" on ")[1].split(":")[:2]
+        with open(tmp_path / "listener.log", "w") as fh:
+            listen = [str(python), str(CLIENT), "listen", str(heard), str(tmp_path / "bag")]
+            procs["listener"] = subprocess.Popen(listen, env=env, stdout=fh, stderr=subprocess.STDOUT,
+                                                 start_new_session=True)  # fmt: skip
+        wait("the listener", lambda: heard.exists() and "ready" in heard.read_text(), procs, tmp_path / "listener.log")
+        with open(node_log, "w") as log:
+            procs["node"] = subprocess.Popen(
+                [sys.executable, "-m", "orb_tools.cli", "ros2", "--remote", f"{host}:{port}", "--ros-args", "-p",
+                 "frame_id:=remote"], env=env, stdout=log, stderr=subprocess.STDOUT, start_new_session=True,
+            )  # fmt: skip
+        got = lambda: records(heard, "features")  # noqa: E731
+        try:
+            wait("5 frames", lambda: len(got()) >= 5, {k: p for k, p in procs.items() if k != "serve"}, node_log)
+            refused = _call(ros2, "set", "threshold=35")
+            assert not refused[0]["successful"] and "sets the accelerator's parameters" in refused[0]["reason"]
+            reset = _call(ros2, "reset")
+            assert not reset["success"] and "orb-accel serve at" in reset["message"], reset
+            n = len(got())
+            wait("2 more frames", lambda: len(got()) >= n + 2, {k: p for k, p in procs.items() if k != "serve"},
+                 node_log)  # fmt: skip
+        finally:
+            status = stop(procs["node"])
+            stop(procs["listener"])
+            served = stop(procs["serve"], signal.SIGTERM)
+    log_text = node_log.read_text()
+    assert status == 0 and "Traceback" not in log_text, f"the node ended with {status}:\n{log_text[-8000:]}"
+    assert served == 0, procs["serve"].stdout.read()  # type: ignore[union-attr]
+    deadline = time.monotonic() + 10
+    while alive(marker) and time.monotonic() < deadline:
+        time.sleep(0.2)
+    assert not alive(marker), f"processes left behind: {alive(marker)}"
+    recs = got()
+    numbers = [r["frame"] for r in recs]
+    assert numbers == sorted(set(numbers)) and len(recs) >= 7, f"frame numbers {numbers}"
+    assert all(r["frame_id"] == "remote" and r["threshold"] == 20 and r["budget"] == BUDGET for r in recs)
+    for r in recs:
+        _photo_of(_features(r), 20)
