@@ -16,6 +16,7 @@ simulator's socket); RemoteSource the frames of an `orb-accel serve` on another 
 
 from __future__ import annotations
 
+import functools
 import threading
 import time
 from collections.abc import Callable
@@ -44,6 +45,12 @@ MAX_BACKOFF_S = 1.0  # the longest pause between tries while the bus keeps answe
 ARRAY_DTYPES = {"float32[]": np.float32, "int32[]": np.int32, "uint16[]": np.uint16, "uint8[]": np.uint8}
 
 
+@functools.cache
+def _array_types() -> dict[str, str]:
+    """Features.msg's arrays, name -> type (read once)."""
+    return {name: t for name, t in fields("Features").items() if t.endswith("[]")}
+
+
 def feature_arrays(frame: Frame) -> dict[str, np.ndarray]:
     """The Features message's per-feature arrays of a frame, each in its field's type (from the
     definition): cv2.KeyPoint's fields (Frame.keypoint_arrays), the positions in the scale's
@@ -51,7 +58,7 @@ def feature_arrays(frame: Frame) -> dict[str, np.ndarray]:
     k = frame.keypoint_arrays()
     values = {**k, "scale_x": frame.scale_x, "scale_y": frame.scale_y, "descriptors": frame.descriptors,
               "corner_response": frame.response, "low": frame.low}  # fmt: skip
-    types = {name: t for name, t in fields("Features").items() if t.endswith("[]")}
+    types = _array_types()
     if set(types) != set(values):
         raise RuntimeError(f"Features.msg's arrays {sorted(types)} are not the node's {sorted(values)}")
     return {name: np.ascontiguousarray(values[name], dtype=ARRAY_DTYPES[t]).reshape(-1) for name, t in types.items()}
