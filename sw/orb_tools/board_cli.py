@@ -28,15 +28,12 @@ from pathlib import Path
 from golden_model import limits
 from golden_model.config import MODES, NAMES, named, parse_step
 from golden_model.frameparams import FrameParams
-from orb_accel.bus import Bus
+from orb_accel.bus import BOARD_TIMEOUT_S, SIM_TIMEOUT_FRAMES, Bus
 from orb_accel.csvdir import CsvDir
 from orb_accel.driver import Frame, HwConfig, OrbAccel
 from orb_accel.serve import DEFAULT_MAX_CLIENTS, DEFAULT_QUEUE
 from orb_accel.stream import DEFAULT_PORT
 from orb_sim.sim_server import DEFAULT_CONFIG, ENGINES, TOPLEVELS  # pure Python at import: fine on the board
-
-BOARD_TIMEOUT_S = 1.0  # a frame at 24 fps and more, with margin
-SIM_TIMEOUT_FRAMES = 3  # in simulation: three frame periods of simulated time
 
 
 def add_bus_options(p: argparse.ArgumentParser, remote: bool = False) -> None:
@@ -107,6 +104,16 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     ros.add_argument("--mode", choices=MODES, default="orb", help="start-up mode (~mode wins)")
     ros.add_argument("--roscore", action="store_true", help="start a roscore when none answers at ROS_MASTER_URI")
     sub.add_parser("ros-env", help="print shell exports under which rostopic/rosbag know orb_accel_msgs")
+
+    ros2 = sub.add_parser("ros2", help="the ROS 2 node: /orb_accel/features (docs/ros2.md); --ros-args ... to the node")
+    add_bus_options(ros2, remote=True)
+    ros2.add_argument("--threshold", type=int, default=20, help="start-up threshold (parameter threshold wins)")
+    ros2.add_argument("--mode", choices=MODES, default="orb", help="start-up mode (parameter mode wins)")
+    ros2.add_argument("--ros2-python", metavar="PYTHON", type=Path,
+                      help="the ROS 2 venv's python (default: $ORB_ACCEL_ROS2_PYTHON, else the checkout's "
+                           ".venv-ros2/bin/python)")  # fmt: skip
+    ros2.add_argument("--ros-args", nargs=argparse.REMAINDER, metavar="ARG",
+                      help="the rest goes to the node as ROS arguments: -p NAME:=VALUE, -r FROM:=TO")  # fmt: skip
 
     srv = sub.add_parser("sim-server", help="serve a simulated accelerator on a local socket (docs/driver.md)")
     srv.add_argument("frames", nargs="+", type=Path, metavar="IMAGE_OR_VIDEO")
@@ -230,9 +237,7 @@ def open_bus(args: argparse.Namespace) -> Iterator[tuple[Bus, str, float]]:
                 faults=args.sim_fault,
             )
             bus = stack.enter_context(SocketBus(address))
-            g = bus.info["generics"]
-            period_s = (g["WIDTH_g"] + bus.info["h_blank"]) * g["HEIGHT_g"] + bus.info["v_blank"]
-            timeout = args.timeout or SIM_TIMEOUT_FRAMES * period_s * bus.info["period_ns"] * 1e-9
+            timeout = args.timeout or SIM_TIMEOUT_FRAMES * bus.frame_period_s()
             yield bus, f"simulator {address} ({bus.info['toplevel']})", timeout
         elif args.devmem is not None:
             from orb_accel.devmem import DevMemBus
@@ -491,6 +496,65 @@ def cmd_ros(args: argparse.Namespace, ros_args: list[str]) -> int:
         signal.signal(signal.SIGINT, signal.default_int_handler)
         with open_bus(args) as (bus, what, timeout):
             return run_node(rospy, msg_mod, srv_mod, bus, settings, timeout, what)
+
+
+def ros2_python(given: Path | None = None) -> tuple[Path, dict[str, str]]:
+    """The ROS 2 venv's python (rclpy from PyPI lives only there: docs/ros2.md) and the environment
+    that lets it import this project: from a source checkout, the checkout's package folders on
+    PYTHONPATH (as orb_sim.hdl finds the checkout); an installed orb-accel must be installed in
+    that venv too."""
+    import os
+
+    root = Path(__file__).resolve().parents[2]
+    checkout = (root / "hdl" / "manifest.txt").is_file() and (root / "sw" / "orb_ros2").is_dir()
+    python = given or (Path(os.environ["ORB_ACCEL_ROS2_PYTHON"]) if os.environ.get("ORB_ACCEL_ROS2_PYTHON") else None)
+    if python is None and checkout:
+        python = root / ".venv-ros2" / "bin" / "python"
+    if python is None or not python.exists():
+        from orb_ros.msgs import RosUnavailable
+
+        raise RosUnavailable(f"no ROS 2 venv ({python or 'give --ros2-python or ORB_ACCEL_ROS2_PYTHON'}): `make setup` "
+                             "makes .venv-ros2 (docs/ros2.md)")  # fmt: skip
+    env = dict(os.environ)
+    if checkout:
+        parts = [str(root), str(root / "sw"), *[p for p in env.get("PYTHONPATH", "").split(os.pathsep) if p]]
+        env["PYTHONPATH"] = os.pathsep.join(dict.fromkeys(parts))
+    return python, env
+
+
+def cmd_ros2(args: argparse.Namespace, ros_args: list[str]) -> int:
+    """Start the ROS 2 node (orb_ros2.node) in the ROS 2 venv, on a simulator of its own with --sim.
+    SIGINT reaches the node through the process group; SIGTERM is handed on. The node's status."""
+    import subprocess
+
+    python, env = ros2_python(args.ros2_python)
+    node_args = ["--threshold", str(args.threshold), "--mode", args.mode]
+    if args.timeout is not None:
+        ros_args = [*(ros_args or ["--ros-args"]), "-p", f"timeout:={float(args.timeout)}"]
+    with ExitStack() as stack:
+        if args.sim:
+            address = _start_sim(stack, args.sim, args.sim_config, args.sim_size, args.sim_max_frames, args.sim_top,
+                                 args.sim_engine, scales=args.sim_scales, step=args.sim_step, sectors=args.sim_sectors,
+                                 mem_depth=args.sim_mem_depth, faults=args.sim_fault)  # fmt: skip
+            bus = ["--connect", address]
+        elif args.connect:
+            bus = ["--connect", args.connect]
+        elif args.remote:
+            bus = ["--remote", args.remote]
+        elif args.devmem is not None:
+            bus = ["--devmem", hex(args.devmem)]
+        else:
+            bus = ["--uio", args.uio or "orb-accel"]
+        proc = subprocess.Popen([str(python), "-m", "orb_ros2.node", *bus, *node_args, *ros_args], env=env)
+        signal.signal(signal.SIGTERM, lambda *_: proc.send_signal(signal.SIGTERM))
+        try:
+            return proc.wait()
+        except KeyboardInterrupt:  # the node, in this process group, has it too
+            try:
+                return proc.wait(20)
+            except subprocess.TimeoutExpired:
+                proc.terminate()
+                return proc.wait()
 
 
 def cmd_ros_env(_args: argparse.Namespace) -> int:

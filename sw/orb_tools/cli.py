@@ -527,6 +527,8 @@ def _run(argv: list[str]) -> int:
     args = build_parser().parse_args(ours if ours[:1] == ["ros"] else argv)
     if args.command == "ros":
         return board_cli.cmd_ros(args, ros_args)
+    if args.command == "ros2":
+        return board_cli.cmd_ros2(args, ["--ros-args", *args.ros_args] if args.ros_args is not None else [])
     if args.command == "board":
         return BOARD_COMMANDS[args.board_command](args)
     return COMMANDS[args.command](args)
@@ -544,7 +546,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         from . import sim_accel
 
         return sim_accel.main(argv[1:])
-    board_like = argv[:1] in (["board"], ["ros"], ["sim-server"], ["bag"], ["ros-env"], ["serve"])
+    board_like = argv[:1] in (["board"], ["ros"], ["ros2"], ["sim-server"], ["bag"], ["ros-env"], ["serve"])
     try:
         return _run(argv)
     except (UsageError, ImageError, ConfigError, OSError, RtlUnavailable, AccelError, RosUnavailable,

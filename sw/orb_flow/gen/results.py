@@ -254,6 +254,17 @@ def bench_stream_table(records: Records) -> list[str]:
             f"{d['repeat']})."]  # fmt: skip
 
 
+def bench_ros2_table(records: Records) -> list[str]:
+    run = records.run("bench", "ros2")
+    d = run["data"]
+    rows = [[f"{r['features']:,}", f"{r['build_ms']:.3f} ms", f"{r['serialize_ms']:.3f} ms",
+             f"{r['publish_ms']:.3f} ms", f"{r['build_ms'] + r['publish_ms']:.3f} ms", f"{r['deserialize_ms']:.3f} ms",
+             f"{r['message_bytes']:,}"] for r in d["runs"]]  # fmt: skip
+    head = ["features", "build from the Frame", "serialise (CDR)", "publish (no subscriber)", "node: build + publish",
+            "subscriber: deserialise", "bytes"]  # fmt: skip
+    return [*_table(head, rows), "", f"Measured by {_source(run)} ({run['tools']}; median of {d['repeat']})."]
+
+
 def synth_table(records: Records) -> list[str]:
     rows = []
     for key, j in sorted(records.synth.items(), key=lambda kv: (kv[0].split()[0], kv[0])):
@@ -446,6 +457,7 @@ TABLES: dict[str, tuple[Path, Callable[[Records], list[str]]]] = {
     "board-resources": (Path("docs/board.md"), board_table),
     "bench-driver": (Path("docs/ros.md"), bench_driver_table),
     "bench-stream": (Path("docs/stream.md"), bench_stream_table),
+    "bench-ros2": (Path("docs/ros2.md"), bench_ros2_table),
     "synth-jobs": (Path("docs/synthesis.md"), synth_table),
     "synth-blocks": (Path("docs/synthesis.md"), blocks_table),
     "select-blocks": (Path("docs/selection.md"), lambda r: blocks_table(r, ("orb_harris", "orb_feat_select"))),
