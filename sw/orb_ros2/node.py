@@ -32,7 +32,7 @@ import rclpy
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from rcl_interfaces.msg import IntegerRange, ParameterDescriptor, SetParametersResult
 from rclpy.callback_groups import ReentrantCallbackGroup
-from rclpy.executors import MultiThreadedExecutor
+from rclpy.executors import ExternalShutdownException, MultiThreadedExecutor, ShutdownException
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
@@ -273,6 +273,14 @@ def _raise_interrupt(_sig: int, _frame: object) -> None:
     raise KeyboardInterrupt
 
 
+def _spin(executor: MultiThreadedExecutor) -> None:
+    """The executor's thread: spins until the executor or the context is shut down."""
+    try:
+        executor.spin()
+    except (ExternalShutdownException, ShutdownException):
+        pass
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     ros_args = argv[argv.index("--ros-args") :] if "--ros-args" in argv else []
@@ -285,6 +293,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     node = Node(NODE_NAME)
     executor = MultiThreadedExecutor(num_threads=2)
     ros2: Ros2FeatureNode | None = None
+    spin: threading.Thread | None = None
     try:
         try:
             settings = declare(node, Params(args.threshold, args.mode, True))
@@ -296,7 +305,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             timeout_s = settings.timeout_s or default_timeout
             ros2 = Ros2FeatureNode(node, msgs, source, settings, timeout_s, what)
             executor.add_node(node)
-            threading.Thread(target=executor.spin, name="executor", daemon=True).start()
+            spin = threading.Thread(target=_spin, args=(executor,), name="executor", daemon=True)
+            spin.start()
             hw, p = source.hw, settings.params
             node.get_logger().info(
                 f"{NODE_NAME} on {what}: {hw.width}x{hw.height}, {hw.scales} scales of {hw.step_num}:{hw.step_den}, "
@@ -315,10 +325,18 @@ def main(argv: Sequence[str] | None = None) -> int:
         if ros2 is not None:
             ros2.stopping.set()
             ros2.shutdown()
+        # the executor's thread is joined before the node and the context go: a thread still inside
+        # rclpy's wait when the interpreter exits aborts the process ("terminate called without an
+        # active exception", seen under load); a context shutdown wakes a wait that outlives the
+        # executor's own shutdown
         executor.shutdown(timeout_sec=5.0)
+        if spin is not None:
+            spin.join(timeout=5.0)
+            if spin.is_alive():
+                rclpy.try_shutdown()
+                spin.join(timeout=5.0)
         node.destroy_node()
-        if rclpy.ok():
-            rclpy.shutdown()
+        rclpy.try_shutdown()
 
 
 if __name__ == "__main__":
