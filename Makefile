@@ -24,7 +24,7 @@ JOBS   ?= 2
 	help bitstream board-estimate board-dryrun ros-sim
 
 help:
-	@echo "make setup   create .venv and install the project with test extras, and .venv-ros2 (ROS 2 from PyPI; idempotent)"
+	@echo "make setup   create .venv (the project with test extras), .venv-ros2 (ROS 2 from PyPI) and .venv-pynq (tb/pynq) (idempotent)"
 	@echo "make test    run the test suite (pytest -n $(JOBS), slow tests excluded)"
 	@echo "make test-all  run every test, slow full-frame ones included"
 	@echo "make sim     the complete accelerator in GHDL on the bundled image, the named configuration CONFIG="
@@ -74,15 +74,26 @@ $(ROS2_STAMP): sw/orb_ros2/requirements.txt
 	PYTHONPATH=.:sw $(VENV_ROS2)/bin/python -m orb_ros2.interfaces
 	@touch $(ROS2_STAMP)
 
-setup: $(STAMP) $(ROS2_STAMP)
+# The PYNQ checks' venv (tb/pynq, docs/pynq.md): PyPI's pynq pins numpy below 2, so it has a venv of its
+# own, from tb/pynq/requirements.txt (about a minute and 240 MB the first time)
+PYNQ_VENV  := .venv-pynq
+PYNQ_STAMP := $(PYNQ_VENV)/.installed
+$(PYNQ_STAMP): tb/pynq/requirements.txt
+	@test -x $(PYNQ_VENV)/bin/python || $(PYTHON) -m venv $(PYNQ_VENV) || \
+		{ echo "error: '$(PYTHON) -m venv' failed; on Debian: apt-get install python3-venv"; exit 1; }
+	$(PYNQ_VENV)/bin/python -m pip install --quiet --upgrade pip
+	$(PYNQ_VENV)/bin/python -m pip install --quiet -r tb/pynq/requirements.txt
+	@touch $(PYNQ_STAMP)
+
+setup: $(STAMP) $(ROS2_STAMP) $(PYNQ_STAMP)
 
 # the Debian tools the tests use (scripts/flow/check_tools.sh prints the apt-get line for a missing one)
 TEST_TOOLS := ghdl tclsh dtc cxx ros
-test: $(STAMP) $(ROS2_STAMP)
+test: $(STAMP) $(ROS2_STAMP) $(PYNQ_STAMP)
 	@sh scripts/flow/check_tools.sh $(TEST_TOOLS)
 	$(BIN)/python -m pytest -n $(JOBS) --maxschedchunk 1 -m "not slow" tb
 
-test-all: $(STAMP) $(ROS2_STAMP)
+test-all: $(STAMP) $(ROS2_STAMP) $(PYNQ_STAMP)
 	@sh scripts/flow/check_tools.sh $(TEST_TOOLS)
 	$(BIN)/python -m pytest -n $(JOBS) --maxschedchunk 1 tb
 
