@@ -9,7 +9,7 @@ test-all`). Each prints its figures.
 - fault campaigns (orbtb.campaign): 3 x 250 events with recorded seeds (one from a random initial
   state): no lock-up, no mismatch. Replay one: `pytest tb/fast/test_fast_regressions.py -k "11-0"`;
 - the long campaign: 10,000 events (seed 2026) on the named configuration test-tiny, more than
-  10,000 frames: no lock-up, no mismatch; about 20 minutes here. Its figures go to
+  10,000 frames: no lock-up, no mismatch; about half an hour here. Its figures go to
   build/campaign/long-2026.json (progress in long-2026.progress), recorded in
   docs/results/campaign.json (`python -m orb_flow.record campaign`, docs/fast-sim.md).
 """
