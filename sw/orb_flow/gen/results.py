@@ -1,8 +1,8 @@
 # SPDX-License-Identifier: MIT
 """Generate the docs' results tables from the measurement records, the one place of every figure.
 
-The records: docs/results/eval.json and docs/results/sim.json (written by orb_flow.record from the
-benches' and make sim's outputs) and sw/orb_flow/synth_expected.json (the synthesis estimates,
+The records: docs/results/*.json (written by orb_flow.record from the benches', make sim's, make
+test's, make formal's and the fault campaigns' outputs) and sw/orb_flow/synth_expected.json (the synthesis estimates,
 written by make synth). Each table sits in a page between the lines
 ``<!-- generated: NAME (orb_flow.gen.results) -->`` and ``<!-- end generated -->``; this module
 replaces what is between them and leaves the rest of the page alone. A page that lacks a
@@ -43,6 +43,7 @@ class Records:
         self.bench = self._runs(root / "docs" / "results" / "bench.json")
         self.test = self._runs(root / "docs" / "results" / "test.json")
         self.formal = self._runs(root / "docs" / "results" / "formal.json")
+        self.campaign = self._runs(root / "docs" / "results" / "campaign.json")
         self.synth = json.loads((root / SYNTH).read_text())["jobs"]
         self.board = json.loads((root / BOARD).read_text())
 
@@ -378,6 +379,43 @@ def sim_table(records: Records) -> list[str]:
     return _table(head, rows)
 
 
+CAMPAIGN_LABELS = {"no_sof": "no start of frame", "early_sof": "early start of frame", "hold": "CPU holding banks"}
+
+
+def _kinds(counts: dict[str, int]) -> str:
+    return ", ".join(f"{CAMPAIGN_LABELS.get(k, k.replace('_', ' '))} {n:,}" for k, n in counts.items())
+
+
+def _wall(seconds: float) -> str:
+    return f"{seconds / 60:.1f} min" if seconds >= 120 else f"{seconds:.0f} s"
+
+
+def campaign_table(records: Records) -> list[str]:
+    """The recorded fault campaigns (docs/results/campaign.json)."""
+    if not records.campaign:
+        raise ResultsError("docs/results/campaign.json has no run: run a campaign (tb/fast/test_fast_regressions.py) "
+                           "and record it (python -m orb_flow.record campaign ...)")  # fmt: skip
+    rows = []
+    for run in records.campaign.values():
+        d = run["data"]
+        g = d["generics"]
+        step = f"{g.get('STEP_NUM_g', 2)}:{g.get('STEP_DEN_g', 1)}"
+        device = f"{g['WIDTH_g']}x{g['HEIGHT_g']}, {g['SCALES_g']} x {step}, {g['SECTORS_g']} sectors, "
+        device += f"{g['MEM_DEPTH_g']:,} slots"
+        seed = str(d["seed"]) + (f" (initial state {d['init_seed']})" if d["init_seed"] else "")
+        frames = (f"{d['frames_sent']:,} sent; {d['frames_closed_good']:,} closed good, "
+                  f"{d['frames_closed_bad']:,} bad; {d['frames_published']:,} published, "
+                  f"{d['frames_skipped_bank_held']:,} skipped (bank held)")  # fmt: skip
+        bad = {k: str(d[k]) if d[k] == 0 else f"**{d[k]}**" for k in ("lockups", "mismatches")}
+        rows.append([f"`{run['command']}`", device, seed, f"{d['events']:,}", frames,
+                     f"{d['faults_injected']:,}: {_kinds(d['faults_by_kind'])}", _kinds(d["changes_by_kind"]),
+                     bad["lockups"], bad["mismatches"], f"{d['features_checked']:,}",
+                     f"{_wall(d['wall_s'])}, {d['machine']}", f"{run['commit']}, {run['date']}"])  # fmt: skip
+    head = ["command", "device", "seed", "events", "frames", "faults injected", "changes (each with a good frame)",
+            "lock-ups", "mismatches", "features checked", "wall time", "commit, date"]  # fmt: skip
+    return _table(head, rows)
+
+
 def _board_job(records: Records, name: str) -> tuple[str, dict[str, Any]]:
     c = records.board["configs"][name]
     key = (f"orb_accel_zynq {c['width']}x{c['height']}x{c['scales']} MEM_DEPTH_g={c['mem_depth']} "
@@ -452,6 +490,7 @@ TABLES: dict[str, tuple[Path, Callable[[Records], list[str]]]] = {
     "track-bench": (Path("docs/evaluation.md"), track_tables),
     "density-bench": (Path("docs/evaluation.md"), density_table),
     "sim-runs": (Path("docs/fast-sim.md"), sim_table),
+    "campaigns": (Path("docs/fast-sim.md"), campaign_table),
     "bench-model": (Path("docs/benchmarks.md"), bench_model_table),
     "bench-sim": (Path("docs/benchmarks.md"), bench_sim_table),
     "board-resources": (Path("docs/board.md"), board_table),

@@ -124,6 +124,9 @@ void tick(Sim& s) {
     s.last_beat_cycle = s.cycle;
     if (s.pos == p.beats.size()) {
       s.pos = 0;
+      // a program sent is not needed again unless the queue loops: its beats are freed (a long
+      // campaign queues tens of thousands of frames; set_loop must come before the sending)
+      if (!s.loop) std::vector<Beat>().swap(p.beats);
       s.prog++;
       if (s.prog == s.programs.size() && s.loop) s.prog = 0;
     }
