@@ -488,12 +488,17 @@ def _always_ready(port: str) -> str:
     return f"  always @(*) if (!init && !rst && !rst_q) {port}_ready: assert (s_axis_{port}_tready);"
 
 
-def _conserve(src: str, dst: str, cap: int) -> str:
+def _conserve(src: str, dst: str, cap: int, stages: Sequence[str] = ()) -> str:
     """Nothing out that did not go in: the beats taken on s_axis_<src> minus those given on m_axis_<dst> (a small
     counter) stay within 0 .. cap (the stages' room), and no beat is offered on the output with none inside.
-    cap 0: one register stage, the beat inside is the one on the output (inside == tvalid: inductive)."""
+    cap 0: one register stage, the beat inside is the one on the output (inside == tvalid: inductive).
+    stages: the valid bits of the stages before the output (probes): the count is exactly theirs and the
+    output's (nothing lost either; inductive)."""
     s, m = f"s_axis_{src}", f"m_axis_{dst}"
-    rule = f"inside == {m}_tvalid" if cap == 0 else f"inside <= {cap} && (!{m}_tvalid || inside != 0)"
+    if stages:
+        rule = f"inside == {' + '.join(f'probe_{v}' for v in stages)} + {m}_tvalid"
+    else:
+        rule = f"inside == {m}_tvalid" if cap == 0 else f"inside <= {cap} && (!{m}_tvalid || inside != 0)"
     return (
         "  reg [3:0] inside = 0;  // beats taken on the input and not yet given on the output\n"
         "  always @(posedge clk)\n"
@@ -761,7 +766,20 @@ _FEAT_MEM_RECORD = (
     end
   end
   always @(*) if (!init && !rst_q)
-    bank_choice: assert (frame_done == e_pub && overrun == ovr_q + e_ovr && aborted == abt_q + e_abt);"""
+    bank_choice: assert (frame_done == e_pub && overrun == ovr_q + e_ovr && aborted == abt_q + e_abt);
+
+  // lemmas for the induction (not properties of their own): the monitors above track the entity's state
+  // (probed), and the bank being written holds no record below the count
+  wire [15:0] recs_w = probe_wbank ? recs1 : recs0;
+  always @(*) if (!init && !rst_q) begin
+    lemma_state: assert (probe_wbank == w_now && in_f == probe_in_frame && ab == probe_abort_f &&
+                         (!in_f || dec == probe_storing) && (e_pub + e_ovr + e_abt <= 1) &&
+                         rel_q == probe_in_rel && relb_q == probe_in_relb && beat_q == probe_in_beat &&
+                         last_q == probe_in_last && abort_q == probe_in_abort);
+    lemma_writing: assert ((probe_in_frame || !probe_storing) && (probe_storing || probe_cnt == 0) &&
+                           (!(probe_in_frame && probe_storing) ||
+                            (!bank_ready[probe_wbank] && (recs_w & ~(16'hffff << probe_cnt)) == 0)));
+  end"""
 )
 
 # a published bank never changes, seen at the CPU port: every read of one address (any: the solver picks it) of
@@ -887,10 +905,12 @@ CHECKS: dict[str, Check] = {
             "orb_rgb_luma",
             {"INPUT_g": "RGB"},
             name="orb_rgb_luma.conserve",
-            mode="bmc",
-            depth=20,
-            extra=_conserve("video", "video", 4),
-            extra_props={"no_invention": "nothing out that did not go in; at most 4 beats inside (its 4 registers)"},
+            probes=("a_valid", "b_valid", "p_valid"),
+            extra=_conserve("video", "video", 4, ("a_valid", "b_valid", "p_valid")),
+            extra_props={
+                "no_invention": "nothing out that did not go in, nothing lost: the beats taken and not given are "
+                "exactly those its 4 registers hold (skid a, b, stage 1, output; valid bits probed)"
+            },
             bugs_of={"chk_m_axis_video": "orb_rgb_luma"},
             mutations=(
                 Mutation(
@@ -961,6 +981,7 @@ CHECKS: dict[str, Check] = {
             "orb_desc_rotate",
             {"SECTORS_g": 16},
             name="orb_desc_rotate.timing",
+            quick=False,  # 27 s (the rotation of the 256-bit descriptor); its planted bugs 3 s each
             extra="\n".join(
                 [
                     _sink_ready("feat"),
@@ -1078,6 +1099,7 @@ CHECKS: dict[str, Check] = {
             name="orb_feat_merge.conserve",
             mode="bmc",
             depth=12,
+            quick=False,  # 23 s at depth 12 (3 s at depth 10); its planted bug 3 s
             extra=_MERGE_CONSERVE,
             extra_props={
                 "no_invention": "nothing out that did not go in: features out plus those counted dropped never "
@@ -1150,10 +1172,12 @@ CHECKS: dict[str, Check] = {
             "orb_overlay",
             {"WIDTH_g": 64, "HEIGHT_g": 48, "SCALES_g": 1, "BLOCK_LOG2_g": 2},
             name="orb_overlay.conserve",
-            mode="bmc",
-            depth=20,
-            extra=_conserve("video", "video", 3),
-            extra_props={"no_invention": "nothing out that did not go in; at most 3 video beats inside (its 3 stages)"},
+            probes=("d1_valid", "d2_valid"),
+            extra=_conserve("video", "video", 3, ("d1_valid", "d2_valid")),
+            extra_props={
+                "no_invention": "nothing out that did not go in, nothing lost: the video beats taken and not given "
+                "are exactly those its 3 stages hold (valid bits probed)"
+            },
             bugs_of={"chk_m_axis_video": "orb_overlay"},
             mutations=(
                 Mutation(
@@ -1215,13 +1239,20 @@ CHECKS: dict[str, Check] = {
             "orb_feat_mem",
             {"DEPTH_g": 16, "SEL_SLOTS_g": 2},
             name="orb_feat_mem.banks",
-            mode="bmc",
-            depth=20,
-            extra=_FEAT_MEM_BANKS,
+            probes=("wr_en", "wr_addr", "wr_data", "wbank", "in_frame", "storing", "abort_f", "cnt", "in_rel",
+                    "in_relb", "in_beat", "in_last", "in_abort"),  # fmt: skip
+            extra=_FEAT_MEM_BANKS + "\n" + _FEAT_MEM_RECORD,
             extra_props={
                 "held_header_stable": "a READY bank's header (count, frame, truncated, dropped) does not change "
                 "until the CPU releases it",
                 "ready_until_release": "a READY bank stays READY until the CPU releases it (or rst)",
+                "held_not_written": "the RAM's write port never writes a held bank (READY and not being released)",
+                "count_record": "the count and the end-of-frame record agree: in a READY bank (the RAM's writes "
+                "followed) slot count holds the record last written, with the header's count, truncated flag, "
+                "frame, dropped and truncated counts, and no slot below count holds a record",
+                "banks_alternate": "frames are published into bank 0, 1, 0, ... from reset (frame_done, last_bank)",
+                "bank_choice": "a frame is published iff its bank was free at its first beat (not READY, or "
+                "released in that clock) and no frame_abort came; else counted once in overrun or aborted",
             },
             mutations=(
                 Mutation(
@@ -1240,26 +1271,6 @@ CHECKS: dict[str, Check] = {
                     "if (in_rel = '1' and in_relb = BANK_c(k)) or in_abort = '1' then",
                     "ready_until_release",
                 ),
-            ),
-        ),
-        Check(
-            "orb_feat_mem",
-            {"DEPTH_g": 16, "SEL_SLOTS_g": 2},
-            name="orb_feat_mem.record",
-            mode="bmc",
-            depth=16,
-            probes=("wr_en", "wr_addr", "wr_data"),
-            extra=_FEAT_MEM_RECORD,
-            extra_props={
-                "held_not_written": "the RAM's write port never writes a held bank (READY and not being released)",
-                "count_record": "the count and the end-of-frame record agree: in a READY bank (the RAM's writes "
-                "followed) slot count holds the record last written, with the header's count, truncated flag, "
-                "frame, dropped and truncated counts, and no slot below count holds a record",
-                "banks_alternate": "frames are published into bank 0, 1, 0, ... from reset (frame_done, last_bank)",
-                "bank_choice": "a frame is published iff its bank was free at its first beat (not READY, or "
-                "released in that clock) and no frame_abort came; else counted once in overrun or aborted",
-            },
-            mutations=(
                 Mutation(
                     "record_other_bank",
                     "the end-of-frame record written into the other bank (the held one)",
