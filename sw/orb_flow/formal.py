@@ -584,17 +584,17 @@ _ROTATE_OK = """  function [255:0] rot16(input [255:0] d, input [3:0] sh);
   endfunction
   wire [255:0] want_desc = m_axis_feat_tlast ? t_data[319:64] : rot16(t_data[319:64], t_data[43:40]);"""
 
-_FRAME_GATE_PASS = """  // latency 0, nothing invented: a beat on m_axis_video is the beat on s_axis_video in the same clock, taken
-  // exactly when the output takes it
+_FRAME_GATE_PASS = """  // latency 0, nothing invented: a beat on m_axis_video is the beat on s_axis_video in the same
+  // clock, taken exactly when the output takes it
   always @(*) if (!init)
     no_invention: assert (!m_axis_video_tvalid ||
                           (s_axis_video_tvalid && m_axis_video_tdata == s_axis_video_tdata &&
                            m_axis_video_tuser == s_axis_video_tuser && m_axis_video_tlast == s_axis_video_tlast &&
                            s_axis_video_tready == m_axis_video_tready));"""
 
-_VIDEO_CHECK_RATE = """  // rate: s_axis_video_tready is low for at most {N} clocks in a row out of reset: padding a bad frame, and
-  // then the next one when the start of frame held meanwhile is bad itself (its tlast at x = 0), all without
-  // taking input (a bound of {N} - 1 fails)
+_VIDEO_CHECK_RATE = """  // rate: s_axis_video_tready is low for at most {N} clocks in a row out of reset: padding a bad
+  // frame, and then the next one when the start of frame held meanwhile is bad itself (its tlast at
+  // x = 0), all without taking input (a bound of {N} - 1 fails)
   reg [7:0] low = 0;
   always @(posedge clk) low <= (rst || s_axis_video_tready) ? 0 : (low == 255 ? 255 : low + 1);
   always @(*) if (!init && !rst) rate: assert (low <= {N});
@@ -680,7 +680,8 @@ _ZYNQ_RESET = """  // the reset contract: aresetn, once low, stays low for a sec
   always @(*) if (!init && (!aresetn || !arn1))
     assume (!s_axi_ctrl_awvalid && !s_axi_ctrl_wvalid && !s_axi_ctrl_arvalid && !s_axis_video_tvalid);"""
 
-_FEAT_MEM_COMMON = """  // the entity registers every input once; these are its registered release, stream (tready is 1) and abort
+_FEAT_MEM_COMMON = """  // the entity registers every input once; these are its registered release, stream (tready is 1)
+  // and abort
   reg rel_q = 0, relb_q = 0, beat_q = 0, last_q = 0, abort_q = 0;
   always @(posedge clk) begin
     rel_q <= release_valid && !rst;
@@ -781,6 +782,10 @@ _FEAT_MEM_RECORD = (
                             (!bank_ready[probe_wbank] && (recs_w & ~(16'hffff << probe_cnt)) == 0)));
   end"""
 )
+
+# the nets of orb_feat_mem the bank protocol's check reads: the RAM's write port, the control state
+_FEAT_MEM_PROBES = ("wr_en", "wr_addr", "wr_data", "wbank", "in_frame", "storing", "abort_f", "cnt", "in_rel",
+                    "in_relb", "in_beat", "in_last", "in_abort")  # fmt: skip
 
 # a published bank never changes, seen at the CPU port: every read of one address (any: the solver picks it) of
 # a bank while the bank stays held returns the same word; reads of other addresses are left out (assumed)
@@ -884,7 +889,8 @@ CHECKS: dict[str, Check] = {
                     "a start-of-frame beat waits a clock (tready low while tuser is offered and no decision held)",
                     _FG,
                     r"ready     <= m_axis_video_tready when gate_pass = '1' else",
-                    "ready     <= m_axis_video_tready and (sof_hold or not s_axis_video_tuser) when gate_pass = '1' else",
+                    "ready     <= m_axis_video_tready and (sof_hold or not s_axis_video_tuser) "
+                    "when gate_pass = '1' else",
                     "rate",
                 ),
             ),
@@ -927,9 +933,7 @@ CHECKS: dict[str, Check] = {
             "orb_rgb_luma",
             {"INPUT_g": "RGB"},
             name="orb_rgb_luma.timing",
-            extra="\n".join(
-                [_sink_ready("video"), _rate("video"), _latency("video", "video", 3, 24)]
-            ),
+            extra="\n".join([_sink_ready("video"), _rate("video"), _latency("video", "video", 3, 24)]),
             extra_props={
                 "rate": "with the sink always ready, s_axis_video_tready is 1 in every clock out of reset",
                 "latency": "with the sink always ready, every beat taken is on m_axis_video RGB_LUMA_LAT_c = 3 "
@@ -1239,8 +1243,7 @@ CHECKS: dict[str, Check] = {
             "orb_feat_mem",
             {"DEPTH_g": 16, "SEL_SLOTS_g": 2},
             name="orb_feat_mem.banks",
-            probes=("wr_en", "wr_addr", "wr_data", "wbank", "in_frame", "storing", "abort_f", "cnt", "in_rel",
-                    "in_relb", "in_beat", "in_last", "in_abort"),  # fmt: skip
+            probes=_FEAT_MEM_PROBES,
             extra=_FEAT_MEM_BANKS + "\n" + _FEAT_MEM_RECORD,
             extra_props={
                 "held_header_stable": "a READY bank's header (count, frame, truncated, dropped) does not change "
