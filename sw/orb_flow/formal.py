@@ -846,8 +846,9 @@ CHECKS: dict[str, Check] = {
             {"DATA_WIDTH_g": 4},
             extra=_FRAME_GATE_PASS,
             extra_props={
-                "no_invention": "latency 0, nothing invented: a beat on m_axis_video is the one on s_axis_video in "
-                "the same clock (data, tuser, tlast), s_axis_video_tready = m_axis_video_tready then"
+                "no_invention": "combinational (FRAME_GATE_LAT_c = 0), nothing invented: a beat on m_axis_video is "
+                "the one on s_axis_video in the same clock (data, tuser, tlast), s_axis_video_tready = "
+                "m_axis_video_tready then"
             },
             mutations=(
                 Mutation(
