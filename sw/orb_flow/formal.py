@@ -989,7 +989,7 @@ CHECKS: dict[str, Check] = {
             {"SECTORS_g": 16},
             name="orb_desc_rotate.timing",
             bugs_of={"chk_m_axis_feat": "orb_desc_rotate"},
-            quick=False,  # 27 s (the rotation of the 256-bit descriptor); its planted bugs 3 s each
+            quick=False,  # 13-27 s (the rotation of the 256-bit descriptor); its planted bugs 3 s each
             extra="\n".join(
                 [
                     _sink_ready("feat"),
