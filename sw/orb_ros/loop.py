@@ -19,6 +19,7 @@ from __future__ import annotations
 import functools
 import threading
 import time
+from abc import ABC, abstractmethod
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Protocol
@@ -217,7 +218,7 @@ class Report:
     values: dict[str, str]
 
 
-class FrameLoop:
+class FrameLoop(ABC):
     """The loop, its queue of changes and its fault bookkeeping; a subclass publishes (publish,
     publish_report), stamps (now) and logs (logwarn, loginfo)."""
 
@@ -264,20 +265,25 @@ class FrameLoop:
         self.source.configure(self.params, self.budget)
 
     # ---- what a ROS binding provides ----------------------------------------------------------
+    @abstractmethod
     def now(self) -> object:
-        raise NotImplementedError
+        """The binding's time stamp for a frame's message."""
 
+    @abstractmethod
     def publish(self, frame: Frame, stamp: object, assumed: FrameParams) -> None:
-        raise NotImplementedError
+        """Publish one frame's message."""
 
+    @abstractmethod
     def publish_report(self, report: Report) -> None:
-        raise NotImplementedError
+        """Publish the diagnostics of a report."""
 
+    @abstractmethod
     def logwarn(self, text: str) -> None:
-        raise NotImplementedError
+        """Log a warning through the binding's logger."""
 
+    @abstractmethod
     def loginfo(self, text: str) -> None:
-        raise NotImplementedError
+        """Log information through the binding's logger."""
 
     # ---- changes (called from the bindings' service threads): queue, wait until written -------
     def queued_params(self) -> Params:
