@@ -19,12 +19,11 @@ import argparse
 import json
 import os
 import platform
-import statistics
-import time
 from importlib import metadata
 from pathlib import Path
 
 import numpy as np
+from timing import median_ms  # scripts/bench/timing.py
 
 from golden_model import limits
 from golden_model.config import named
@@ -53,16 +52,6 @@ def frame_of(n: int, seed: int = 1) -> Frame:
     counters = {"frame_count": 8, "dropped": 0, "proto_errors": 0, "overrun": 0, "overflow_count": 0,
                 "desc_lost": 0, "discarded": 0}  # fmt: skip
     return Frame(0, feats, record, "orb", hw, counters, params)
-
-
-def median_ms(fn, repeat: int) -> float:
-    fn()
-    times = []
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t0)
-    return statistics.median(times) * 1e3
 
 
 def main() -> int:

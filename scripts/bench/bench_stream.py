@@ -28,6 +28,7 @@ import time
 from pathlib import Path
 
 import numpy as np
+from timing import median_ms  # scripts/bench/timing.py
 
 from golden_model.featcodec import encode_eof, encode_feature, feature_slot, record_slot
 from golden_model.featmem import SLOT_WORDS_USED, decode_features, decode_record
@@ -62,16 +63,6 @@ def make_frame(n: int, hw: HwConfig, seed: int = 1) -> Frame:
     feats = decode_features(words, hw.sectors, descriptors=True)
     feats.step = hw.step
     return Frame(0, feats, record, "orb", hw, {name: 0 for name in NAMES}, record.params)
-
-
-def median_ms(fn, repeat: int) -> float:  # type: ignore[no-untyped-def]
-    fn()
-    times = []
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t0)
-    return statistics.median(times) * 1e3
 
 
 def same(a: Frame, b: Frame) -> bool:
