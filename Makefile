@@ -3,6 +3,11 @@ PYTHON ?= python3
 VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
+# ROS 2 from PyPI (rclpy, Kilted) has wheels for CPython 3.11 on x86_64 only, and its bootstrapper
+# re-executes every Python start in its venv: a venv of its own (docs/ros2.md)
+VENV_ROS2 := .venv-ros2
+ROS2_STAMP := $(VENV_ROS2)/.installed
+ROS2_PYTHON ?= $(shell command -v python3.11 2>/dev/null || echo $(PYTHON))
 IMAGE  ?=
 # CONFIG: for make sim and make ros-sim a named configuration (docs/configurations.md; empty: recommended-vga,
 # sim-qvga); for make bitstream and make board-dryrun a board configuration of vivado/board.json (640x480,
@@ -15,11 +20,11 @@ SECTORS ?=
 THRESHOLD ?=
 JOBS   ?= 2
 
-.PHONY: setup test test-all sim bench bench-sim bench-driver eval figures lint synth formal netlist-sim tools pattern docs views clean \
+.PHONY: setup test test-all sim bench bench-sim bench-driver bench-stream bench-ros2 ros2-sim eval figures lint synth formal netlist-sim tools pattern docs views clean \
 	help bitstream board-estimate board-dryrun ros-sim
 
 help:
-	@echo "make setup   create .venv and install the project with test extras (idempotent)"
+	@echo "make setup   create .venv (the project with test extras), .venv-ros2 (ROS 2 from PyPI) and .venv-pynq (tb/pynq) (idempotent)"
 	@echo "make test    run the test suite (pytest -n $(JOBS), slow tests excluded)"
 	@echo "make test-all  run every test, slow full-frame ones included"
 	@echo "make sim     the complete accelerator in GHDL on the bundled image, the named configuration CONFIG="
@@ -29,7 +34,10 @@ help:
 	@echo "make bench   model speed benchmark (scripts/bench/bench_model.py)"
 	@echo "make bench-sim  RTL simulation speed, one 640x480 frame (scripts/bench/bench_sim.py)"
 	@echo "make bench-driver  per-frame CPU cost of the driver and the ROS message, 1,000 and 5,000 features (docs/ros.md)"
-	@echo "make ros-sim the ROS node on the simulated accelerator, publishing /orb_accel/features (IMAGE=; docs/ros.md)"
+	@echo "make bench-stream  per-frame cost of the feature stream (orb-accel serve): bytes, encode, decode, loopback (docs/stream.md)"
+	@echo "make bench-ros2  per-frame CPU cost of the ROS 2 message, 1,000 features and a bank's capacity (docs/ros2.md)"
+	@echo "make ros2-sim  the ROS 2 node on the simulated accelerator, publishing /orb_accel/features (IMAGE=; docs/ros2.md)"
+	@echo "make ros-sim the ROS 1 node on the simulated accelerator, publishing /orb_accel/features (IMAGE=; docs/ros.md)"
 	@echo "make eval    compare-fast, rotation-bench and scale-bench against OpenCV on the evaluation photos (STEP=1: ~7 min);"
 	@echo "             then the held-out photographs (apt-get download, no root): scale-, track- and density-bench"
 	@echo "make figures make eval, then copy its figures into docs/img (docs/img/README.md)"
@@ -57,15 +65,35 @@ $(STAMP): pyproject.toml
 	$(BIN)/python -m pip install --quiet -e '.[test]'
 	@touch $(STAMP)
 
-setup: $(STAMP)
+$(ROS2_STAMP): sw/orb_ros2/requirements.txt
+	@$(ROS2_PYTHON) -c 'import sys, platform; sys.exit(sys.version_info[:2] != (3, 11) or platform.machine() != "x86_64")' || \
+		{ echo "error: the ROS 2 venv needs CPython 3.11 on x86_64 (PyPI's ROS 2 wheels; found $$($(ROS2_PYTHON) --version) on $$(uname -m)); ROS2_PYTHON=python3.11"; exit 1; }
+	@test -x $(VENV_ROS2)/bin/python || $(ROS2_PYTHON) -m venv $(VENV_ROS2)
+	$(VENV_ROS2)/bin/python -m pip install --quiet --upgrade pip
+	$(VENV_ROS2)/bin/python -m pip install --quiet -r sw/orb_ros2/requirements.txt
+	PYTHONPATH=.:sw $(VENV_ROS2)/bin/python -m orb_ros2.interfaces
+	@touch $(ROS2_STAMP)
+
+# The PYNQ checks' venv (tb/pynq, docs/pynq.md): PyPI's pynq pins numpy below 2, so it has a venv of its
+# own, from tb/pynq/requirements.txt (about a minute and 240 MB the first time)
+PYNQ_VENV  := .venv-pynq
+PYNQ_STAMP := $(PYNQ_VENV)/.installed
+$(PYNQ_STAMP): tb/pynq/requirements.txt
+	@test -x $(PYNQ_VENV)/bin/python || $(PYTHON) -m venv $(PYNQ_VENV) || \
+		{ echo "error: '$(PYTHON) -m venv' failed; on Debian: apt-get install python3-venv"; exit 1; }
+	$(PYNQ_VENV)/bin/python -m pip install --quiet --upgrade pip
+	$(PYNQ_VENV)/bin/python -m pip install --quiet -r tb/pynq/requirements.txt
+	@touch $(PYNQ_STAMP)
+
+setup: $(STAMP) $(ROS2_STAMP) $(PYNQ_STAMP)
 
 # the Debian tools the tests use (scripts/flow/check_tools.sh prints the apt-get line for a missing one)
 TEST_TOOLS := ghdl tclsh dtc cxx ros
-test: $(STAMP)
+test: $(STAMP) $(ROS2_STAMP) $(PYNQ_STAMP)
 	@sh scripts/flow/check_tools.sh $(TEST_TOOLS)
 	$(BIN)/python -m pytest -n $(JOBS) --maxschedchunk 1 -m "not slow" tb
 
-test-all: $(STAMP)
+test-all: $(STAMP) $(ROS2_STAMP) $(PYNQ_STAMP)
 	@sh scripts/flow/check_tools.sh $(TEST_TOOLS)
 	$(BIN)/python -m pytest -n $(JOBS) --maxschedchunk 1 tb
 
@@ -88,6 +116,19 @@ bench-sim: $(STAMP)
 bench-driver: $(STAMP)
 	@sh scripts/flow/check_tools.sh ros
 	$(BIN)/python scripts/bench/bench_driver.py
+
+bench-stream: $(STAMP)
+	$(BIN)/python scripts/bench/bench_stream.py
+
+# The per-frame cost of the ROS 2 message (docs/ros2.md), in the ROS 2 venv
+bench-ros2: $(STAMP) $(ROS2_STAMP)
+	PYTHONPATH=.:sw $(VENV_ROS2)/bin/python scripts/bench/bench_ros2.py
+
+# The ROS 2 node against the simulated accelerator (docs/ros2.md); `ros2_client.py listen` or any ROS 2
+# subscriber of /orb_accel/features (ROS_DOMAIN_ID, ROS_AUTOMATIC_DISCOVERY_RANGE as usual)
+ros2-sim: $(STAMP) $(ROS2_STAMP)
+	@sh scripts/flow/check_tools.sh ghdl
+	$(BIN)/orb-accel ros2 --sim $(ROS_IMAGES) $(if $(CONFIG),--sim-config $(CONFIG))
 
 # The ROS node against the simulated accelerator (docs/ros.md), with a roscore of its own when none answers at
 # ROS_MASTER_URI; `rostopic echo /orb_accel/features` in another shell (after `eval $$(.venv/bin/orb-accel ros-env)`).

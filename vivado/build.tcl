@@ -10,8 +10,9 @@
 #
 # vivado -mode batch -source vivado/build.tcl -tclargs --config 1280x720 --vivado-library DIR
 #        --out build/vivado/1280x720 [--board-repo DIR] [--jobs N] [--stop-after project|bd|synth]
-# `make bitstream CONFIG=board-720p VIVADO_LIBRARY=DIR` runs this, then sw/orb_flow/board/bit2bin.py and
-# sw/orb_flow/board/vivado_summary.py.
+# `make bitstream CONFIG=board-720p VIVADO_LIBRARY=DIR` runs this, then sw/orb_flow/board/bitstream.py
+# puts the .bit.bin and the PYNQ .dtbo beside the .bit and the .hwh this writes (docs/pynq.md) and
+# sw/orb_flow/board/vivado_summary.py summarises.
 
 set orb_vivado_dir [file dirname [file normalize [info script]]]
 set orb_repo_root [file dirname $orb_vivado_dir]
@@ -37,7 +38,8 @@ if {[version -short] ne $::orb_board::vivado_version} {
 puts "orb_board: configuration $cfg_name ([dict get $cfg mode]), core clock [dict get $cfg core_mhz] MHz"
 
 # --- project --------------------------------------------------------------------------------------
-create_project -force -part $::orb_board::part $top_name [file join $out project]
+set project_dir [file join $out project]
+create_project -force -part $::orb_board::part $top_name $project_dir
 set_property target_language VHDL [current_project]
 set board_part ""
 if {[dict get $opts board-repo] ne ""} {
@@ -108,5 +110,12 @@ report_cdc -file [file join $reports cdc.rpt]
 orb_check_core_clock $cfg [file join $reports core_clock.txt]
 set bit [lindex [glob -directory [get_property DIRECTORY [get_runs impl_1]] *.bit] 0]
 file copy -force $bit [file join $out ${base_name}.bit]
+# the hardware handoff beside the bitstream, same stem: pynq.Overlay("<stem>.bit") reads <stem>.hwh
+# (docs/pynq.md). generate_target writes it into the project, as PYNQ's own build scripts copy it.
+set hwh [file join $project_dir ${top_name}.gen sources_1 bd $top_name hw_handoff ${top_name}.hwh]
+if {![file exists $hwh]} {
+  error "orb_board: no hardware handoff at $hwh (generate_target writes it; PYNQ needs it beside the .bit)"
+}
+file copy -force $hwh [file join $out ${base_name}.hwh]
 write_hw_platform -fixed -include_bit -force -file [file join $out ${base_name}.xsa]
-puts "orb_board: wrote [file join $out ${base_name}.bit], ${base_name}.xsa and reports/"
+puts "orb_board: wrote [file join $out ${base_name}.bit], ${base_name}.hwh, ${base_name}.xsa and reports/"

@@ -22,13 +22,12 @@ import json
 import os
 import platform
 import socket
-import statistics
 import struct
 import tempfile
-import time
 from pathlib import Path
 
 import numpy as np
+from timing import median_ms  # scripts/bench/timing.py
 
 from golden_model import regs
 from golden_model.featcodec import encode_eof, encode_feature, feature_slot, record_slot
@@ -88,16 +87,6 @@ def make_map(path: Path, n: int, depth: int, seed: int = 1) -> int:
     words[base + n * SLOT_BYTES // 4 : base + n * SLOT_BYTES // 4 + len(rec)] = rec
     path.write_bytes(words.tobytes())
     return size
-
-
-def median_ms(fn, repeat: int) -> float:
-    fn()
-    times = []
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t0)
-    return statistics.median(times) * 1e3
 
 
 def measure(n: int, repeat: int, rospy, numpy_msg, msg_mod) -> dict:

@@ -3,7 +3,7 @@
 
 from .bus import Bus, BusError
 from .devmem import DevMemBus
-from .driver import AccelError, Frame, HwConfig, OrbAccel
+from .driver import AccelError, Frame, FrameSource, HwConfig, OrbAccel
 from .uio import UIO_NAME, UioBus, find_uio
 
 __all__ = [
@@ -13,6 +13,7 @@ __all__ = [
     "BusError",
     "DevMemBus",
     "Frame",
+    "FrameSource",
     "HwConfig",
     "OrbAccel",
     "UioBus",

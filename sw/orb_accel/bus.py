@@ -8,6 +8,10 @@ from typing import Protocol
 
 import numpy as np
 
+# how long a program waits for a frame unless told (orb-accel board, ros, ros2)
+BOARD_TIMEOUT_S = 1.0  # on the board: a frame at 24 fps and more, with margin
+SIM_TIMEOUT_FRAMES = 3  # in simulation: three frame periods of simulated time (SocketBus.frame_period_s)
+
 
 class BusError(OSError):
     """An AXI4-Lite error response (SLVERR or DECERR) to a read or a write."""

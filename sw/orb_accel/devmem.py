@@ -18,10 +18,25 @@ import mmap
 import operator
 import os
 import time
+from collections.abc import Callable
 
 from golden_model import regs
 
 from .uio import MappedWindow
+
+
+def poll_irq(read32: Callable[[int], int], timeout_s: float, poll_s: float) -> bool:
+    """The interrupt without an interrupt: True as soon as IRQ_STATUS & IRQ_ENABLE (read through
+    `read32`) is not 0 (the accelerator's interrupt line is high), False when `timeout_s` passes
+    first (<= 0: look once). Polls every `poll_s` seconds."""
+    deadline = time.monotonic() + max(timeout_s, 0.0)
+    while True:
+        if read32(regs.IRQ_STATUS.offset) & read32(regs.IRQ_ENABLE.offset):
+            return True
+        remaining = deadline - time.monotonic()
+        if remaining <= 0:
+            return False
+        time.sleep(min(poll_s, remaining))
 
 
 class DevMemBus(MappedWindow):
@@ -53,14 +68,7 @@ class DevMemBus(MappedWindow):
     def wait_irq(self, timeout_s: float) -> bool:
         """True as soon as IRQ_STATUS & IRQ_ENABLE is not 0 (the accelerator's interrupt line is
         high), False when `timeout_s` passes first (<= 0: look once). Polls every poll_s seconds."""
-        deadline = time.monotonic() + max(timeout_s, 0.0)
-        while True:
-            if self.read32(regs.IRQ_STATUS.offset) & self.read32(regs.IRQ_ENABLE.offset):
-                return True
-            remaining = deadline - time.monotonic()
-            if remaining <= 0:
-                return False
-            time.sleep(min(self.poll_s, remaining))
+        return poll_irq(self.read32, timeout_s, self.poll_s)
 
     def __enter__(self) -> DevMemBus:
         return self

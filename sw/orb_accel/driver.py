@@ -24,7 +24,7 @@ from __future__ import annotations
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass, field, replace
-from typing import TypeVar
+from typing import Protocol, TypeVar
 
 import numpy as np
 
@@ -568,3 +568,18 @@ class OrbAccel:
         while count is None or n < count:
             yield self.next_frame(timeout_s)
             n += 1
+
+
+class FrameSource(Protocol):
+    """What gives the driver's frames, whatever carries them: OrbAccel (the accelerator on a bus) and
+    orb_accel.remote.RemoteAccel (an `orb-accel serve` stream from another machine; docs/stream.md).
+    A consumer written against it (`orb-accel board stream`, a ROS node) takes either: `hw` the
+    accelerator's configuration, next_frame() one frame (TimeoutError when none comes within
+    timeout_s: the bus's seconds for OrbAccel, wall seconds for RemoteAccel), frames() `count` of
+    them (None: on and on), each one a Frame the consumer owns (its bank already released)."""
+
+    hw: HwConfig
+
+    def next_frame(self, timeout_s: float) -> Frame: ...
+
+    def frames(self, count: int | None, timeout_s: float) -> Iterator[Frame]: ...

@@ -147,6 +147,12 @@ class SocketBus:
     def wait_irq(self, timeout_s: float) -> bool:
         return self._call(WAIT_IRQ, 0, max(0, round(timeout_s * 1e9)))[0] == 1
 
+    def frame_period_s(self) -> float:
+        """One frame of the simulated video (its pixels and blanking), in the bus's (simulated) seconds."""
+        g = self.info["generics"]
+        clocks = (g["WIDTH_g"] + self.info["h_blank"]) * g["HEIGHT_g"] + self.info["v_blank"]
+        return clocks * self.info["period_ns"] * 1e-9
+
     def shutdown_server(self) -> None:
         """End the simulation (the server answers, then stops)."""
         self._call(SHUTDOWN, 0, 0)

@@ -22,8 +22,13 @@ illegal values before they reach the bus. (The socket simulation backend, orb_ac
 returns the response as orb_accel.bus.BusError instead.) To get a Python traceback if it happens
 anyway, run `python3 -X faulthandler` or call `faulthandler.enable()`.
 
-The sysfs and /dev directories are parameters (find_uio, UioBus.open) and the interrupt file
-descriptor can be given apart from the map (UioBus(irq_fd=...)): that is what lets the tests run
+The interrupt protocol is UioInterrupt, on the device's own file descriptor or on another one:
+the PYNQ backend (orb_accel.pynq_bus) waits on the UIO device that holds the accelerator's
+interrupt line, found through /proc/interrupts (find_uio_irq), while it reaches the registers
+through pynq.MMIO.
+
+The sysfs and /dev directories are parameters (find_uio, find_uio_irq, UioBus.open) and the interrupt
+file descriptor can be given apart from the map (UioBus(irq_fd=...)): that is what lets the tests run
 against a fake device (tb/driver/test_uio_bus.py: a temporary sysfs tree, a regular file as the
 map and a socket pair as the interrupt). numpy and the standard library only.
 """
@@ -47,6 +52,7 @@ import numpy as np
 # two agree.
 UIO_NAME = "orb-accel"
 SYSFS_UIO = Path("/sys/class/uio")
+PROC_INTERRUPTS = Path("/proc/interrupts")
 BLOCK_MODES = ("copy", "words")
 _U32 = struct.Struct("=I")  # the UIO interrupt protocol's words are native-endian 32-bit integers
 _HINT = ("check that the device-tree overlay (vivado/linux/orb-accel-*.dtso) is loaded and that the kernel "
@@ -82,6 +88,127 @@ def find_uio(name: str = UIO_NAME, sysfs: Path = SYSFS_UIO) -> tuple[str, int]:
     except (OSError, ValueError) as exc:
         raise FileNotFoundError(f"UIO device {dev} ({name!r}): no readable map 0 size ({size_file}: {exc})") from None
     return dev, size
+
+
+def find_uio_irq(irq: int, interrupts: Path = PROC_INTERRUPTS, sysfs: Path = SYSFS_UIO) -> tuple[str, str]:
+    """("uioN", its name) of the UIO device that holds the interrupt whose hardware number is `irq`
+    (the GIC's interrupt ID: IRQ_F2P[0] of a Zynq-7000 is 61), found as PYNQ finds it: the line of
+    `interrupts` whose hardware-irq column (third from the end: `47:  0  0  GIC-0  61 Level  fabric`)
+    is `irq` names the action, which for generic-uio is the UIO device's name, then find_uio.
+
+    FileNotFoundError when no line has that number (the line is not requested by anyone) or no UIO
+    device has the name; RuntimeError when several lines have it."""
+    try:
+        text = Path(interrupts).read_text()
+    except OSError as exc:
+        raise FileNotFoundError(f"cannot read {interrupts}: {exc}") from None
+    names = [cols[-1] for line in text.splitlines() if len(cols := line.split()) >= 4 and cols[-3] == str(irq)]
+    if not names:
+        raise FileNotFoundError(
+            f"no interrupt with hardware number {irq} in {interrupts}: no driver holds that line; a generic-uio "
+            "node with it is missing (on a PYNQ image: the boot device tree's `fabric`; docs/pynq.md)"
+        )
+    if len(names) > 1:
+        raise RuntimeError(f"{len(names)} lines of {interrupts} have hardware interrupt {irq}: {', '.join(names)}")
+    dev, _ = find_uio(names[0], sysfs)
+    return dev, names[0]
+
+
+def word_index(addr: int, count: int, size: int) -> int:
+    """Word index of byte address `addr`, after checking that `count` 32-bit words from it lie in a
+    window of `size` bytes (ValueError otherwise: an access the bus answers with an error is a
+    SIGBUS on the board, see the module docstring)."""
+    addr, count = operator.index(addr), operator.index(count)
+    if addr % 4:
+        raise ValueError(f"address {addr:#x} is not 32-bit aligned")
+    if count < 0:
+        raise ValueError(f"block of {count} words")
+    if addr < 0 or addr + 4 * max(count, 1) > size:
+        what = f"address {addr:#x}" if count <= 1 else f"block of {count} words at {addr:#x}"
+        raise ValueError(f"{what} outside the map of {size:#x} bytes")
+    return addr // 4
+
+
+def check_value(addr: int, value: int) -> int:
+    """`value` as an int, after checking it is a 32-bit value (ValueError otherwise)."""
+    value = operator.index(value)
+    if not 0 <= value <= 0xFFFFFFFF:
+        raise ValueError(f"value {value:#x} at {addr:#x} is not a 32-bit value")
+    return value
+
+
+class UioInterrupt:
+    """The UIO interrupt protocol on a file descriptor of a UIO device (docs/uio.md, "The interrupt").
+
+    `fd`: the descriptor (`owns_fd`: close() closes it); `path` names the device in messages.
+    `count`: the kernel's event count read by the last successful wait (None before).
+    `missed`: interrupts that fired between two waits beyond the one expected: when the count jumps
+    by k > 1 from one read to the next, k - 1 are added. (The first read only sets the baseline:
+    the kernel counts from when the device appeared, not from when it was opened.)"""
+
+    def __init__(self, fd: int, path: str | os.PathLike, owns_fd: bool = False) -> None:
+        self.fd: int | None = fd
+        self.path = os.fspath(path)
+        self.owns_fd = owns_fd
+        self.count: int | None = None
+        self.missed = 0
+
+    @classmethod
+    def open(cls, path: str | os.PathLike) -> UioInterrupt:
+        """The interrupt of the UIO device file `path`, on a descriptor of its own."""
+        try:
+            fd = os.open(path, os.O_RDWR | os.O_CLOEXEC)
+        except PermissionError as exc:
+            raise PermissionError(exc.errno, f"cannot open {os.fspath(path)} ({exc.strerror}): run as root, or "
+                                  "give your group access with a udev rule (docs/uio.md)") from None  # fmt: skip
+        return cls(fd, path, owns_fd=True)
+
+    def wait(self, timeout_s: float) -> bool:
+        """Re-enable the interrupt, then wait up to `timeout_s` seconds (<= 0: look once) for it.
+
+        The UIO protocol: the kernel's generic-uio handler disables the interrupt line when it
+        fires; writing a 32-bit 1 enables it again. The file becomes readable when the interrupt
+        has fired; a read gives exactly 4 bytes, the event count. The accelerator's line is a level
+        (OR of IRQ_STATUS AND IRQ_ENABLE), so it must be acknowledged (the driver writes
+        IRQ_STATUS) before the next wait, or it fires again at once."""
+        if self.fd is None:
+            raise ValueError(f"the interrupt of {self.path} is closed")
+        fd = self.fd
+        try:
+            os.write(fd, _U32.pack(1))
+        except OSError as exc:
+            raise OSError(exc.errno, f"cannot enable the interrupt of {self.path} ({exc.strerror}); does the "
+                          "device-tree node have an interrupts property? (docs/uio.md)") from None  # fmt: skip
+        poller = select.poll()
+        poller.register(fd, select.POLLIN)
+        deadline = time.monotonic() + max(timeout_s, 0.0)
+        while True:
+            # Python retries poll() after EINTR itself (PEP 475); the loop also covers a signal
+            # handler that raises InterruptedError, with the remaining time
+            ms = max(0, math.ceil((deadline - time.monotonic()) * 1000))
+            try:
+                events = poller.poll(ms)
+            except InterruptedError:
+                continue
+            break
+        if not events:
+            return False
+        data = os.read(fd, _U32.size)
+        if len(data) != _U32.size:
+            raise OSError(f"interrupt read on {self.path} returned {len(data)} bytes, not the 4-byte event count")
+        count = _U32.unpack(data)[0]
+        if self.count is not None:
+            jump = (count - self.count) & 0xFFFFFFFF
+            if jump > 1:
+                self.missed += jump - 1
+        self.count = count
+        return True
+
+    def close(self) -> None:
+        """Close the descriptor if it is ours; calling it again does nothing."""
+        fd, self.fd = self.fd, None
+        if fd is not None and self.owns_fd:
+            os.close(fd)
 
 
 class MappedWindow:
@@ -132,15 +259,7 @@ class MappedWindow:
 
     def _index(self, addr: int, count: int = 1) -> int:
         """Word index of byte address `addr`, after checking that `count` words from it lie in the map."""
-        addr, count = operator.index(addr), operator.index(count)
-        if addr % 4:
-            raise ValueError(f"address {addr:#x} is not 32-bit aligned")
-        if count < 0:
-            raise ValueError(f"block of {count} words")
-        if addr < 0 or addr + 4 * max(count, 1) > self.size:
-            what = f"address {addr:#x}" if count <= 1 else f"block of {count} words at {addr:#x}"
-            raise ValueError(f"{what} outside the map of {self.size:#x} bytes")
-        return addr // 4
+        return word_index(addr, count, self.size)
 
     # ---- the bus -------------------------------------------------------------------------------
     def read32(self, addr: int) -> int:
@@ -152,9 +271,7 @@ class MappedWindow:
     def write32(self, addr: int, value: int) -> None:
         view = self._words()
         i = self._index(addr)
-        value = operator.index(value)
-        if not 0 <= value <= 0xFFFFFFFF:
-            raise ValueError(f"value {value:#x} at {addr:#x} is not a 32-bit value")
+        value = check_value(addr, value)
         self.writes += 1
         view[i] = np.uint32(value)
 
@@ -196,12 +313,8 @@ class UioBus(MappedWindow):
     """orb_accel.bus.Bus on a UIO device: map 0 of `device` (`size` bytes) and its interrupt.
 
     The interrupt is taken from the device's own file descriptor unless `irq_fd` is given (the
-    caller keeps ownership of it; the tests pass one end of a socket pair).
-
-    `irq_count`: the kernel's event count read by the last successful wait_irq (None before).
-    `irq_missed`: interrupts that fired between two wait_irq calls beyond the one expected: when
-    the count jumps by k > 1 from one read to the next, k - 1 are added. (The first read only sets
-    the baseline: the kernel counts from when the device appeared, not from when it was opened.)"""
+    caller keeps ownership of it; the tests pass one end of a socket pair). `irq` is its
+    UioInterrupt; `irq_count` and `irq_missed` are its event count and missed interrupts."""
 
     def __init__(self, device: str | os.PathLike, size: int, irq_fd: int | None = None,
                  block_mode: str = "copy") -> None:  # fmt: skip
@@ -215,9 +328,18 @@ class UioBus(MappedWindow):
                 f'your group access, e.g. SUBSYSTEM=="uio", ATTR{{name}}=="{UIO_NAME}", GROUP="orb", MODE="0660" '
                 "(docs/uio.md)",
             ) from None
-        self._irq_fd: int | None = self._fd if irq_fd is None else irq_fd
-        self.irq_count: int | None = None
-        self.irq_missed = 0
+        assert self._fd is not None
+        self.irq = UioInterrupt(self._fd if irq_fd is None else irq_fd, self.path)
+
+    @property
+    def irq_count(self) -> int | None:
+        """The kernel's event count read by the last successful wait_irq (None before)."""
+        return self.irq.count
+
+    @property
+    def irq_missed(self) -> int:
+        """Interrupts that fired between two wait_irq calls beyond the one expected (UioInterrupt)."""
+        return self.irq.missed
 
     @classmethod
     def open(cls, name: str = UIO_NAME, sysfs: Path = SYSFS_UIO, dev: Path = Path("/dev"),
@@ -227,50 +349,16 @@ class UioBus(MappedWindow):
         return cls(Path(dev) / device, size, block_mode=block_mode)
 
     def wait_irq(self, timeout_s: float) -> bool:
-        """Re-enable the interrupt, then wait up to `timeout_s` seconds (<= 0: look once) for it.
-
-        The UIO protocol: the kernel's generic-uio handler disables the interrupt line when it
-        fires; writing a 32-bit 1 enables it again. The file becomes readable when the interrupt
-        has fired; a read gives exactly 4 bytes, the event count. The accelerator's line is a level
-        (OR of IRQ_STATUS AND IRQ_ENABLE), so it must be acknowledged (the driver writes
-        IRQ_STATUS) before the next wait_irq, or it fires again at once."""
-        if self._irq_fd is None:
+        """Re-enable the interrupt, then wait up to `timeout_s` seconds (<= 0: look once) for it
+        (UioInterrupt.wait: the UIO protocol)."""
+        if self.irq.fd is None:
             raise ValueError(f"UioBus on {self.path} is closed")
-        fd = self._irq_fd
-        try:
-            os.write(fd, _U32.pack(1))
-        except OSError as exc:
-            raise OSError(exc.errno, f"cannot enable the interrupt of {self.path} ({exc.strerror}); does the "
-                          "device-tree node have an interrupts property? (docs/uio.md)") from None  # fmt: skip
-        poller = select.poll()
-        poller.register(fd, select.POLLIN)
-        deadline = time.monotonic() + max(timeout_s, 0.0)
-        while True:
-            # Python retries poll() after EINTR itself (PEP 475); the loop also covers a signal
-            # handler that raises InterruptedError, with the remaining time
-            ms = max(0, math.ceil((deadline - time.monotonic()) * 1000))
-            try:
-                events = poller.poll(ms)
-            except InterruptedError:
-                continue
-            break
-        if not events:
-            return False
-        data = os.read(fd, _U32.size)
-        if len(data) != _U32.size:
-            raise OSError(f"interrupt read on {self.path} returned {len(data)} bytes, not the 4-byte event count")
-        count = _U32.unpack(data)[0]
-        if self.irq_count is not None:
-            jump = (count - self.irq_count) & 0xFFFFFFFF
-            if jump > 1:
-                self.irq_missed += jump - 1
-        self.irq_count = count
-        return True
+        return self.irq.wait(timeout_s)
 
     def close(self) -> None:
         """Release the view, the mapping and the device's file descriptor (not an irq_fd the
         caller gave); calling it again does nothing."""
-        self._irq_fd = None
+        self.irq.close()  # never owns the descriptor: the map's is closed below, a caller's stays open
         super().close()
 
     def __enter__(self) -> UioBus:

@@ -33,7 +33,7 @@ import shutil
 import subprocess
 import sys
 import time
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -56,6 +56,8 @@ TOOLS = {
 SBY = "yowasp-sby"
 PORT_RE = re.compile(r"^\s*\(?\s*(input|output)\s+(?:\[(\d+):0\]\s+)?(\w+)[,)]", re.M)
 AXIS_RE = re.compile(r"^([sm])_axis_(\w+)_tvalid$")
+AXIL_RE = re.compile(r"^(s_axil|s_axi_\w+?)_awvalid$")  # an AXI4-Lite slave port: s_axil_* or Xilinx's s_axi_<name>_*
+CLOCKS = ("clk", "aclk")  # the clock input; the reset: rst (active high) or aresetn (active low)
 FAILED_RE = re.compile(r"failed assertion orb_formal_top\.(\S+)")
 
 
@@ -88,6 +90,9 @@ class Check:
     # planted bugs of another check that fail these properties on the same RTL (property prefix -> check)
     bugs_of: Mapping[str, str] = field(default_factory=dict)
     name: str = ""  # the check's name where an entity has several checks (default: the entity)
+    # internal nets of the entity's module made outputs `probe_<net>` of it in GHDL's Verilog (add_probes), for
+    # properties about state the ports do not show (e.g. a RAM's write port)
+    probes: tuple[str, ...] = ()
 
     @property
     def key(self) -> str:
@@ -130,6 +135,34 @@ def ports(verilog: str, entity: str) -> list[Port]:
     return [Port(d, int(w) + 1 if w else 1, n) for d, w, n in PORT_RE.findall(m.group(1))]
 
 
+def add_probes(verilog: str, entity: str, probes: Sequence[str]) -> str:
+    """GHDL's Verilog with the internal nets `probes` of module `entity` (declared there as `wire`/`reg`, GHDL keeps
+    the VHDL signal names) added as outputs `probe_<net>`, which the wrapper then sees like any port."""
+    m = re.search(rf"^module {entity}\b.*?^endmodule", verilog, re.M | re.S)
+    if not m:
+        raise VerilogError(f"module {entity} not found in GHDL's Verilog")
+    mod = m.group(0)
+    head_end = mod.index(");")
+    outs, assigns = [], []
+    for net in probes:
+        d = re.search(rf"^\s*(?:wire|reg)\s+(\[\d+:0\]\s+)?{net};", mod, re.M)
+        if not d:
+            raise VerilogError(f"probe {net}: no such net in module {entity} of GHDL's Verilog")
+        outs.append(f",\n   output {d.group(1) or ''}probe_{net}")
+        assigns.append(f"  assign probe_{net} = {net};  // probe (sw/orb_flow/formal.py)\n")
+    end = mod.rindex("endmodule")
+    new = mod[:head_end] + "".join(outs) + mod[head_end:end] + "".join(assigns) + mod[end:]
+    return verilog[: m.start()] + new + verilog[m.end() :]
+
+
+def axil_prefix(names: Iterable[str]) -> str | None:
+    """The AXI4-Lite slave port's prefix (s_axil, or s_axi_ctrl of the flat board wrapper), or None."""
+    found = sorted(m.group(1) for m in map(AXIL_RE.match, names) if m)
+    if len(found) > 1:
+        raise VerilogError(f"more than one AXI4-Lite slave port: {found}")
+    return found[0] if found else None
+
+
 def bound_props(plist: Sequence[Port], check: Check) -> list[dict[str, str]]:
     """The properties the wrapper binds: (instance, kind, what it says)."""
     out = []
@@ -145,7 +178,7 @@ def bound_props(plist: Sequence[Port], check: Check) -> list[dict[str, str]]:
                 out.append(
                     {"name": inst, "kind": "assert", "what": f"m_axis_{bus}: tvalid held with its data until taken"}
                 )
-    if "s_axil_awvalid" in names:
+    if axil_prefix(names):
         for label, what in AXIL_PROPS.items():
             out.append({"name": f"chk_s_axil.{label}", "kind": "assert", "what": what})
     for label, what in check.extra_props.items():
@@ -156,8 +189,11 @@ def bound_props(plist: Sequence[Port], check: Check) -> list[dict[str, str]]:
 def wrapper(check: Check, plist: Sequence[Port]) -> str:
     """orb_formal_top: the entity, its inputs free, reset in the first clock, the checkers bound."""
     byname = {p.name: p for p in plist}
-    ins = [p for p in plist if p.dir == "input" and p.name != "clk"]
+    clock = next((c for c in CLOCKS if c in byname), "clk")
+    ins = [p for p in plist if p.dir == "input" and p.name != clock]
     outs = [p for p in plist if p.dir == "output"]
+    # the checkers' clk and rst: the entity's clock, and its reset (an active-low aresetn inverted)
+    reset = ["  wire rst = !aresetn;  // the interfaces' reset (AXI's ARESETn)"] if "aresetn" in byname else []
 
     def decl(p: Port) -> str:
         return f"[{p.width - 1}:0] {p.name}" if p.width > 1 else p.name
@@ -170,13 +206,14 @@ def wrapper(check: Check, plist: Sequence[Port]) -> str:
         ",\n".join(f"  input wire {decl(p)}" for p in ins),
         ");",
         *(f"  wire {decl(p)};" for p in outs),
+        *reset,
         "  reg init = 1'b1;",
         "  always @(posedge clk) init <= 1'b0;",
         "  always @(*) if (init) assume (rst);",
         "  reg rst_q = 1'b1;  // rst at the last edge",
         "  always @(posedge clk) rst_q <= rst;",
         f"  {check.entity} dut (",
-        ",\n".join(f"    .{p.name}({p.name})" for p in plist),
+        ",\n".join(f"    .{p.name}({'clk' if p.name == clock else p.name})" for p in plist),
         "  );",
     ]
 
@@ -195,9 +232,10 @@ def wrapper(check: Check, plist: Sequence[Port]) -> str:
             f".tvalid({pre}_tvalid), .tready({sig(pre + '_tready')}), .tdata({pre}_tdata), "
             f".tuser({sig(pre + '_tuser')}), .tlast({sig(pre + '_tlast')}));"
         )
-    if "s_axil_awvalid" in byname:
-        params = {"A": byname["s_axil_awaddr"].width, **check.axil}
-        conns = ", ".join(f".{n}(s_axil_{n})" for n in AXIL_PORTS)
+    axil = axil_prefix(byname)
+    if axil:
+        params = {"A": byname[f"{axil}_awaddr"].width, **check.axil}
+        conns = ", ".join(f".{n}({axil}_{n})" for n in AXIL_PORTS)
         lines.append(
             f"  orb_axil_chk #({', '.join(f'.{k}({v})' for k, v in params.items())}) chk_s_axil "
             f"(.clk(clk), .rst(rst), {conns});"
@@ -358,6 +396,8 @@ def run_one(check: Check, cdir: Path, mut: Mutation | None = None, timeout: floa
         files = [patched if f == src else f for f in files]
     t0 = time.monotonic()
     top = ghdl_verilog(ghdl_exe(), check.entity, check.generics, files, cdir, rec)
+    if check.probes:
+        top.write_text(add_probes(top.read_text(), check.entity, check.probes))
     plist = ports(top.read_text(), check.entity)
     text = wrapper(check, plist)
     if mut is not None and mut.target == "wrapper":
@@ -367,7 +407,7 @@ def run_one(check: Check, cdir: Path, mut: Mutation | None = None, timeout: floa
     for f in sorted(CHECKERS.glob("*.sv")):
         shutil.copy(f, cdir / f.name)
         checker_files.append(f.name)
-    if "s_axil_awvalid" in {p.name for p in plist}:
+    if axil_prefix(p.name for p in plist):
         (cdir / "orb_axil_regmap_ref.sv").write_text(regmap_ref(check.generics))
         checker_files.append("orb_axil_regmap_ref.sv")
     (cdir / "check.sby").write_text(sby_text(check, checker_files, None if mut is None else mut.expect))
@@ -448,12 +488,17 @@ def _always_ready(port: str) -> str:
     return f"  always @(*) if (!init && !rst && !rst_q) {port}_ready: assert (s_axis_{port}_tready);"
 
 
-def _conserve(src: str, dst: str, cap: int) -> str:
+def _conserve(src: str, dst: str, cap: int, stages: Sequence[str] = ()) -> str:
     """Nothing out that did not go in: the beats taken on s_axis_<src> minus those given on m_axis_<dst> (a small
     counter) stay within 0 .. cap (the stages' room), and no beat is offered on the output with none inside.
-    cap 0: one register stage, the beat inside is the one on the output (inside == tvalid: inductive)."""
+    cap 0: one register stage, the beat inside is the one on the output (inside == tvalid: inductive).
+    stages: the valid bits of the stages before the output (probes): the count is exactly theirs and the
+    output's (nothing lost either; inductive)."""
     s, m = f"s_axis_{src}", f"m_axis_{dst}"
-    rule = f"inside == {m}_tvalid" if cap == 0 else f"inside <= {cap} && (!{m}_tvalid || inside != 0)"
+    if stages:
+        rule = f"inside == {' + '.join(f'probe_{v}' for v in stages)} + {m}_tvalid"
+    else:
+        rule = f"inside == {m}_tvalid" if cap == 0 else f"inside <= {cap} && (!{m}_tvalid || inside != 0)"
     return (
         "  reg [3:0] inside = 0;  // beats taken on the input and not yet given on the output\n"
         "  always @(posedge clk)\n"
@@ -486,6 +531,295 @@ _FEAT_MEM_BANKS = """  // the bank protocol at the ports (docs/feature-memory.md
   end"""
 
 
+def _sink_ready(port: str) -> str:
+    """The sink always ready: m_axis_<port>_tready assumed 1 in every clock (the rate and latency checks)."""
+    return f"  always @(*) if (!init) assume (m_axis_{port}_tready);"
+
+
+def _rate(port: str) -> str:
+    """The documented rate: s_axis_<port>_tready 1 in every clock out of reset (from the second clock after the
+    last reset clock on: a registered tready may still show the reset's 0 in the first)."""
+    return f"  always @(*) if (!init && !rst && !rst_q) rate: assert (s_axis_{port}_tready);"
+
+
+def _latency(src: str, dst: str, lat: int, width: int, user: bool = True, data_ok: str = "1'b1") -> str:
+    """A fixed latency `lat` with the sink always ready (docs/latency.md's count: a beat taken at edge e is on the
+    output from edge e + lat - 1 on, taken at edge e + lat): m_axis_<dst>_tvalid is 1 exactly in the clocks after
+    edge e + lat - 1 of a beat taken at edge e, with that beat's tuser and tlast, and data_ok (an expression of
+    `t_data` = the input's tdata then, and the output's) holds: nothing out that did not go in, in order."""
+    s, m = f"s_axis_{src}", f"m_axis_{dst}"
+    u = f"{s}_tuser" if user else "1'b0"
+    mu = f"{m}_tuser" if user else "1'b0"
+    return (
+        f"  reg [{lat}:1] t_v = 0, t_u = 0, t_l = 0;  // the input taken 1 .. {lat} edges ago\n"
+        f"  reg [{width - 1}:0] t_d [1:{lat}];\n"
+        "  integer i;\n"
+        "  always @(posedge clk) begin\n"
+        f"    for (i = {lat}; i > 1; i = i - 1) begin\n"
+        "      t_v[i] <= t_v[i - 1]; t_u[i] <= t_u[i - 1]; t_l[i] <= t_l[i - 1]; t_d[i] <= t_d[i - 1];\n"
+        "    end\n"
+        f"    t_v[1] <= {s}_tvalid && {s}_tready && !rst;\n"
+        f"    t_u[1] <= {u}; t_l[1] <= {s}_tlast; t_d[1] <= {s}_tdata;\n"
+        "    if (rst) t_v <= 0;\n"
+        "  end\n"
+        f"  wire [{width - 1}:0] t_data = t_d[{lat}];\n"
+        "  always @(*) if (!init && !rst)\n"
+        f"    latency: assert ({m}_tvalid == t_v[{lat}] && (!{m}_tvalid || ({mu} == t_u[{lat}] && "
+        f"{m}_tlast == t_l[{lat}] && ({data_ok}))));"
+    )
+
+
+# orb_desc_rotate's output word (SECTORS_g = 16): every field but the descriptor unchanged; the descriptor's
+# 16-test orbits rotated by the sector (test k of an orbit is test (k + s) mod 16 of the input's), an
+# end-of-frame word unchanged
+_ROTATE_OK = """  function [255:0] rot16(input [255:0] d, input [3:0] sh);
+    integer j;
+    reg [31:0] two;
+    begin
+      for (j = 0; j < 16; j = j + 1) begin
+        two = {d[16 * j +: 16], d[16 * j +: 16]} >> sh;
+        rot16[16 * j +: 16] = two[15:0];
+      end
+    end
+  endfunction
+  wire [255:0] want_desc = m_axis_feat_tlast ? t_data[319:64] : rot16(t_data[319:64], t_data[43:40]);"""
+
+_FRAME_GATE_PASS = """  // latency 0, nothing invented: a beat on m_axis_video is the beat on s_axis_video in the same
+  // clock, taken exactly when the output takes it
+  always @(*) if (!init)
+    no_invention: assert (!m_axis_video_tvalid ||
+                          (s_axis_video_tvalid && m_axis_video_tdata == s_axis_video_tdata &&
+                           m_axis_video_tuser == s_axis_video_tuser && m_axis_video_tlast == s_axis_video_tlast &&
+                           s_axis_video_tready == m_axis_video_tready));"""
+
+_VIDEO_CHECK_RATE = """  // rate: s_axis_video_tready is low for at most {N} clocks in a row out of reset: padding a bad
+  // frame, and then the next one when the start of frame held meanwhile is bad itself (its tlast at
+  // x = 0), all without taking input (a bound of {N} - 1 fails)
+  reg [7:0] low = 0;
+  always @(posedge clk) low <= (rst || s_axis_video_tready) ? 0 : (low == 255 ? 255 : low + 1);
+  always @(*) if (!init && !rst) rate: assert (low <= {N});
+  // latency 1: a pixel taken at one edge is on m_axis_video (the same value) after it, or counted as
+  // discarded, or held (tready falls: a start of frame inside an open frame waits for its padding)
+  reg t_v = 0;
+  reg [7:0] t_d;
+  reg [31:0] disc_q = 0;
+  always @(posedge clk) begin
+    t_v <= s_axis_video_tvalid && s_axis_video_tready && !rst;
+    t_d <= s_axis_video_tdata;
+    disc_q <= discarded_pixels;
+  end
+  always @(*) if (!init && !rst)
+    latency: assert (!t_v || (m_axis_video_tvalid && m_axis_video_tdata == t_d) ||
+                     discarded_pixels == disc_q + 1 || !s_axis_video_tready);"""
+
+# orb_feat_merge (SCALES_g = 2, FIFO_DEPTH_g = 2): beats counted at the ports
+_MERGE_COUNTS = """  reg [7:0] f_in = 0, f_out = 0;  // features given on in_valid, features given on m_axis_feat
+  reg [3:0] d0 = 0, d1 = 0, e_out = 0;  // frame ends given per scale (in_done), end-of-frame beats out
+  wire m_take = m_axis_feat_tvalid && m_axis_feat_tready;
+  always @(posedge clk)
+    if (rst) begin
+      f_in <= 0; f_out <= 0; d0 <= 0; d1 <= 0; e_out <= 0;
+    end else begin
+      f_in <= f_in + in_valid[0] + in_valid[1];
+      f_out <= f_out + (m_take && !m_axis_feat_tlast);
+      d0 <= d0 + in_done[0];
+      d1 <= d1 + in_done[1];
+      e_out <= e_out + (m_take && m_axis_feat_tlast);
+    end
+  // features inside: given, minus those out, minus those counted as dropped (which the merge counts a clock
+  // or two after the loss); 8-bit arithmetic, no wrap within the depth
+  wire [7:0] inside = f_in - f_out - dropped[7:0];"""
+
+_MERGE_CONSERVE = (
+    _MERGE_COUNTS
+    + """
+  // nothing out that did not go in: never more features out (and counted lost) than in; never more
+  // end-of-frame beats than frame ends of any scale
+  always @(*) if (!init && !rst)
+    no_invention: assert (!inside[7] && e_out <= d0 && e_out <= d1);"""
+)
+
+_MERGE_TIMING = (
+    _MERGE_COUNTS
+    + """
+  // rate: with the sink always ready and at most one feature a clock in all (no frame end), none is lost
+  always @(*) if (!init) assume (!(in_valid[0] && in_valid[1]) && in_done == 0);
+  always @(*) if (!init && !rst) rate: assert (dropped == 0);
+  // latency FEAT_MERGE_LAT_c = 3 when nothing waits (no feature inside, every frame end's beat out): a lone
+  // feature given at edge e is on m_axis_feat after edge e + 2, with its x, y, score and scale
+  wire idle = inside == 0 && !m_axis_feat_tvalid;
+  reg [3:1] l_v = 0;
+  reg l_s;
+  reg [35:0] l_w;
+  always @(posedge clk) begin
+    l_v <= {l_v[2:1], idle && (in_valid == 2'b01 || in_valid == 2'b10) && !rst};
+    if (l_v == 0) begin
+      l_s <= in_valid[1];
+      l_w <= in_valid[1] ? {in_y[23:12], in_x[23:12], in_score[23:12]} : {in_y[11:0], in_x[11:0], in_score[11:0]};
+    end
+    if (rst) l_v <= 0;
+  end
+  always @(*) if (!init && !rst && l_v[3])
+    latency: assert (m_axis_feat_tvalid && !m_axis_feat_tlast && m_axis_feat_tdata[35:0] == l_w &&
+                     m_axis_feat_tdata[38:36] == l_s);"""
+)
+
+
+# orb_accel_zynq's reset contract: aresetn registered into orb_accel_top's rst reaches the accelerator a clock late,
+# so a reset is at least 2 clocks long (the top is in reset before aresetn rises again), and the masters keep AXI's
+# rule of no valid before the first edge that sees aresetn high
+_ZYNQ_RESET = """  // the reset contract: aresetn, once low, stays low for a second clock
+  reg arn1 = 1'b0, arn2 = 1'b0;  // aresetn 1 and 2 clocks ago
+  always @(posedge clk) begin
+    arn1 <= aresetn;
+    arn2 <= arn1;
+  end
+  always @(*) if (!init && arn2 && !arn1) assume (!aresetn);
+  // AXI's reset rule for the masters and the video source: valids low while aresetn is low, raised only after
+  // an edge that sampled it high (orb_accel_top, reset a clock late, is still in reset in the clock after)
+  always @(*) if (!init && (!aresetn || !arn1))
+    assume (!s_axi_ctrl_awvalid && !s_axi_ctrl_wvalid && !s_axi_ctrl_arvalid && !s_axis_video_tvalid);"""
+
+_FEAT_MEM_COMMON = """  // the entity registers every input once; these are its registered release, stream (tready is 1)
+  // and abort
+  reg rel_q = 0, relb_q = 0, beat_q = 0, last_q = 0, abort_q = 0;
+  always @(posedge clk) begin
+    rel_q <= release_valid && !rst;
+    relb_q <= release_bank;
+    beat_q <= s_axis_feat_tvalid && !rst;
+    last_q <= s_axis_feat_tlast;
+    abort_q <= frame_abort && !rst;
+  end
+  // bank k is held in this clock: READY and not released by the registered release (a release in the
+  // clock frees the bank for a write at the same edge: "a release in that very clock counts")
+  wire [1:0] held = bank_ready & ~{rel_q && relb_q, rel_q && !relb_q};"""
+
+# the bank protocol inside (the RAM's write port, probed) and at the ports, docs/feature-memory.md; DEPTH_g = 16
+_FEAT_MEM_RECORD = (
+    _FEAT_MEM_COMMON
+    + """
+  always @(*) if (!init)
+    held_not_written: assert (!(probe_wr_en && held[probe_wr_addr[4]]));
+
+  // what the RAM's writes leave in each bank (the RAM is not reset, nor are these): which slots hold a
+  // record (flag: bit 63 of the word, bit 31 of CPU word 1), the slot of the last record written and its CPU
+  // words 0..4 (count, flags, frame, dropped, truncated count)
+  reg [15:0] recs0 = 0, recs1 = 0;
+  reg [3:0] rslot0 = 0, rslot1 = 0;
+  reg [159:0] rword0 = 0, rword1 = 0;
+  wire wrec = probe_wr_data[63];
+  always @(posedge clk) if (probe_wr_en) begin
+    if (probe_wr_addr[4]) begin
+      recs1[probe_wr_addr[3:0]] <= wrec;
+      if (wrec) begin rslot1 <= probe_wr_addr[3:0]; rword1 <= probe_wr_data[159:0]; end
+    end else begin
+      recs0[probe_wr_addr[3:0]] <= wrec;
+      if (wrec) begin rslot0 <= probe_wr_addr[3:0]; rword0 <= probe_wr_data[159:0]; end
+    end
+  end
+  // a READY bank: slot count holds the last record written into the bank, with the header's count,
+  // truncated flag, frame, dropped and truncated counts; no slot below count holds a record
+  function rec_ok(input [15:0] recs, input [3:0] rslot, input [159:0] rw, input [15:0] c, input [15:0] f,
+                  input [15:0] d, input [31:0] t);
+    rec_ok = c < 16 && rslot == c[3:0] && recs[c[3:0]] && (recs & ~(16'hffff << c)) == 0 &&
+             rw[31:0] == {16'd0, c} && rw[62] == (t != 0) && rw[79:64] == f && rw[111:96] == d &&
+             rw[159:128] == t;
+  endfunction
+  always @(*) if (!init)
+    count_record: assert ((!bank_ready[0] || rec_ok(recs0, rslot0, rword0, bank0_count, bank0_frame, bank0_dropped,
+                                                    bank0_trunc)) &&
+                          (!bank_ready[1] || rec_ok(recs1, rslot1, rword1, bank1_count, bank1_frame, bank1_dropped,
+                                                    bank1_trunc)));
+
+  // banks alternate: the frames are published into bank 0, 1, 0, ... from reset (frame_done, last_bank)
+  reg exp_bank = 0;
+  always @(posedge clk) if (rst) exp_bank <= 0; else if (frame_done) exp_bank <= !exp_bank;
+  always @(*) if (!init && !rst_q)
+    banks_alternate: assert (!frame_done || last_bank == exp_bank);
+
+  // the bank choice (docs/feature-memory.md "Protocol"): a frame is published if its bank (the one after the
+  // last published) was free at its first beat (not READY, or released in that clock) and it was not
+  // aborted; skipped (overrun + 1) if the bank was held; discarded (aborted + 1) if a frame_abort pulse came
+  // in it (or between it and the frame before); the outcome shows in the clock after its end-of-frame beat
+  wire w_now = exp_bank ^ frame_done;  // the bank the next frame goes to
+  wire free_now = !held[w_now];
+  reg in_f = 0, dec = 0, ab = 0, e_pub = 0, e_ovr = 0, e_abt = 0;
+  reg [31:0] ovr_q = 0, abt_q = 0;
+  wire dec_now = in_f ? dec : free_now;
+  wire ab_now = ab || abort_q;
+  always @(posedge clk) begin
+    ovr_q <= overrun;
+    abt_q <= aborted;
+    e_pub <= 0; e_ovr <= 0; e_abt <= 0;
+    if (abort_q) ab <= 1;
+    if (beat_q && !last_q) begin
+      in_f <= 1;
+      dec <= dec_now;
+    end else if (beat_q) begin
+      in_f <= 0;
+      ab <= 0;
+      e_abt <= ab_now;
+      e_ovr <= !ab_now && !dec_now;
+      e_pub <= !ab_now && dec_now;
+    end
+    if (rst) begin
+      in_f <= 0; ab <= 0; e_pub <= 0; e_ovr <= 0; e_abt <= 0;
+    end
+  end
+  always @(*) if (!init && !rst_q)
+    bank_choice: assert (frame_done == e_pub && overrun == ovr_q + e_ovr && aborted == abt_q + e_abt);
+
+  // lemmas for the induction (not properties of their own): the monitors above track the entity's state
+  // (probed), and the bank being written holds no record below the count
+  wire [15:0] recs_w = probe_wbank ? recs1 : recs0;
+  always @(*) if (!init && !rst_q) begin
+    lemma_state: assert (probe_wbank == w_now && in_f == probe_in_frame && ab == probe_abort_f &&
+                         (!in_f || dec == probe_storing) && (e_pub + e_ovr + e_abt <= 1) &&
+                         rel_q == probe_in_rel && relb_q == probe_in_relb && beat_q == probe_in_beat &&
+                         last_q == probe_in_last && abort_q == probe_in_abort);
+    lemma_writing: assert ((probe_in_frame || !probe_storing) && (probe_storing || probe_cnt == 0) &&
+                           (!(probe_in_frame && probe_storing) ||
+                            (!bank_ready[probe_wbank] && (recs_w & ~(16'hffff << probe_cnt)) == 0)));
+  end"""
+)
+
+# the nets of orb_feat_mem the bank protocol's check reads: the RAM's write port, the control state
+_FEAT_MEM_PROBES = ("wr_en", "wr_addr", "wr_data", "wbank", "in_frame", "storing", "abort_f", "cnt", "in_rel",
+                    "in_relb", "in_beat", "in_last", "in_abort")  # fmt: skip
+
+# a published bank never changes, seen at the CPU port: every read of one address (any: the solver picks it) of
+# a bank while the bank stays held returns the same word; reads of other addresses are left out (assumed)
+_FEAT_MEM_READ = (
+    _FEAT_MEM_COMMON
+    + """
+  (* anyconst *) reg [10:2] pa;  // a CPU word: [10] bank, [9:6] slot, [5:2] word
+  always @(*) if (mem_rd_en) assume (mem_rd_addr[10:2] == pa);
+  // an interval of the bank's holding ends with a clock in which it is not held; reads carry the interval's
+  // number from their issue (a clock in which the bank is READY: the RAM is read-first) to their data,
+  // FEAT_MEM_READ_LAT_c = 3 clocks later
+  reg [2:0] ivn = 0;
+  always @(posedge clk) if (!held[pa[10]]) ivn <= ivn + 1;
+  reg [2:0] p_v = 0;
+  reg [2:0] p_iv [1:3];
+  always @(posedge clk) begin
+    p_v <= {p_v[1:0], mem_rd_en && bank_ready[pa[10]] && !rst};
+    p_iv[1] <= ivn; p_iv[2] <= p_iv[1]; p_iv[3] <= p_iv[2];
+    if (rst) p_v <= 0;
+  end
+  wire same = p_v[2] && p_iv[3] == ivn;  // the word on mem_rd_data, read in this holding interval
+  reg have = 0;
+  reg [31:0] val;
+  always @(posedge clk)
+    if (rst || !held[pa[10]]) have <= 0;
+    else if (same && !have) begin
+      have <= 1;
+      val <= mem_rd_data;
+    end
+  always @(*) if (!init && !rst && same && have)
+    published_stable: assert (mem_rd_data == val);"""
+)
+
+
 _VIDEO_CHECK_EXTRA = """  // the documented contract: the detector behind orb_video_check never stalls it
   always @(*) if (!init) assume (m_axis_video_tready);
   // the position of the next output beat in its frame, from the output beats alone
@@ -510,7 +844,21 @@ CHECKS: dict[str, Check] = {
         Check(
             "orb_frame_gate",
             {"DATA_WIDTH_g": 4},
+            extra=_FRAME_GATE_PASS,
+            extra_props={
+                "no_invention": "combinational (FRAME_GATE_LAT_c = 0), nothing invented: a beat on m_axis_video is "
+                "the one on s_axis_video in the same clock (data, tuser, tlast), s_axis_video_tready = "
+                "m_axis_video_tready then"
+            },
             mutations=(
+                Mutation(
+                    "tvalid_without_input",
+                    "m_axis_video_tvalid raised by the open gate alone, without a beat on s_axis_video",
+                    _FG,
+                    r"m_axis_video_tvalid <= s_axis_video_tvalid and gate_pass;",
+                    "m_axis_video_tvalid <= gate_pass;",
+                    "no_invention",
+                ),
                 Mutation(
                     "sof_dropped_on_stall",
                     "the old gate: a start-of-frame beat passes by enable alone, so enable falling while it "
@@ -531,6 +879,25 @@ CHECKS: dict[str, Check] = {
             ),
         ),
         Check(
+            "orb_frame_gate",
+            {"DATA_WIDTH_g": 4},
+            name="orb_frame_gate.rate",
+            bugs_of={"chk_m_axis_video": "orb_frame_gate"},
+            extra=_sink_ready("video") + "\n" + _rate("video"),
+            extra_props={"rate": "with the sink always ready, s_axis_video_tready is 1 in every clock out of reset"},
+            mutations=(
+                Mutation(
+                    "sof_stalls",
+                    "a start-of-frame beat waits a clock (tready low while tuser is offered and no decision held)",
+                    _FG,
+                    r"ready     <= m_axis_video_tready when gate_pass = '1' else",
+                    "ready     <= m_axis_video_tready and (sof_hold or not s_axis_video_tuser) "
+                    "when gate_pass = '1' else",
+                    "rate",
+                ),
+            ),
+        ),
+        Check(
             "orb_rgb_luma",
             {"INPUT_g": "RGB"},
             mutations=(
@@ -546,10 +913,12 @@ CHECKS: dict[str, Check] = {
             "orb_rgb_luma",
             {"INPUT_g": "RGB"},
             name="orb_rgb_luma.conserve",
-            mode="bmc",
-            depth=20,
-            extra=_conserve("video", "video", 4),
-            extra_props={"no_invention": "nothing out that did not go in; at most 4 beats inside (its 4 registers)"},
+            probes=("a_valid", "b_valid", "p_valid"),
+            extra=_conserve("video", "video", 4, ("a_valid", "b_valid", "p_valid")),
+            extra_props={
+                "no_invention": "nothing out that did not go in, nothing lost: the beats taken and not given are "
+                "exactly those its 4 registers hold (skid a, b, stage 1, output; valid bits probed)"
+            },
             bugs_of={"chk_m_axis_video": "orb_rgb_luma"},
             mutations=(
                 Mutation(
@@ -559,6 +928,37 @@ CHECKS: dict[str, Check] = {
                     r"o_valid <= p_valid;",
                     "o_valid <= p_valid or p_user;",
                     "no_invention",
+                ),
+            ),
+        ),
+        Check(
+            "orb_rgb_luma",
+            {"INPUT_g": "RGB"},
+            name="orb_rgb_luma.timing",
+            bugs_of={"chk_m_axis_video": "orb_rgb_luma"},
+            extra="\n".join([_sink_ready("video"), _rate("video"), _latency("video", "video", 3, 24)]),
+            extra_props={
+                "rate": "with the sink always ready, s_axis_video_tready is 1 in every clock out of reset",
+                "latency": "with the sink always ready, every beat taken is on m_axis_video RGB_LUMA_LAT_c = 3 "
+                "clocks later, in order, nothing else, with its tuser and tlast (Y itself: the golden model's "
+                "simulations)",
+            },
+            mutations=(
+                Mutation(
+                    "half_rate",
+                    "tready low in the clock after every beat taken: half rate",
+                    "input/orb_rgb_luma.vhd",
+                    r"ready   <= not b_next;",
+                    "if take then ready <= '0'; else ready <= not b_next; end if;",
+                    "rate",
+                ),
+                Mutation(
+                    "tlast_early",
+                    "the output's tlast taken from the skid register instead of stage 1 (a clock early)",
+                    "input/orb_rgb_luma.vhd",
+                    r"o_last  <= p_last;",
+                    "o_last  <= a_beat(IN_BITS_c);",
+                    "latency",
                 ),
             ),
         ),
@@ -585,16 +985,83 @@ CHECKS: dict[str, Check] = {
             ),
         ),
         Check(
+            "orb_desc_rotate",
+            {"SECTORS_g": 16},
+            name="orb_desc_rotate.timing",
+            bugs_of={"chk_m_axis_feat": "orb_desc_rotate"},
+            quick=False,  # 13-27 s (the rotation of the 256-bit descriptor); its planted bugs 3 s each
+            extra="\n".join(
+                [
+                    _sink_ready("feat"),
+                    _rate("feat"),
+                    _ROTATE_OK,
+                    _latency(
+                        "feat",
+                        "feat",
+                        1,
+                        352,
+                        user=False,
+                        data_ok="m_axis_feat_tdata[351:320] == t_data[351:320] && "
+                        "m_axis_feat_tdata[63:0] == t_data[63:0] && m_axis_feat_tdata[319:64] == want_desc",
+                    ),
+                ]
+            ),
+            extra_props={
+                "rate": "with the sink always ready, s_axis_feat_tready is 1 in every clock out of reset",
+                "latency": "with the sink always ready, every beat taken is on m_axis_feat DESC_ROTATE_LAT_c = 1 "
+                "clock later, nothing else: its tlast, every field but the descriptor unchanged, the descriptor's "
+                "orbits rotated by the sector (an end-of-frame word unchanged)",
+            },
+            mutations=(
+                Mutation(
+                    "bubble",
+                    "the stage takes a beat only when empty: a bubble after every beat",
+                    "describe/orb_desc_rotate.vhd",
+                    r"take <= not q_valid or m_axis_feat_tready;",
+                    "take <= not q_valid;",
+                    "rate",
+                ),
+                Mutation(
+                    "rotates_left",
+                    "the orbits rotated the other way (test k takes test k - s)",
+                    "describe/orb_desc_rotate.vhd",
+                    r"orbit := orbit\(2 \*\* k - 1 downto 0\) & orbit\(ORBIT_c - 1 downto 2 \*\* k\);",
+                    "orbit := orbit(ORBIT_c - 2 ** k - 1 downto 0) & orbit(ORBIT_c - 1 downto ORBIT_c - 2 ** k);",
+                    "latency",
+                ),
+            ),
+        ),
+        Check(
             "orb_video_check",
             {"WIDTH_g": 4, "HEIGHT_g": 2},
             mode="bmc",
             depth=24,
-            extra=_VIDEO_CHECK_EXTRA.format(W=4, H=2),
+            extra=_VIDEO_CHECK_EXTRA.format(W=4, H=2) + "\n" + _VIDEO_CHECK_RATE.format(N=15),
             extra_props={
                 "frame_shape": "every output frame is WIDTH_g x HEIGHT_g: tuser at (0, 0), tlast at x = WIDTH_g - 1",
                 "frame_end_last": "frame_end exactly with the frame's last output beat",
+                "rate": "s_axis_video_tready low for at most 2 WIDTH_g HEIGHT_g - 1 = 15 clocks in a row (padding a "
+                "bad frame, then the next one when the start of frame held meanwhile is bad itself; 14 fails)",
+                "latency": "a pixel taken is on m_axis_video VIDEO_CHECK_LAT_c = 1 clock later (the same value), or "
+                "counted in discarded_pixels, or held (tready falls)",
             },
             mutations=(
+                Mutation(
+                    "padding_forever",
+                    "padding does not stop at the padded frame's last position",
+                    "input/orb_video_check.vhd",
+                    r"open_v    := '0';\n(\s*)padding_v := '0';",
+                    "open_v    := '0';",
+                    "rate",
+                ),
+                Mutation(
+                    "discard_uncounted",
+                    "a pixel outside any frame is dropped without being counted",
+                    "input/orb_video_check.vhd",
+                    r"disc_cnt <= disc_cnt \+ 1;",
+                    "disc_cnt <= disc_cnt;",
+                    "latency",
+                ),
                 Mutation(
                     "sink_stalls",
                     "the documented contract broken: the sink stalls m_axis_video (no longer assumed ready); "
@@ -635,6 +1102,63 @@ CHECKS: dict[str, Check] = {
             ),
         ),
         Check(
+            "orb_feat_merge",
+            {"SCALES_g": 2, "FIFO_DEPTH_g": 2, "DESC_g": "false"},
+            name="orb_feat_merge.conserve",
+            mode="bmc",
+            depth=12,
+            quick=False,  # 23 s at depth 12 (3 s at depth 10); its planted bug 3 s
+            extra=_MERGE_CONSERVE,
+            extra_props={
+                "no_invention": "nothing out that did not go in: features out plus those counted dropped never "
+                "exceed those given; end-of-frame beats never exceed any scale's frame ends",
+            },
+            bugs_of={"chk_m_axis_feat": "orb_feat_merge"},
+            mutations=(
+                Mutation(
+                    "invents_beats",
+                    "the output register loads whenever it may, whether a FIFO offers a feature or not",
+                    "core/orb_feat_merge.vhd",
+                    r"pop_any <= go_v and request_v /= \(request_v'range => '0'\);",
+                    "pop_any <= go_v;",
+                    "no_invention",
+                ),
+            ),
+        ),
+        Check(
+            "orb_feat_merge",
+            {"SCALES_g": 2, "FIFO_DEPTH_g": 2, "DESC_g": "false"},
+            name="orb_feat_merge.timing",
+            bugs_of={"chk_m_axis_feat": "orb_feat_merge"},
+            mode="bmc",
+            depth=12,
+            extra=_sink_ready("feat") + "\n" + _MERGE_TIMING,
+            extra_props={
+                "rate": "with the sink always ready and at most one feature a clock in all (no frame end), no "
+                "feature is lost",
+                "latency": "with the sink always ready, a lone feature given when nothing waits is on m_axis_feat "
+                "FEAT_MERGE_LAT_c = 3 clocks later with its x, y, score and scale",
+            },
+            mutations=(
+                Mutation(
+                    "loss_miscounted",
+                    "a write into a full FIFO counted as lost although a feature leaves it in that clock",
+                    "core/orb_feat_merge.vhd",
+                    r"fifo_room\(k\)  <= '1' when fifo_level\(k\) < FIFO_DEPTH_g or grant\(k\) = '1' else",
+                    "fifo_room(k)  <= '1' when fifo_level(k) < FIFO_DEPTH_g else",
+                    "rate",
+                ),
+                Mutation(
+                    "served_in_turn",
+                    "a scale is served only when the round-robin pointer is at it (which moves only on a grant)",
+                    "core/orb_feat_merge.vhd",
+                    r"request_v\(k\) := fifo_valid\(k\);",
+                    "if rr = k then request_v(k) := fifo_valid(k); end if;",
+                    "latency",
+                ),
+            ),
+        ),
+        Check(
             "orb_overlay",
             {"WIDTH_g": 64, "HEIGHT_g": 48, "SCALES_g": 1, "BLOCK_LOG2_g": 2},
             extra=_always_ready("feat"),
@@ -650,6 +1174,58 @@ CHECKS: dict[str, Check] = {
                     r"s_axis_feat_tready <= '1';",
                     "s_axis_feat_tready <= ce;",
                     "feat_ready",
+                ),
+            ),
+        ),
+        Check(
+            "orb_overlay",
+            {"WIDTH_g": 64, "HEIGHT_g": 48, "SCALES_g": 1, "BLOCK_LOG2_g": 2},
+            name="orb_overlay.conserve",
+            probes=("d1_valid", "d2_valid"),
+            extra=_conserve("video", "video", 3, ("d1_valid", "d2_valid")),
+            extra_props={
+                "no_invention": "nothing out that did not go in, nothing lost: the video beats taken and not given "
+                "are exactly those its 3 stages hold (valid bits probed)"
+            },
+            bugs_of={"chk_m_axis_video": "orb_overlay"},
+            mutations=(
+                Mutation(
+                    "invents_beats",
+                    "stage 2 offers the beat of an empty stage 1 when its tuser bit is set",
+                    "output/orb_overlay.vhd",
+                    r"d2_valid <= d1_valid;",
+                    "d2_valid <= d1_valid or d1_user;",
+                    "no_invention",
+                ),
+            ),
+        ),
+        Check(
+            "orb_overlay",
+            {"WIDTH_g": 64, "HEIGHT_g": 48, "SCALES_g": 1, "BLOCK_LOG2_g": 2},
+            name="orb_overlay.timing",
+            bugs_of={"chk_m_axis_video": "orb_overlay"},
+            extra="\n".join([_sink_ready("video"), _rate("video"), _latency("video", "video", 3, 24)]),
+            extra_props={
+                "rate": "with the sink always ready, s_axis_video_tready is 1 in every clock out of reset",
+                "latency": "with the sink always ready, every video beat taken is on m_axis_video "
+                "OVERLAY_VIDEO_LAT_c = 3 clocks later, in order, nothing else, with its tuser and tlast",
+            },
+            mutations=(
+                Mutation(
+                    "ready_waits_empty",
+                    "s_axis_video_tready only while the output register is empty (back-pressure without the sink)",
+                    "output/orb_overlay.vhd",
+                    r"ce    <= m_axis_video_tready or not m_valid;",
+                    "ce    <= not m_valid;",
+                    "rate",
+                ),
+                Mutation(
+                    "tlast_early",
+                    "the output's tlast taken from stage 1 instead of stage 2 (a clock early)",
+                    "output/orb_overlay.vhd",
+                    r"m_last  <= d2_last;",
+                    "m_last  <= d1_last;",
+                    "latency",
                 ),
             ),
         ),
@@ -673,13 +1249,19 @@ CHECKS: dict[str, Check] = {
             "orb_feat_mem",
             {"DEPTH_g": 16, "SEL_SLOTS_g": 2},
             name="orb_feat_mem.banks",
-            mode="bmc",
-            depth=20,
-            extra=_FEAT_MEM_BANKS,
+            probes=_FEAT_MEM_PROBES,
+            extra=_FEAT_MEM_BANKS + "\n" + _FEAT_MEM_RECORD,
             extra_props={
                 "held_header_stable": "a READY bank's header (count, frame, truncated, dropped) does not change "
                 "until the CPU releases it",
                 "ready_until_release": "a READY bank stays READY until the CPU releases it (or rst)",
+                "held_not_written": "the RAM's write port never writes a held bank (READY and not being released)",
+                "count_record": "the count and the end-of-frame record agree: in a READY bank (the RAM's writes "
+                "followed) slot count holds the record last written, with the header's count, truncated flag, "
+                "frame, dropped and truncated counts, and no slot below count holds a record",
+                "banks_alternate": "frames are published into bank 0, 1, 0, ... from reset (frame_done, last_bank)",
+                "bank_choice": "a frame is published iff its bank was free at its first beat (not READY, or "
+                "released in that clock) and no frame_abort came; else counted once in overrun or aborted",
             },
             mutations=(
                 Mutation(
@@ -697,6 +1279,61 @@ CHECKS: dict[str, Check] = {
                     r"if in_rel = '1' and in_relb = BANK_c\(k\) then",
                     "if (in_rel = '1' and in_relb = BANK_c(k)) or in_abort = '1' then",
                     "ready_until_release",
+                ),
+                Mutation(
+                    "record_other_bank",
+                    "the end-of-frame record written into the other bank (the held one)",
+                    "host/orb_feat_mem.vhd",
+                    r"wr_addr  <= wbank & cnt when",
+                    "wr_addr  <= (not wbank) & cnt when",
+                    "held_not_written",
+                ),
+                Mutation(
+                    "count_plus_one",
+                    "the header's count one more than the features stored (the record's slot)",
+                    "host/orb_feat_mem.vhd",
+                    r"h_count\(k\) <= resize\(cnt, 16\);",
+                    "h_count(k) <= resize(cnt + 1, 16);",
+                    "count_record",
+                ),
+                Mutation(
+                    "bank_not_toggled",
+                    "the write bank does not change at a publication: a released bank 0 takes every frame",
+                    "host/orb_feat_mem.vhd",
+                    r"wbank      <= not wbank;",
+                    "wbank      <= wbank;",
+                    "banks_alternate",
+                ),
+                Mutation(
+                    "release_same_clock_ignored",
+                    "a release in the clock of a frame's first beat does not free the bank for it (the frame is "
+                    "skipped although its bank is released)",
+                    "host/orb_feat_mem.vhd",
+                    r"if ready\(bank_index\(wbank\)\) = '0' or \(in_rel = '1' and in_relb = wbank\) then",
+                    "if ready(bank_index(wbank)) = '0' then",
+                    "bank_choice",
+                ),
+            ),
+        ),
+        Check(
+            "orb_feat_mem",
+            {"DEPTH_g": 16, "SEL_SLOTS_g": 2},
+            name="orb_feat_mem.read",
+            mode="bmc",
+            depth=12,
+            extra=_FEAT_MEM_READ,
+            extra_props={
+                "published_stable": "a published bank never changes, seen at the CPU port: reads of one address "
+                "(any) while the bank stays held return the same word",
+            },
+            mutations=(
+                Mutation(
+                    "skipped_frame_written",
+                    "a skipped frame's beats written into its (held) bank: the write enable ignores the bank choice",
+                    "host/orb_feat_mem.vhd",
+                    r"wr_en    <= beat and store_nw and not abort_nw",
+                    "wr_en    <= beat and not abort_nw",
+                    "published_stable",
                 ),
             ),
         ),
@@ -895,6 +1532,63 @@ CHECKS: dict[str, Check] = {
                 ),
             ),
         ),
+        Check(
+            "orb_accel_zynq",
+            {
+                "WIDTH_g": 64,
+                "HEIGHT_g": 48,
+                "SCALES_g": 1,
+                "SECTORS_g": 16,
+                "MEM_DEPTH_g": 16,
+                "INPUT_g": "LUMA",
+                "BLOCK_LOG2_g": 2,
+                "C_S_AXI_CTRL_ADDR_WIDTH": 18,
+            },
+            mode="bmc",
+            depth=10,
+            quick=False,
+            axil={"MAXW": 2, "MAXR": 1, "BOUND": 4, "RBOUND": 6, "REGMAP": 1, "MEM_DEPTH": 16},
+            extra=_ZYNQ_RESET,
+            bugs_of={"chk_s_axil": "orb_axil_regs"},
+            mutations=(
+                Mutation(
+                    "reset_pulse",
+                    "the reset contract dropped: a one-clock aresetn pulse; orb_accel_top is reset a clock late and "
+                    "answers, in the clock after the pulse, a read it took during it (the contract is needed)",
+                    "wrapper",
+                    r"^  always @\(\*\) if \(!init && arn2 && !arn1\) assume \(!aresetn\);",
+                    "",
+                    "chk_s_axil.r_no_req",
+                ),
+                Mutation(
+                    "master_early",
+                    "AXI's reset rule dropped: the master raises arvalid in the clock after aresetn rises, while "
+                    "orb_accel_top is still in reset and takes the read without answering (the rule is needed)",
+                    "wrapper",
+                    r"assume \(!s_axi_ctrl_awvalid && !s_axi_ctrl_wvalid && !s_axi_ctrl_arvalid && "
+                    r"!s_axis_video_tvalid\);",
+                    "assume (!s_axi_ctrl_awvalid && !s_axi_ctrl_wvalid && (!s_axi_ctrl_arvalid || aresetn) && "
+                    "!s_axis_video_tvalid);",
+                    "chk_s_axil.r_outstanding",
+                ),
+                Mutation(
+                    "sink_ready_tied",
+                    "the wrapper ties orb_accel_top's m_axis_video_tready to 1 (the sink's tready not passed on)",
+                    "top/orb_accel_zynq.vhd",
+                    r"m_axis_video_tready => m_axis_video_tready,",
+                    "m_axis_video_tready => '1',",
+                    "chk_m_axis_video",
+                ),
+                Mutation(
+                    "bready_tied",
+                    "the wrapper ties orb_accel_top's s_axil_bready to 1 (the master's bready not passed on)",
+                    "top/orb_accel_zynq.vhd",
+                    r"s_axil_bready       => s_axi_ctrl_bready,",
+                    "s_axil_bready       => '1',",
+                    "chk_s_axil.b_held",
+                ),
+            ),
+        ),
     )
 }
 
@@ -918,8 +1612,8 @@ def table(summary: Mapping[str, Any]) -> str:
                 if prop["name"] == m["expect"] or prop["name"].startswith(m["expect"] + ".")
             ]
             check = CHECKS.get(name)
-            if not bugs and check is not None:
-                bugs = [
+            if check is not None:
+                bugs += [
                     f"those of `{other}` (the same RTL)"
                     for prefix, other in check.bugs_of.items()
                     if prop["name"] == prefix or prop["name"].startswith(prefix + ".")

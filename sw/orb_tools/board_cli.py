@@ -1,12 +1,15 @@
 # SPDX-License-Identifier: MIT
-"""The CPU-side commands of `orb-accel` (docs/driver.md, docs/ros.md): `board info`, `board
-stream`, `ros`, `ros-env`, `sim-server` and `bag`. `board` and `ros` take one bus:
+"""The CPU-side commands of `orb-accel` (docs/driver.md, docs/ros.md, docs/stream.md): `board info`,
+`board stream`, `serve`, `ros`, `ros-env`, `sim-server` and `bag`. `board`, `serve` and `ros` take
+one bus:
 
 - `--uio [NAME]` (the default: UIO device "orb-accel" of the device-tree overlay), `--devmem BASE`:
   the board;
 - `--connect HOST:PORT`: a simulator already serving (`orb-accel sim-server`);
 - `--sim IMAGE_OR_VIDEO...`: start a simulator on those frames (streamed round and round) for the
-  command's lifetime.
+  command's lifetime;
+
+or `board stream --remote HOST:PORT`: the frames of an `orb-accel serve` on another machine.
 
 On the board these need numpy and Debian's packages only: OpenCV, cocotb and the simulator are
 imported only for --sim, sim-server and bag.
@@ -24,16 +27,20 @@ from pathlib import Path
 
 from golden_model import limits
 from golden_model.config import MODES, NAMES, named, parse_step
-from orb_accel.bus import Bus
-from orb_accel.driver import OrbAccel
+from golden_model.frameparams import FrameParams
+from orb_accel.bus import BOARD_TIMEOUT_S, SIM_TIMEOUT_FRAMES, Bus
+from orb_accel.csvdir import CsvDir
+from orb_accel.driver import Frame, HwConfig, OrbAccel
+from orb_accel.serve import DEFAULT_MAX_CLIENTS, DEFAULT_QUEUE
+from orb_accel.stream import DEFAULT_PORT
 from orb_sim.sim_server import DEFAULT_CONFIG, ENGINES, TOPLEVELS  # pure Python at import: fine on the board
 
-BOARD_TIMEOUT_S = 1.0  # a frame at 24 fps and more, with margin
-SIM_TIMEOUT_FRAMES = 3  # in simulation: three frame periods of simulated time
 
-
-def add_bus_options(p: argparse.ArgumentParser) -> None:
+def add_bus_options(p: argparse.ArgumentParser, remote: bool = False) -> None:
     g = p.add_mutually_exclusive_group()
+    if remote:
+        g.add_argument("--remote", metavar="HOST:PORT",
+                       help="the frames of an `orb-accel serve` on HOST:PORT (docs/stream.md), not a bus")  # fmt: skip
     g.add_argument("--uio", metavar="NAME", nargs="?", const="orb-accel",
                    help="the board, through UIO device NAME (default when no bus is given: orb-accel)")  # fmt: skip
     g.add_argument("--devmem", metavar="BASE", type=lambda t: int(t, 0),
@@ -71,14 +78,25 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     info = bsub.add_parser("info", help="identity, configuration, control registers and counters")
     add_bus_options(info)
     stream = bsub.add_parser("stream", help="read frames: frames per second, features per frame, counters")
-    add_bus_options(stream)
+    add_bus_options(stream, remote=True)
     stream.add_argument("--frames", type=int, default=10, help="frames to read (default 10; 0: until Ctrl-C)")
     stream.add_argument("--csv", type=Path, metavar="DIR", help="write each frame as DIR/frame_NNNNNN.csv")
-    stream.add_argument("--threshold", type=int, default=20, help=f"FAST threshold {limits.THRESHOLD.text} (20)")
-    stream.add_argument("--mode", choices=MODES, default="orb")
-    stream.add_argument("--budget", type=int, default=None,
-                        help="at most N features a frame, the accelerator's grid selection (default: the recommended "
-                             "one of the frame size, within a bank; 0: every feature)")  # fmt: skip
+    add_frame_options(stream)
+
+    serve = sub.add_parser("serve", help="stream every frame's features to clients over TCP (docs/stream.md)")
+    add_bus_options(serve)
+    serve.add_argument(
+        "--listen",
+        metavar="HOST:PORT",
+        default=f"0.0.0.0:{DEFAULT_PORT}",
+        help=f"where clients connect (default 0.0.0.0:{DEFAULT_PORT}, every interface; port 0: any)",
+    )
+    serve.add_argument("--queue", type=int, default=DEFAULT_QUEUE,
+                       help=f"frames queued per client before its oldest goes (default {DEFAULT_QUEUE})")  # fmt: skip
+    serve.add_argument("--max-clients", type=int, default=DEFAULT_MAX_CLIENTS,
+                       help=f"clients served at once (default {DEFAULT_MAX_CLIENTS})")  # fmt: skip
+    serve.add_argument("--frames", type=int, default=0, help="stop after N frames (default 0: until Ctrl-C or SIGTERM)")
+    add_frame_options(serve)
 
     ros = sub.add_parser("ros", help="the ROS 1 node: /orb_accel/features (docs/ros.md); NAME:=VALUE remaps")
     add_bus_options(ros)
@@ -86,6 +104,16 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     ros.add_argument("--mode", choices=MODES, default="orb", help="start-up mode (~mode wins)")
     ros.add_argument("--roscore", action="store_true", help="start a roscore when none answers at ROS_MASTER_URI")
     sub.add_parser("ros-env", help="print shell exports under which rostopic/rosbag know orb_accel_msgs")
+
+    ros2 = sub.add_parser("ros2", help="the ROS 2 node: /orb_accel/features (docs/ros2.md); --ros-args ... to the node")
+    add_bus_options(ros2, remote=True)
+    ros2.add_argument("--threshold", type=int, default=20, help="start-up threshold (parameter threshold wins)")
+    ros2.add_argument("--mode", choices=MODES, default="orb", help="start-up mode (parameter mode wins)")
+    ros2.add_argument("--ros2-python", metavar="PYTHON", type=Path,
+                      help="the ROS 2 venv's python (default: $ORB_ACCEL_ROS2_PYTHON, else the checkout's "
+                           ".venv-ros2/bin/python)")  # fmt: skip
+    ros2.add_argument("--ros-args", nargs=argparse.REMAINDER, metavar="ARG",
+                      help="the rest goes to the node as ROS arguments: -p NAME:=VALUE, -r FROM:=TO")  # fmt: skip
 
     srv = sub.add_parser("sim-server", help="serve a simulated accelerator on a local socket (docs/driver.md)")
     srv.add_argument("frames", nargs="+", type=Path, metavar="IMAGE_OR_VIDEO")
@@ -117,6 +145,39 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
         q.add_argument("--out", type=Path, required=True)
         q.add_argument("--topic", default="/orb_accel/features")
     to_ros2.add_argument("--storage", choices=("sqlite3", "mcap"), default="mcap")
+
+
+def add_frame_options(p: argparse.ArgumentParser) -> None:
+    """The parameters a command that reads frames writes first (not with --remote: the server's)."""
+    p.add_argument("--threshold", type=int, help=f"FAST threshold {limits.THRESHOLD.text} (default 20)")
+    p.add_argument("--mode", choices=MODES, help="orb (default) or fast")
+    p.add_argument("--budget", type=int, default=None,
+                   help="at most N features a frame, the accelerator's grid selection (default: the recommended "
+                        "one of the frame size, within a bank; 0: every feature)")  # fmt: skip
+
+
+def _configure(accel: OrbAccel, args: argparse.Namespace, timeout: float) -> bool:
+    """Write the frame options (defaults: threshold 20, orb, the recommended budget) and let the
+    frame in flight pass; True when the grid selection is on."""
+    if args.budget is not None and not 0 <= args.budget <= accel.hw.capacity:
+        raise ValueError(f"--budget must be 0..{accel.hw.capacity} (a bank's capacity), got {args.budget}")
+    grid = args.budget != 0
+    accel.configure(args.threshold, args.mode, selection="grid" if grid else "all",
+                    budget=args.budget if grid else None)  # fmt: skip
+    accel.settle(timeout)  # the frame in flight may have started with the old values
+    return grid
+
+
+def _frame_options(args: argparse.Namespace) -> None:
+    """Check the frame options and fill in their defaults (threshold 20, mode orb)."""
+    if args.threshold is None:
+        args.threshold = 20
+    if args.mode is None:
+        args.mode = "orb"
+    if not limits.THRESHOLD.legal(args.threshold):
+        raise ValueError(f"threshold must be {limits.THRESHOLD.text}, got {args.threshold}")
+    if args.frames < 0:
+        raise ValueError(f"--frames must be 0 or more, got {args.frames}")
 
 
 def _size(text: str | None, config: str) -> tuple[int, int] | None:
@@ -176,9 +237,7 @@ def open_bus(args: argparse.Namespace) -> Iterator[tuple[Bus, str, float]]:
                 faults=args.sim_fault,
             )
             bus = stack.enter_context(SocketBus(address))
-            g = bus.info["generics"]
-            period_s = (g["WIDTH_g"] + bus.info["h_blank"]) * g["HEIGHT_g"] + bus.info["v_blank"]
-            timeout = args.timeout or SIM_TIMEOUT_FRAMES * period_s * bus.info["period_ns"] * 1e-9
+            timeout = args.timeout or SIM_TIMEOUT_FRAMES * bus.frame_period_s()
             yield bus, f"simulator {address} ({bus.info['toplevel']})", timeout
         elif args.devmem is not None:
             from orb_accel.devmem import DevMemBus
@@ -233,24 +292,27 @@ def cmd_info(args: argparse.Namespace) -> int:
     return 0
 
 
+def _frame_line(frame: Frame, hw: HwConfig, made_with: FrameParams | None, n: int, t0: float, extra: str = "") -> str:
+    per_scale = "/".join(str(int((frame.scale == s).sum())) for s in range(hw.scales))
+    how = made_with.text() if made_with is not None else "parameters not recorded"
+    return (f"frame {frame.number}: {len(frame)} features (per scale {per_scale}), dropped {frame.dropped}, "
+            f"truncated {frame.truncated}; {how}; {n / (time.monotonic() - t0):.2f} frames/s{extra}")  # fmt: skip
+
+
+def _write_csv(csv: CsvDir | None, frame: Frame, hw: HwConfig, made_with: FrameParams, stamp: float) -> None:
+    if csv is not None:
+        csv.write(frame.features, frame=frame.number, stamp=stamp, params=made_with, width=hw.width,
+                  height=hw.height, dropped=frame.dropped, truncated=frame.truncated)  # fmt: skip
+
+
 def cmd_stream(args: argparse.Namespace) -> int:
-    if not limits.THRESHOLD.legal(args.threshold):
-        raise ValueError(f"threshold must be {limits.THRESHOLD.text}, got {args.threshold}")
-    if args.frames < 0:
-        raise ValueError(f"--frames must be 0 or more, got {args.frames}")
+    if args.remote:
+        return _stream_remote(args)
+    _frame_options(args)
     with open_bus(args) as (bus, what, timeout), ExitStack() as stack:
         accel = OrbAccel(bus)
-        if args.budget is not None and not 0 <= args.budget <= accel.hw.capacity:
-            raise ValueError(f"--budget must be 0..{accel.hw.capacity} (a bank's capacity), got {args.budget}")
-        grid = args.budget != 0
-        accel.configure(args.threshold, args.mode, selection="grid" if grid else "all",
-                        budget=args.budget if grid else None)  # fmt: skip
-        accel.settle(timeout)  # the frame in flight may have started with the old values
-        csv = None
-        if args.csv is not None:
-            from orb_accel.csvdir import CsvDir
-
-            csv = stack.enter_context(CsvDir(args.csv))
+        grid = _configure(accel, args, timeout)
+        csv = stack.enter_context(CsvDir(args.csv)) if args.csv is not None else None
         hw = accel.hw
         print(f"streaming from {what}: {hw.width}x{hw.height}, {hw.scales} scales, threshold {args.threshold}, "
               f"budget {accel.selection.budget if grid else 'none (every feature)'}, "
@@ -261,16 +323,10 @@ def cmd_stream(args: argparse.Namespace) -> int:
         for frame in accel.frames(args.frames or None, timeout):
             n += 1
             total += len(frame)
-            per_scale = "/".join(str(int((frame.scale == s).sum())) for s in range(hw.scales))
             # the frame's own parameters (its record); an accelerator before map 3.1: those written
             made_with = frame.params or accel.written()
-            print(f"frame {frame.number}: {len(frame)} features (per scale {per_scale}), dropped {frame.dropped}, "
-                  f"truncated {frame.truncated}; {made_with.text()}; {n / (time.monotonic() - t0):.2f} frames/s",
-                  flush=True)  # fmt: skip
-            if csv is not None:
-                csv.write(frame.features, frame=frame.number, stamp=time.time(), params=made_with,
-                          width=hw.width, height=hw.height, dropped=frame.dropped,
-                          truncated=frame.truncated)  # fmt: skip
+            print(_frame_line(frame, hw, made_with, n, t0), flush=True)
+            _write_csv(csv, frame, hw, made_with, time.time())
         wall = time.monotonic() - t0
         print(f"{n} frames in {wall:.2f} s: {n / wall if wall else 0:.2f} frames/s, "
               f"{total / max(n, 1):.1f} features per frame, {bus.reads} bus reads")  # fmt: skip
@@ -278,6 +334,94 @@ def cmd_stream(args: argparse.Namespace) -> int:
             print(f"counters: {_counters_line(frame.counters)}")
         if csv is not None:
             print(f"CSV -> {args.csv}/")
+    return 0
+
+
+def _stream_remote(args: argparse.Namespace) -> int:
+    """`board stream --remote`: the frames of an `orb-accel serve`, as they come (the server
+    configures the accelerator)."""
+    from orb_accel.remote import RemoteAccel
+    from orb_accel.stream import StreamClosed
+
+    given = [f"--{k}" for k in ("threshold", "mode", "budget") if getattr(args, k) is not None]
+    if given:
+        raise ValueError(f"{', '.join(given)}: with --remote the server sets the accelerator's parameters "
+                         "(orb-accel serve --threshold ...)")  # fmt: skip
+    if args.frames < 0:
+        raise ValueError(f"--frames must be 0 or more, got {args.frames}")
+    with RemoteAccel(args.remote, name="orb-accel board stream") as accel, ExitStack() as stack:
+        if args.csv is not None and not accel.info.get("records_params", True):
+            raise ValueError("--csv: this accelerator's records carry no parameters (register map before 3.1)")
+        csv = stack.enter_context(CsvDir(args.csv)) if args.csv is not None else None
+        hw = accel.hw
+        timeout = args.timeout or accel.frame_wait_s
+        print(f"streaming from orb-accel serve at {args.remote} ({accel.info.get('source', '?')}): "
+              f"{hw.width}x{hw.height}, {hw.scales} scales of {hw.step_num}:{hw.step_den}, {hw.sectors} sectors; "
+              f"the server queues {accel.info.get('queue_depth')} frames for this client, then drops the oldest "
+              f"(frame timeout {timeout:g} s)", flush=True)  # fmt: skip
+        t0 = time.monotonic()
+        n = total = 0
+        frame = None
+        missed = 0
+        try:
+            while not args.frames or n < args.frames:
+                frame, meta = accel.receive(timeout)
+                n += 1
+                total += len(frame)
+                extra = f"; {meta.dropped - missed} dropped before it by the server" if meta.dropped > missed else ""
+                missed = meta.dropped
+                print(_frame_line(frame, hw, frame.params, n, t0, extra), flush=True)
+                _write_csv(csv, frame, hw, frame.params or frame.record.params, meta.t_ready_ns * 1e-9)
+        except StreamClosed as exc:
+            print(exc, flush=True)
+            if args.frames:
+                raise
+        wall = time.monotonic() - t0
+        print(f"{n} frames in {wall:.2f} s: {n / wall if wall else 0:.2f} frames/s, "
+              f"{total / max(n, 1):.1f} features per frame, {accel.bytes_received:,} bytes received, "
+              f"{accel.dropped} frame(s) dropped by the server for this client")  # fmt: skip
+        if frame is not None:
+            print(f"counters: {_counters_line(frame.counters)}")
+        if csv is not None:
+            print(f"CSV -> {args.csv}/")
+    return 0
+
+
+def cmd_serve(args: argparse.Namespace) -> int:
+    """`orb-accel serve`: the frame loop of orb_accel.serve until --frames, Ctrl-C or SIGTERM."""
+    from orb_accel.serve import StreamServer, hello_info, serve
+    from orb_accel.socket_bus import SocketBus
+    from orb_accel.stream import NAME, VERSION
+
+    _frame_options(args)
+    if args.queue < 1 or args.max_clients < 1:
+        raise ValueError(f"--queue and --max-clients must be 1 or more, got {args.queue} and {args.max_clients}")
+    signal.signal(signal.SIGTERM, _raise_interrupt)  # a clean stop: BYE to every client
+    with open_bus(args) as (bus, what, timeout):
+        accel = OrbAccel(bus)
+        grid = _configure(accel, args, timeout)
+        # a client's wait for a frame in wall seconds: the simulator's can take minutes
+        wait_s = bus.op_timeout_s if isinstance(bus, SocketBus) else max(2.0, 2 * timeout)
+        server = StreamServer(hello_info(accel, what, wait_s), args.listen, args.queue, args.max_clients).start()
+        reason = "the server stopped"
+        try:
+            sel = f"budget {accel.selection.budget}" if grid else "every feature"
+            print(f"serving the frames of {what} ({accel.hw.width}x{accel.hw.height}, threshold {args.threshold}, "
+                  f"{sel}, mode {args.mode}) on {server.address}: {NAME} version {VERSION}, {args.queue} frame(s) "
+                  f"queued per client, the oldest dropped; until "
+                  f"{f'{args.frames} frames, ' if args.frames else ''}Ctrl-C or SIGTERM", flush=True)  # fmt: skip
+            stats = serve(accel, server, timeout, args.frames or None)
+            reason = f"the server stopped after {stats.frames} frames"
+        except KeyboardInterrupt:
+            reason = "the server was stopped (Ctrl-C or SIGTERM)"
+        finally:
+            server.close(reason)
+        clients = server.clients()
+        print(f"stopped: {reason}; frames read {server.seq}, clients {len(clients)}, "
+              f"{server.bytes_encoded:,} bytes encoded", flush=True)  # fmt: skip
+        for c in clients:
+            print(f"  client {c.number} ({c.peer}, {c.name or 'unnamed'}): {c.sent} frame(s) sent, {c.dropped} "
+                  f"dropped; {c.why}")  # fmt: skip
     return 0
 
 
@@ -352,6 +496,65 @@ def cmd_ros(args: argparse.Namespace, ros_args: list[str]) -> int:
         signal.signal(signal.SIGINT, signal.default_int_handler)
         with open_bus(args) as (bus, what, timeout):
             return run_node(rospy, msg_mod, srv_mod, bus, settings, timeout, what)
+
+
+def ros2_python(given: Path | None = None) -> tuple[Path, dict[str, str]]:
+    """The ROS 2 venv's python (rclpy from PyPI lives only there: docs/ros2.md) and the environment
+    that lets it import this project: from a source checkout, the checkout's package folders on
+    PYTHONPATH (as orb_sim.hdl finds the checkout); an installed orb-accel must be installed in
+    that venv too."""
+    import os
+
+    root = Path(__file__).resolve().parents[2]
+    checkout = (root / "hdl" / "manifest.txt").is_file() and (root / "sw" / "orb_ros2").is_dir()
+    python = given or (Path(os.environ["ORB_ACCEL_ROS2_PYTHON"]) if os.environ.get("ORB_ACCEL_ROS2_PYTHON") else None)
+    if python is None and checkout:
+        python = root / ".venv-ros2" / "bin" / "python"
+    if python is None or not python.exists():
+        from orb_ros.msgs import RosUnavailable
+
+        raise RosUnavailable(f"no ROS 2 venv ({python or 'give --ros2-python or ORB_ACCEL_ROS2_PYTHON'}): `make setup` "
+                             "makes .venv-ros2 (docs/ros2.md)")  # fmt: skip
+    env = dict(os.environ)
+    if checkout:
+        parts = [str(root), str(root / "sw"), *[p for p in env.get("PYTHONPATH", "").split(os.pathsep) if p]]
+        env["PYTHONPATH"] = os.pathsep.join(dict.fromkeys(parts))
+    return python, env
+
+
+def cmd_ros2(args: argparse.Namespace, ros_args: list[str]) -> int:
+    """Start the ROS 2 node (orb_ros2.node) in the ROS 2 venv, on a simulator of its own with --sim.
+    SIGINT reaches the node through the process group; SIGTERM is handed on. The node's status."""
+    import subprocess
+
+    python, env = ros2_python(args.ros2_python)
+    node_args = ["--threshold", str(args.threshold), "--mode", args.mode]
+    if args.timeout is not None:
+        ros_args = [*(ros_args or ["--ros-args"]), "-p", f"timeout:={float(args.timeout)}"]
+    with ExitStack() as stack:
+        if args.sim:
+            address = _start_sim(stack, args.sim, args.sim_config, args.sim_size, args.sim_max_frames, args.sim_top,
+                                 args.sim_engine, scales=args.sim_scales, step=args.sim_step, sectors=args.sim_sectors,
+                                 mem_depth=args.sim_mem_depth, faults=args.sim_fault)  # fmt: skip
+            bus = ["--connect", address]
+        elif args.connect:
+            bus = ["--connect", args.connect]
+        elif args.remote:
+            bus = ["--remote", args.remote]
+        elif args.devmem is not None:
+            bus = ["--devmem", hex(args.devmem)]
+        else:
+            bus = ["--uio", args.uio or "orb-accel"]
+        proc = subprocess.Popen([str(python), "-m", "orb_ros2.node", *bus, *node_args, *ros_args], env=env)
+        signal.signal(signal.SIGTERM, lambda *_: proc.send_signal(signal.SIGTERM))
+        try:
+            return proc.wait()
+        except KeyboardInterrupt:  # the node, in this process group, has it too
+            try:
+                return proc.wait(20)
+            except subprocess.TimeoutExpired:
+                proc.terminate()
+                return proc.wait()
 
 
 def cmd_ros_env(_args: argparse.Namespace) -> int:

@@ -518,7 +518,7 @@ def cmd_density_bench(args: argparse.Namespace) -> int:
 COMMANDS = {"extract": cmd_extract, "compare-fast": cmd_compare_fast, "rotation-bench": cmd_rotation_bench,
             "scale-bench": cmd_scale_bench, "eval-photos": cmd_eval_photos, "track-bench": cmd_track_bench,
             "density-bench": cmd_density_bench, "ros-env": board_cli.cmd_ros_env,
-            "sim-server": board_cli.cmd_sim_server, "bag": board_cli.cmd_bag}  # fmt: skip
+            "sim-server": board_cli.cmd_sim_server, "bag": board_cli.cmd_bag, "serve": board_cli.cmd_serve}  # fmt: skip
 BOARD_COMMANDS = {"info": board_cli.cmd_info, "stream": board_cli.cmd_stream}
 
 
@@ -527,6 +527,8 @@ def _run(argv: list[str]) -> int:
     args = build_parser().parse_args(ours if ours[:1] == ["ros"] else argv)
     if args.command == "ros":
         return board_cli.cmd_ros(args, ros_args)
+    if args.command == "ros2":
+        return board_cli.cmd_ros2(args, ["--ros-args", *args.ros_args] if args.ros_args is not None else [])
     if args.command == "board":
         return BOARD_COMMANDS[args.board_command](args)
     return COMMANDS[args.command](args)
@@ -544,7 +546,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         from . import sim_accel
 
         return sim_accel.main(argv[1:])
-    board_like = argv[:1] in (["board"], ["ros"], ["sim-server"], ["bag"], ["ros-env"])
+    board_like = argv[:1] in (["board"], ["ros"], ["ros2"], ["sim-server"], ["bag"], ["ros-env"], ["serve"])
     try:
         return _run(argv)
     except (UsageError, ImageError, ConfigError, OSError, RtlUnavailable, AccelError, RosUnavailable,

@@ -2,7 +2,7 @@
 """The Zybo Z7-20 build checked without Vivado (docs/board.md, "Checked without Vivado").
 
 - vivado/board.json's generated views are fresh; the device-tree overlays compile with dtc and
-  carry the address map and the interrupt;
+  carry the address map and the interrupt (the PYNQ overlays: the address map only);
 - tclint passes over every TCL and XDC file with the Vivado command spec;
 - vivado/build.tcl runs in tclsh against the recording stubs for every configuration, with and
   without board files, and every check of sw/orb_flow/board/dryrun.py passes on the record (sources =
@@ -12,7 +12,9 @@
   overlapping address segment, an IP property value outside its choices, a switch Vivado does not
   know and a bad argument each make the dry run or a check fail;
 - the build's TCL helpers: the kClkRange choice-list extension, the manifest reader;
-- make bitstream without Vivado stops at once with one line naming what is missing.
+- make bitstream without Vivado stops at once with one line naming what is missing; its outputs lie
+  side by side with one stem (.bit and .hwh from the TCL, .bit.bin and .dtbo from the packaging step),
+  and a build that does not copy the hardware handoff fails the check.
 """
 
 from __future__ import annotations
@@ -28,8 +30,9 @@ from pathlib import Path
 
 import pytest
 
-from orb_flow.board import dryrun
+from orb_flow.board import bit2bin, bitstream, dryrun
 from orb_flow.gen import board as gen_board
+from orbtb.bitfile import SYNC_AT, make_bit
 from orbtb.views import assert_view_fresh
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -49,7 +52,12 @@ def need(tool: str, package: str) -> str:
 
 @pytest.mark.parametrize(
     "view",
-    ["vivado/gen/board.tcl", "docs/board-configs.md", *(f"vivado/linux/orb-accel-{c}.dtso" for c in CONFIGS)],
+    [
+        "vivado/gen/board.tcl",
+        "docs/board-configs.md",
+        *(f"vivado/linux/orb-accel-{c}.dtso" for c in CONFIGS),
+        *(f"vivado/linux/orb-accel-{c}-pynq.dtso" for c in CONFIGS),
+    ],
 )
 def test_board_views_fresh(view: str) -> None:
     assert_view_fresh(gen_board, Path(view), ROOT)
@@ -69,6 +77,22 @@ def test_overlay_compiles_with_address_and_interrupt(config: str, tmp_path: Path
     assert 'compatible = "generic-uio";' in back
     assert f'firmware-name = "{BOARD["design_name"]}_{config}.bit.bin";' in back
     assert acc["gic_spi"] == 29 + acc["irq_f2p"], "IRQ_F2P[n] is GIC SPI 29 + n (SPI IDs 61..68 - 32)"
+
+
+@pytest.mark.parametrize("config", CONFIGS)
+def test_pynq_overlay_has_the_registers_only(config: str, tmp_path: Path) -> None:
+    """PYNQ programs the PL itself and its images give IRQ_F2P[0] to their own `fabric` node: the
+    overlay beside the .bit adds the register window and nothing else (docs/pynq.md)."""
+    dtc = need("dtc", "device-tree-compiler")
+    src = ROOT / "vivado" / "linux" / f"orb-accel-{config}-pynq.dtso"
+    dtbo = tmp_path / "o.dtbo"
+    subprocess.run([dtc, "-@", "-I", "dts", "-O", "dtb", "-o", str(dtbo), str(src)], check=True, capture_output=True)
+    back = subprocess.run([dtc, "-I", "dtb", "-O", "dts", str(dtbo)], check=True, capture_output=True, text=True).stdout
+    acc = BOARD["accel"]
+    base, size = int(acc["base"], 16), int(acc["range"], 16)
+    assert f"{acc['dt_name']}@{base:x} {{" in back and f"reg = <0x{base:x} 0x{size:x}>;" in back, back
+    assert 'compatible = "generic-uio";' in back
+    assert "interrupts" not in back and "firmware-name" not in back and "fpga_full" not in back, back
 
 
 def test_board_json_rules(tmp_path: Path) -> None:
@@ -269,6 +293,15 @@ def test_unknown_switch_and_bad_arguments_fail(tmp_path: Path) -> None:
         dryrun.run("1280x720", tmp_path / "d", library=tmp_path)
 
 
+def test_missing_hardware_handoff_copy_fails(tmp_path: Path) -> None:
+    d = mutated_run(
+        tmp_path, lambda v: replace_in(v / "build.tcl", "file copy -force $hwh [file join $out ${base_name}.hwh]", "")
+    )
+    assert dryrun.check_outputs(d) == [
+        f"no orb_board_1280x720.hwh in the build's output folder (found {sorted(d.outputs)})"
+    ]
+
+
 # --- TCL helpers ---------------------------------------------------------------------------------------
 
 
@@ -308,3 +341,25 @@ def test_bitstream_without_vivado_stops_at_once(tmp_path: Path) -> None:
     assert len(lines) == 1, proc.stderr
     assert "Vivado ('no-vivado-here' not on PATH" in lines[0]
     assert f"git -C ../vivado-library checkout {BOARD['vivado_library']['commit']}" in lines[0]
+
+
+def test_outputs_side_by_side_with_one_stem(tmp_path: Path) -> None:
+    """make bitstream's outputs for PYNQ and for the plain UIO flow: the TCL's .bit and .hwh (the dry
+    run's, the .bit replaced by a synthetic one), then package() adds the .bit.bin and the .dtbo."""
+    need("dtc", "device-tree-compiler")
+    config = BOARD["default_config"]
+    dryrun.run(config, tmp_path)
+    out = tmp_path / "out"
+    stem = f"{BOARD['design_name']}_{config}"
+    (out / f"{stem}.bit").write_bytes(make_bit())
+    files = bitstream.package(out, config)
+    assert {p.name for p in files.values()} == {f"{stem}{ext}" for ext in (".bit", ".hwh", ".bit.bin", ".dtbo")}
+    assert all(p.parent == out and p.is_file() for p in files.values())
+    assert bit2bin.check_bin(files[".bit.bin"].read_bytes()) == SYNC_AT
+    assert "stand-in for the hardware handoff" in files[".hwh"].read_text()
+    dts = subprocess.run(["dtc", "-I", "dtb", "-O", "dts", str(files[".dtbo"])], capture_output=True, text=True)
+    assert dts.returncode == 0 and 'compatible = "generic-uio";' in dts.stdout and "interrupts" not in dts.stdout
+
+    (out / f"{stem}.hwh").unlink()
+    with pytest.raises(FileNotFoundError, match=rf"{stem}\.hwh: Vivado wrote no \.hwh"):
+        bitstream.package(out, config)

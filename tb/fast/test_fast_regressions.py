@@ -6,24 +6,33 @@ test-all`). Each prints its figures.
   brightness-changed versions), back to back with blanking, the driver reading and releasing the
   banks as on the board: every frame published, consecutive, bit-exact;
 - 1920x1080 frames with 1, 2 and 4 scales: bit-exact, nothing dropped or truncated;
-- fault campaigns (orbtb.campaign): 3 x 250 frames with recorded seeds (one from a random initial
-  state): no lock-up, no mismatch. Replay one: `pytest tb/fast/test_fast_regressions.py -k "11-0"`.
+- fault campaigns (orbtb.campaign): 3 x 250 events with recorded seeds (one from a random initial
+  state): no lock-up, no mismatch. Replay one: `pytest tb/fast/test_fast_regressions.py -k "11-0"`;
+- the long campaign: 10,000 events (seed 2026) on the named configuration test-tiny, more than
+  10,000 frames: no lock-up, no mismatch; about half an hour here. Its figures go to
+  build/campaign/long-2026.json (progress in long-2026.progress), recorded in
+  docs/results/campaign.json (`python -m orb_flow.record campaign`, docs/fast-sim.md).
 """
 
 from __future__ import annotations
+
+import json
+import time
 
 import cv2
 import numpy as np
 import pytest
 
 from golden_model import Config, extract
+from golden_model.config import named
 from golden_model.features import first_difference
 from golden_model.images import DEFAULT_IMAGE
 from golden_model.luma import rgb_to_luma
 from orb_accel.driver import Frame
-from orb_sim.fast.jobs import ACCEL_MEM_DEPTH, run_video_fast
+from orb_sim.fast.jobs import ACCEL_MEM_DEPTH, generics_for, run_video_fast
+from orb_sim.hdl import BUILD
 from orb_tools.images import load_rgb_or_grey
-from orbtb.campaign import run_campaign
+from orbtb.campaign import CHANGES, FAULTS, CampaignResult, Event, run_campaign
 from orbtb.images import colour_photo
 
 pytestmark = pytest.mark.slow
@@ -82,12 +91,60 @@ def test_1080p(scales: int) -> None:
     assert diff is None, f"netlist (first) and model (second) differ: {diff}"
 
 
+CAMPAIGN_PHOTOS = ("astronaut", "coffee", "chelsea", "rocket", "camera")
+CAMPAIGN_OUT = BUILD / "campaign"
+
+
+def write_report(name: str, result: CampaignResult) -> None:
+    CAMPAIGN_OUT.mkdir(parents=True, exist_ok=True)
+    (CAMPAIGN_OUT / f"{name}.json").write_text(json.dumps(result.report(), indent=1) + "\n")
+
+
 @pytest.mark.parametrize(("seed", "init_seed"), [(11, 0), (23, 7), (41, 0)], ids=["11-0", "23-7", "41-0"])
 def test_fault_campaign(seed: int, init_seed: int) -> None:
-    photos = [colour_photo(name, 128, 96) for name in ("astronaut", "coffee", "chelsea", "rocket", "camera")]
+    photos = [colour_photo(name, 128, 96) for name in CAMPAIGN_PHOTOS]
     generics = {"WIDTH_g": 128, "HEIGHT_g": 96, "SCALES_g": 2, "SECTORS_g": 32, "MEM_DEPTH_g": 512, "INPUT_g": "RGB"}
     result = run_campaign(photos, 250, seed=seed, generics=generics, init_seed=init_seed)
-    print(f"fault campaign (initial state {init_seed}): {result.summary()}")
+    write_report(f"fault-{seed}-{init_seed}", result)
+    print(f"fault campaign: {result.summary()}")
     assert not result.lockups, result.lockups
     assert not result.mismatches, result.mismatches[:5]
+    # 9 of the 21 weights are faults (orbtb.campaign.WEIGHTS): about 107 of 250 events, 80 is 3.5
+    # standard deviations below
     assert len(result.events) == 250 and result.faults >= 80
+
+
+LONG_SEED, LONG_EVENTS = 2026, 10_000
+
+
+def test_long_campaign() -> None:
+    """Issue 26's campaign: 10,000 events, at least one frame each (a cable cut sends three), on
+    test-tiny (128x96, 2 scales, 512 slots), with every fault, parameter change (the selection's
+    too), back-pressure, the CPU holding banks and resets; no lock-up, every good frame bit-exact."""
+    tiny = named("test-tiny")
+    generics = generics_for(tiny.config(), colour=True, mem_depth=tiny.mem_depth)
+    photos = [colour_photo(name, tiny.width, tiny.height) for name in CAMPAIGN_PHOTOS]
+    CAMPAIGN_OUT.mkdir(parents=True, exist_ok=True)
+    progress = CAMPAIGN_OUT / f"long-{LONG_SEED}.progress"
+    progress.write_text("")
+    t0 = time.monotonic()
+    counts = {"published": 0, "skipped": 0}
+
+    def note(ev: Event) -> None:
+        counts["published"] += ev.published
+        counts["skipped"] += ev.skipped
+        if (ev.step + 1) % 250 == 0:
+            with progress.open("a") as f:
+                f.write(f"{ev.step + 1} events, {counts['published']} published, {counts['skipped']} skipped, "
+                        f"{time.monotonic() - t0:.0f} s\n")  # fmt: skip
+
+    result = run_campaign(photos, LONG_EVENTS, seed=LONG_SEED, generics=generics, on_event=note)
+    write_report(f"long-{LONG_SEED}", result)
+    print(f"long campaign: {result.summary()}")
+    assert not result.lockups, result.lockups
+    assert not result.mismatches, result.mismatches[:5]
+    assert len(result.events) == LONG_EVENTS and result.frames_sent >= 10_000
+    # each kind of fault and change hundreds of times (a weight of 1 in 21: about 476 expected)
+    rare = {k: n for k, n in result.by_kind((*FAULTS, *CHANGES)).items() if n < 300}
+    assert not rare, rare
+    assert result.frames_skipped >= 100 and result.frames_published >= 5_000

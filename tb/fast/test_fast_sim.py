@@ -16,7 +16,9 @@ test_fast_regressions.py (slow).
 - 2-state: three initial states (zeros and two random seeds) give the same features and the same
   overlay from the third frame on (the first two overlay frames show the uncleared bitmap RAMs:
   docs/overlay.md, docs/fast-sim.md);
-- a 60-frame fault campaign (orbtb.campaign, seed 3): no lock-up, no mismatch;
+- a 60-event fault campaign (orbtb.campaign, seed 3): no lock-up, no mismatch, every kind of event;
+  and the campaign's checks failing on two planted faults (banks never released: the watchdog's
+  lock-up; a wrong threshold: mismatches);
 - `make sim FAST=1`'s script and `orb-accel extract --backend rtl-fast` (luma input: a second build).
 """
 
@@ -26,6 +28,7 @@ import json
 import subprocess
 import sys
 from fractions import Fraction
+from dataclasses import replace
 from pathlib import Path
 
 import cv2
@@ -46,10 +49,10 @@ from golden_model.config import (
 from golden_model.features import first_difference, read_csv
 from golden_model.luma import rgb_to_luma
 from golden_model.overlay import render_marker_overlay
-from orb_accel.driver import HwConfig
+from orb_accel.driver import HwConfig, OrbAccel
 from orb_sim.fast.jobs import FastAccel, generics_for, pack, run_accel_fast
 from orb_sim.rtl_backend import run_accel_job
-from orbtb.campaign import run_campaign
+from orbtb.campaign import KINDS, Campaign, Setting, run_campaign
 from orbtb.images import colour_photo
 from orbtb.scoreboard import expected_features, expected_streamed
 
@@ -202,6 +205,37 @@ def test_fault_campaign_quick(photos: list[np.ndarray]) -> None:
     assert not result.lockups, result.lockups
     assert not result.mismatches, result.mismatches[:5]
     assert result.faults >= 15 and result.frames_published >= 20 and result.features_checked > 1000
+    # seed 3 draws every kind of event and a hold that makes the accelerator skip a frame: the
+    # short campaign of make test reaches each path of the reference (tb/orbtb/campaign.py)
+    missing = [k for k, n in result.by_kind(KINDS).items() if n == 0]
+    assert not missing and result.frames_skipped >= 1, (missing, result.frames_skipped)
+
+
+class _NeverReleases(Campaign):
+    """A CPU that keeps every bank while the campaign's reference believes them released."""
+
+    def release(self) -> None:
+        self.ref.ready.clear()
+
+
+class _WrongThreshold(Campaign):
+    """A CPU that writes a threshold 3 above the one the reference applies."""
+
+    def write_setting(self, accel: OrbAccel, s: Setting) -> None:
+        super().write_setting(accel, replace(s, threshold=s.threshold + 3))
+
+
+def test_fault_campaign_can_fail(photos: list[np.ndarray]) -> None:
+    """The campaign's checks fail on planted faults: banks never released stop the publishing, which
+    the watchdog reports as a lock-up; frames made at another threshold than the reference's are
+    mismatches (their features and the parameters in their records)."""
+    stuck = _NeverReleases(photos, 3, GENERICS).run(20)
+    assert len(stuck.lockups) == 1 and "no frame for" in stuck.lockups[0], stuck.lockups
+    assert len(stuck.events) < 20
+    wrong = _WrongThreshold(photos, 3, GENERICS).run(6)
+    assert not wrong.lockups, wrong.lockups
+    assert any("its record says" in m for m in wrong.mismatches), wrong.mismatches[:3]
+    assert any(" lost: " in m for m in wrong.mismatches), wrong.mismatches[:3]  # the features differ
 
 
 def test_make_sim_fast_and_cli(tmp_path: Path, photos: list[np.ndarray]) -> None:

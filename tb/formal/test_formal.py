@@ -86,3 +86,38 @@ def test_wrapper_binds_every_stream_port() -> None:
     assert re.search(r"orb_axis_chk #\(\.W\(4\), \.ASSUME\(1\)\) chk_s_axis_a .*\.tuser\(1'b0\)", text)
     assert re.search(r"orb_axis_chk #\(\.W\(8\), \.ASSUME\(0\)\) chk_m_axis_b .*\.tlast\(m_axis_b_tlast\)", text)
     assert "assume (rst)" in text
+
+
+def test_wrapper_binds_board_wrapper_ports() -> None:
+    """The flat board wrapper's names: clock aclk, reset aresetn (active low, inverted for the checkers), the
+    AXI4-Lite slave s_axi_ctrl bound to the same checker (chk_s_axil)."""
+    names = [f"s_axi_ctrl_{n}" for n in formal.AXIL_PORTS]
+    verilog = "module orb_y\n  (input  aclk,\n   input  aresetn,\n" + "".join(
+        f"   {'output' if n.endswith(('ready', 'resp', 'bvalid', 'rvalid', 'rdata')) else 'input '} {n},\n"
+        for n in names
+    )
+    verilog = verilog.rstrip(",\n") + ");\n"
+    ports = formal.ports(verilog, "orb_y")
+    assert formal.axil_prefix(p.name for p in ports) == "s_axi_ctrl"
+    text = formal.wrapper(formal.Check("orb_y", {}), ports)
+    assert "wire rst = !aresetn;" in text
+    assert ".aclk(clk)" in text and "input wire aclk" not in text
+    assert re.search(r"orb_axil_chk #\(.*\) chk_s_axil \(.*\.awvalid\(s_axi_ctrl_awvalid\)", text)
+
+
+def test_probes_become_outputs() -> None:
+    """add_probes makes internal nets of the entity's module outputs probe_<net>, read by ports()."""
+    verilog = (
+        "module orb_z\n  (input  clk,\n   output [1:0] q);\n  wire [4:0] wr_addr;\n  reg wr_en;\n"
+        "  assign q = 2'b00;\nendmodule\n"
+    )
+    out = formal.add_probes(verilog, "orb_z", ("wr_en", "wr_addr"))
+    assert [(p.dir, p.width, p.name) for p in formal.ports(out, "orb_z")] == [
+        ("input", 1, "clk"),
+        ("output", 2, "q"),
+        ("output", 1, "probe_wr_en"),
+        ("output", 5, "probe_wr_addr"),
+    ]
+    assert "assign probe_wr_addr = wr_addr;" in out
+    with pytest.raises(formal.VerilogError):
+        formal.add_probes(verilog, "orb_z", ("no_such_net",))

@@ -12,13 +12,16 @@ golden_model.regs; rw round trips and the control outputs; byte strobes; SLVERR 
 change for unknown, misaligned and ro-write addresses, writes into the memory window, reads of the
 wo register and illegal values; W1C semantics and the irq level; the soft-reset and bank-release
 pulses; memory reads; AW-before-W and W-before-AW with forced delays; back-to-back transactions;
-a random mix of reads and writes against a Python model of the rules in docs/registers.md.
+a random mix of reads and writes against a Python model of the rules in docs/registers.md; and a
+fuzz on raw channels (axil_fuzz: random addresses, strobes, AW/W orders, delays and B/R pauses,
+5,000 transactions per generic set) against the same model (docs/axil-regs.md).
 """
 
 from __future__ import annotations
 
 import itertools
 import warnings
+from collections import Counter, deque
 from dataclasses import dataclass, field
 
 import cocotb
@@ -152,7 +155,10 @@ class Bench:
         self.addr_bits = self.g["ADDR_BITS_g"]
         self.ports: dict[str, int] = {}
 
-    async def start(self, pause_prob: float, seed: int = 1) -> None:
+    async def start(self, pause_prob: float, seed: int = 1, master: bool = True) -> None:
+        """Reset with random status inputs and the feature-memory model running; `master`: a
+        cocotbext-axi AxiLiteMaster with random pauses (else the AXI inputs idle at 0, for a test
+        that drives them itself)."""
         dut = self.dut
         rng = np.random.default_rng(seed)
         self.ports = {
@@ -176,8 +182,13 @@ class Bench:
         dut.mem_rd_data.value = 0
         cocotb.start_soon(Clock(dut.clk, PERIOD_NS, unit="ns").start(start_high=False))
         # bus model only once reset is asserted and the clock starts low
-        self.axil = AxiLiteMaster(AxiLiteBus.from_prefix(dut, "s_axil"), dut.clk, dut.rst)
-        self.set_pauses(pause_prob, seed)
+        if master:
+            self.axil = AxiLiteMaster(AxiLiteBus.from_prefix(dut, "s_axil"), dut.clk, dut.rst)
+            self.set_pauses(pause_prob, seed)
+        else:
+            for name in ("awvalid", "wvalid", "bready", "arvalid", "rready", "awaddr", "awprot", "wdata", "wstrb",
+                         "araddr", "arprot"):  # fmt: skip
+                getattr(dut, f"s_axil_{name}").value = 0
         self.mon = Monitor(self.latency, seed=seed)
         cocotb.start_soon(self.mon.run(dut))
         await ClockCycles(dut.clk, 4)
@@ -685,6 +696,262 @@ async def random_mix(dut) -> None:
         len(model.releases),
         model.soft_resets,
     )
+
+
+# ------------------------------------------------------------------------------------------------
+# AXI4-Lite fuzz: raw channels driven clock by clock
+
+FUZZ_TRANSACTIONS = 5000  # per generic set: 15,000 over the three sets of make test (about 2 s each)
+VOLATILE = frozenset(r.offset for r in regs.REGISTERS if r.access in ("rw", "w1c"))  # what a write can change
+
+
+@dataclass
+class Txn:
+    """One fuzz transaction: a write (addr, data, strb) or a read (addr), the channel delays before
+    its valid rises (AW and W each their own: either may come first) and what the model expects."""
+
+    index: int
+    write: bool
+    addr: int
+    data: int = 0
+    strb: int = 0
+    aw_delay: int = 0
+    w_delay: int = 0
+    expect: tuple[int, int] | int = 0  # (resp, rdata) of a read, resp of a write
+
+
+@dataclass
+class Channel:
+    """A valid/ready source on one channel: a queue of transactions, each offered after its delay and
+    held (with its payload) until the handshake."""
+
+    name: str
+    queue: deque = field(default_factory=deque)
+    current: Txn | None = None
+    wait: int = 0
+    done: int = 0  # handshakes so far
+
+    def next_valid(self, delay_of) -> Txn | None:
+        """The transaction to offer at the next edge (None: valid low)."""
+        if self.current is None and self.queue:
+            self.current = self.queue.popleft()
+            self.wait = delay_of(self.current)
+        if self.current is None:
+            return None
+        if self.wait > 0:
+            self.wait -= 1
+            return None
+        return self.current
+
+
+def fuzz_address(rng: np.random.Generator, addr_bits: int) -> int:
+    """Registers of the map (the writable ones more often), their misaligned neighbours, unmapped
+    and misaligned addresses below MEM_BASE, the memory window, and the edges of the two."""
+    top = 1 << addr_bits
+    k = rng.random()
+    if k < 0.30:
+        return int(rng.choice(OFFSETS))
+    if k < 0.50:
+        return int(rng.choice(WRITABLE))
+    if k < 0.58:
+        return int(rng.choice(OFFSETS)) + int(rng.integers(1, 4))
+    if k < 0.70:
+        return int(rng.integers(0, regs.MEM_BASE)) & (~3 if rng.random() < 0.7 else ~0)
+    if k < 0.92:
+        return int(rng.integers(regs.MEM_BASE, top)) & (~3 if rng.random() < 0.8 else ~0)
+    edges = [0, regs.MEM_BASE - 4, regs.MEM_BASE - 1, regs.MEM_BASE, regs.MEM_BASE + 2, top - 4, top - 1]
+    return int(rng.choice(edges))
+
+
+def fuzz_write_data(rng: np.random.Generator, addr: int) -> tuple[int, int]:
+    """(wdata, wstrb): often a value inside the register's fields, else any; any strobe, 0 and
+    non-contiguous ones included. Unstrobed lanes carry garbage."""
+    r = regs.BY_OFFSET.get(addr)
+    k = rng.random()
+    data = int(rng.integers(0, 1 << 32))
+    if r is not None and k < 0.7:
+        data &= r.mask
+        if r.name == "CTRL":  # mode 0 or 1 mostly (2 and 3 are refused)
+            data = regs.CTRL.field("mode").put(int(rng.integers(0, 2)) if rng.random() < 0.8 else 2, data)
+        if r.name == "SELECT" and rng.random() < 0.7:  # the grid at least 1 x 1: mostly legal
+            data = regs.SELECT.field("cols").put(int(rng.integers(1, 16)), data)
+            data = regs.SELECT.field("rows").put(int(rng.integers(1, 16)), data)
+            data = regs.SELECT.field("budget").put(int(rng.integers(0, 64)), data)
+    elif k < 0.8:
+        data = int(rng.integers(0, 4))
+    strb = 0xF if rng.random() < 0.6 else int(rng.integers(0, 16))
+    return data, strb
+
+
+OFFSETS = [r.offset for r in regs.REGISTERS]
+WRITABLE = [r.offset for r in regs.REGISTERS if r.access != "ro"]
+
+
+@cocotb.test()
+async def axil_fuzz(dut) -> None:
+    """FUZZ_TRANSACTIONS random transactions on raw channels against the model of the map (class
+    Model, from golden_model.regs, the map's one source): addresses in and out of the map (unmapped,
+    misaligned, the memory window), any WSTRB, AW before, with or after W, random delays before each
+    valid, several writes queued, reads beside writes, random BREADY and RREADY pauses in phases.
+    Checked: every response (OKAY or SLVERR as the map says), every read's data (SLVERR reads 0),
+    exactly one response per request in order, no BVALID or RVALID without a request, the pulses
+    (BANK_RELEASE, CTRL.soft_reset) and the control outputs. A read of a register a write can change
+    is issued once every earlier write has its response, and a later write waits for that read's
+    address handshake, so the model's order is the bus's; the other reads overlap the writes."""
+    b = Bench(dut)
+    await b.start(pause_prob=0.0, seed=21, master=False)
+    seed = 21 + b.latency
+    rng = np.random.default_rng(seed)
+    model = Model(b.g, b.ports, b.mon.word, b.addr_bits)
+    aw, w, ar = Channel("aw"), Channel("w"), Channel("ar")
+    b_due: deque[Txn] = deque()  # writes whose B response is due, in order
+    r_due: deque[Txn] = deque()
+    pending: Txn | None = None  # generated, waiting for its turn
+    issued = writes = reads = 0
+    b_done = r_done = 0
+    volatile_ar = 0  # volatile reads issued whose AR handshake has not happened
+    order = {"aw first": 0, "w first": 0, "together": 0}
+    aw_edge: dict[int, int] = {}
+    w_edge: dict[int, int] = {}
+    stalls = {"b": 0, "r": 0}
+    answers: Counter[tuple[str, int]] = Counter()
+    ready_p = {"b": 1.0, "r": 1.0}
+    quiet = 0  # clocks without new transactions (after a frame-done or error pulse)
+    pulses = 0
+    drain = False
+    edge = 0
+    sig = {n: getattr(dut, f"s_axil_{n}") for n in ("awvalid", "awready", "wvalid", "wready", "bvalid", "bready",
+                                                     "bresp", "arvalid", "arready", "rvalid", "rready", "rresp",
+                                                     "rdata", "awaddr", "awprot", "wdata", "wstrb", "araddr",
+                                                     "arprot")}  # fmt: skip
+
+    def delay(r: np.random.Generator) -> int:
+        return 0 if r.random() < 0.5 else int(r.integers(1, 7))
+
+    def generate() -> Txn:
+        if rng.random() < 0.5:  # a write: to a writable register half of the time
+            addr = int(rng.choice(WRITABLE)) if rng.random() < 0.5 else fuzz_address(rng, b.addr_bits)
+            data, strb = fuzz_write_data(rng, addr)
+            return Txn(issued, True, addr, data, strb, delay(rng), delay(rng))
+        return Txn(issued, False, fuzz_address(rng, b.addr_bits), aw_delay=delay(rng))
+
+    def volatile(t: Txn) -> bool:
+        return not t.write and t.addr in VOLATILE
+
+    while b_done < writes or r_done < reads or issued < FUZZ_TRANSACTIONS:
+        await RisingEdge(dut.clk)
+        edge += 1
+        # what the last edge took (values read after an edge are those it sampled)
+        bvalid, rvalid = int(sig["bvalid"].value), int(sig["rvalid"].value)
+        if int(sig["awvalid"].value) and int(sig["awready"].value):
+            aw_edge[aw.current.index] = edge
+            aw.current, aw.done = None, aw.done + 1
+        if int(sig["wvalid"].value) and int(sig["wready"].value):
+            w_edge[w.current.index] = edge
+            w.current, w.done = None, w.done + 1
+        if int(sig["arvalid"].value) and int(sig["arready"].value):
+            volatile_ar -= volatile(ar.current)
+            ar.current, ar.done = None, ar.done + 1
+        assert not bvalid or b_done < min(aw.done, w.done), f"edge {edge}: BVALID without a write in flight"
+        assert not rvalid or r_done < ar.done, f"edge {edge}: RVALID without a read in flight"
+        if bvalid and int(sig["bready"].value):
+            t = b_due.popleft()
+            got = int(sig["bresp"].value)
+            assert got == t.expect, (f"transaction {t.index}: write {t.data:#010x} strb {t.strb:#x} to {t.addr:#x}: "
+                                     f"BRESP {got}, the model {t.expect}")  # fmt: skip
+            b_done += 1
+            answers["write", got] += 1
+            i = t.index
+            order["together" if aw_edge[i] == w_edge[i] else "aw first" if aw_edge[i] < w_edge[i] else "w first"] += 1
+        elif bvalid:
+            stalls["b"] += 1
+        if rvalid and int(sig["rready"].value):
+            t = r_due.popleft()
+            got = (int(sig["rresp"].value), int(sig["rdata"].value))
+            assert got == t.expect, f"transaction {t.index}: read {t.addr:#x}: (RRESP, RDATA) {got}, model {t.expect}"
+            answers["read", got[0]] += 1
+            r_done += 1
+        elif rvalid:
+            stalls["r"] += 1
+        # new transactions: a few in flight, in the order the model applies them
+        if quiet:
+            quiet -= 1
+            dut.frame_done_pulse.value = 0
+            dut.error_pulse.value = 0
+        elif drain and not (b_due or r_due or aw.queue or w.queue or ar.queue):
+            # the bus drained: an interrupt source fires (IRQ_STATUS is set; a write to it is w1c)
+            drain = False
+            bit = regs.IRQ_STATUS.field("frame_done" if rng.random() < 0.5 else "error")
+            (dut.frame_done_pulse if bit.name == "frame_done" else dut.error_pulse).value = 1
+            model.values["IRQ_STATUS"] |= bit.mask
+            quiet = 3
+            pulses += 1
+        elif not drain and issued < FUZZ_TRANSACTIONS and len(b_due) + len(r_due) < 4:
+            if pending is None:
+                pending = generate()
+            t = pending
+            if (t.write and volatile_ar == 0) or (not t.write and (not volatile(t) or b_done == writes)):
+                if t.write:
+                    t.expect = model.write(t.addr, t.data, t.strb)
+                    aw.queue.append(t)
+                    w.queue.append(t)
+                    b_due.append(t)
+                    writes += 1
+                else:
+                    t.expect = model.read(t.addr)
+                    ar.queue.append(t)
+                    r_due.append(t)
+                    reads += 1
+                    volatile_ar += volatile(t)
+                issued += 1
+                pending = None
+                drain = rng.random() < 0.015  # let the bus drain, then pulse an interrupt source
+                if issued % 250 == 0:  # a new phase of B and R back-pressure
+                    ready_p = {c: float(rng.choice([1.0, 0.8, 0.5, 0.2])) for c in ready_p}
+        # drive the next edge
+        t = aw.next_valid(lambda t: t.aw_delay)
+        sig["awvalid"].value = int(t is not None)
+        if t is not None:
+            sig["awaddr"].value = t.addr
+            sig["awprot"].value = int(rng.integers(0, 8))
+        t = w.next_valid(lambda t: t.w_delay)
+        sig["wvalid"].value = int(t is not None)
+        if t is not None:
+            sig["wdata"].value = t.data
+            sig["wstrb"].value = t.strb
+        t = ar.next_valid(lambda t: t.aw_delay)
+        sig["arvalid"].value = int(t is not None)
+        if t is not None:
+            sig["araddr"].value = t.addr
+            sig["arprot"].value = int(rng.integers(0, 8))
+        sig["bready"].value = int(rng.random() < ready_p["b"])
+        sig["rready"].value = int(rng.random() < ready_p["r"])
+    # nothing more may come
+    sig["bready"].value = sig["rready"].value = 1
+    for _ in range(20):
+        await RisingEdge(dut.clk)
+        assert not int(sig["bvalid"].value) and not int(sig["rvalid"].value), "a response without a request"
+    assert (aw.done, w.done, ar.done) == (writes, writes, reads)
+    assert [bank for _, bank in b.mon.releases] == model.releases
+    assert len(b.mon.soft_resets) == model.soft_resets
+    ctrl, thr, sel = model.values["CTRL"], model.values["THRESHOLD"], model.values["SELECT"]
+    assert int(dut.enable.value) == regs.CTRL.field("enable").get(ctrl)
+    assert int(dut.mode_orb.value) == (regs.CTRL.field("mode").get(ctrl) == 0)
+    assert int(dut.threshold.value) == regs.THRESHOLD.field("threshold").get(thr)
+    assert int(dut.threshold_lo.value) == regs.THRESHOLD.field("low").get(thr)
+    assert int(dut.select_grid.value) == regs.SELECT.field("mode").get(sel)
+    assert (int(dut.grid_cols.value), int(dut.grid_rows.value)) == (regs.SELECT.field("cols").get(sel),
+                                                                    regs.SELECT.field("rows").get(sel))  # fmt: skip
+    assert int(dut.budget.value) == min(regs.SELECT.field("budget").get(sel), b.g["MEM_DEPTH_g"] - 1)
+    assert int(dut.irq.value) == bool(model.values["IRQ_STATUS"] & model.values["IRQ_ENABLE"])
+    # every ordering, both back-pressures, OKAY and SLVERR to reads and writes, and the pulses happened
+    kinds = [answers[op, resp] for op in ("write", "read") for resp in (OKAY, SLVERR)]
+    assert min(order.values()) >= 100 and min(stalls.values()) >= 100 and min(kinds) >= 100, (order, stalls, answers)
+    assert len(model.releases) >= 10 and model.soft_resets >= 10 and pulses >= 10
+    dut._log.info("fuzz (seed %d): %d transactions (%d writes, %d reads) in %d clocks; writes OKAY %d, SLVERR %d; "
+                  "reads OKAY %d, SLVERR %d; AW/W %s; B stalled %d clocks, R %d; %d releases, %d soft resets, "
+                  "%d interrupt pulses", seed, issued, writes, reads, edge, *kinds, order, stalls["b"], stalls["r"],
+                  len(model.releases), model.soft_resets, pulses)  # fmt: skip
 
 
 # ------------------------------------------------------------------------------------------------

@@ -43,6 +43,7 @@ def _copy_root(tmp: Path) -> Path:
         Path("docs/results/test.json"),
         Path("docs/results/formal.json"),
         Path("docs/results/recovery.json"),
+        Path("docs/results/campaign.json"),
     ]:
         (tmp / rel).parent.mkdir(parents=True, exist_ok=True)
         shutil.copyfile(ROOT / rel, tmp / rel)
@@ -108,3 +109,14 @@ def test_pytest_summary_is_read_from_a_make_test_log() -> None:
     assert data == {"counts": {"failed": 2, "passed": 1610, "skipped": 3}, "pytest_s": 965.45}
     with pytest.raises(SystemExit, match="no pytest summary"):
         record.parse_pytest_log("rc=1\n")
+
+
+def test_campaign_report_is_checked(tmp_path: Path) -> None:
+    """orb_flow.record campaign takes a campaign's report, and refuses a file that is not one."""
+    report = {k: 0 for k in record.CAMPAIGN_KEYS}
+    path = tmp_path / "not-a-campaign.json"
+    path.write_text(json.dumps({k: v for k, v in report.items() if k != "lockups"}))
+    with pytest.raises(SystemExit, match="not a campaign report: no lockups"):
+        record.record_campaign("x", path, "pytest", "abc1234", "2026-01-01")
+    with pytest.raises(SystemExit, match="is missing"):
+        record.record_campaign("x", tmp_path / "none.json", "pytest", "abc1234", "2026-01-01")

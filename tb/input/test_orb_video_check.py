@@ -517,3 +517,32 @@ def test_video_check_live_16x6() -> None:
 def test_video_check_live_33x5() -> None:
     generics = {"WIDTH_g": 33, "HEIGHT_g": 5, "IDLE_TIMEOUT_g": 50}
     run("orb_video_check", "test_orb_video_check", generics, env={**SIM_ENV, "ORB_SEED": "9"}, testcase=LIVE_TESTS)
+    run("orb_video_check", "test_orb_video_check", {"WIDTH_g": 33, "HEIGHT_g": 5}, env={**SIM_ENV, "ORB_SEED": "9"})
+
+
+def test_feed_arrays_is_beat_by_beat() -> None:
+    """The model's bulk path (feed_arrays, used by the fault campaign, orbtb.campaign) against beat()
+    on the fault kinds above and cuts, each beat sequence split at random points: the same output
+    beats, frame ends and counters. Python only (no simulation)."""
+    w, h = 13, 5
+    rng = np.random.default_rng(17)
+    faults = fault_frames(w, h, rng)
+    names = list(faults)
+    beats: list[Beat] = []
+    for k in range(60):
+        img = image(w, h, k)
+        pick = int(rng.integers(0, len(names) + 5))
+        frame = faults[names[pick]][0](img) if pick < len(names) else lines_to_beats(rows(img))
+        if pick == len(names):  # a cable cut: the frame stops anywhere, the next one may start anywhere
+            frame = frame[: int(rng.integers(1, len(frame)))] + lines_to_beats(rows(img))[int(rng.integers(1, w * h)) :]
+        beats += frame
+    one, bulk = VideoCheckModel(w, h), VideoCheckModel(w, h)
+    one.feed(beats)
+    cuts = sorted(int(c) for c in rng.integers(0, len(beats), 40))
+    for a, b in zip([0, *cuts], [*cuts, len(beats)], strict=True):
+        part = beats[a:b]
+        bulk.feed_arrays(np.array([x.data for x in part], dtype=np.int64), np.array([x.user for x in part]),
+                         np.array([x.last for x in part]))  # fmt: skip
+    assert len(one.ends) > 40 and sum(not e.bad for e in one.ends) > 10
+    assert bulk.out == one.out and bulk.ends == one.ends
+    assert (bulk.protocol_errors, bulk.discarded_pixels) == (one.protocol_errors, one.discarded_pixels)

@@ -7,11 +7,13 @@ A finished frame goes to the next bank unless that bank is still READY, in which
 skipped (an overrun) and the next frame tries the same bank again; a published frame sets
 IRQ_STATUS.frame_done and STATUS.last_bank. Frames finish when the driver waits for the interrupt
 (while the video plays), or at a chosen STATUS read. Each frame is empty (its record alone), which
-is all the driver's frame handling needs; its record carries the parameters it was processed with
-(docs/feature-memory.md): those of the registers when the frame finishes (a write between the
-driver's waits landed in the blanking before the frame started), or with `late_writes` those of
-the registers when the frame before it finished (every write after an interrupt missed the
-blanking: the frame in flight had started). Faults: `video = False` (a cable cut: no frame
+is all the driver's frame handling needs, unless `features` is set: then every frame holds those
+features (encoded with the one slot codec, golden_model.featcodec; at most a bank's DEPTH - 1) and
+BANKn_INFO shows their count (the PYNQ checks read them back, tb/pynq). Its record carries the
+parameters it was processed with (docs/feature-memory.md): those of the registers when the frame
+finishes (a write between the driver's waits landed in the blanking before the frame started), or
+with `late_writes` those of the registers when the frame before it finished (every write after an
+interrupt missed the blanking: the frame in flight had started). Faults: `video = False` (a cable cut: no frame
 finishes, wait_irq times out), `fail(op, addr, nth)` (the nth next access of that kind answers
 SLVERR, the access not done, as the register bank answers one), `lose_irq()` (a published frame's
 interrupt cleared behind the driver's back).
@@ -23,7 +25,8 @@ import numpy as np
 
 from golden_model import regs
 from golden_model.config import MODES, SELECTIONS
-from golden_model.featcodec import encode_eof, record_slot
+from golden_model.featcodec import encode_eof, encode_feature, feature_slot, record_slot
+from golden_model.features import Features
 from golden_model.featword import SLOT_BYTES
 from golden_model.frameparams import FrameParams
 from orb_accel import BusError
@@ -53,6 +56,8 @@ class ScriptedAccel:
         self.video = True  # False: a cable cut, no frame finishes
         self.failures: dict[tuple[str, int | None], int] = {}  # (op, addr or None for the memory) -> countdown
         self.injected = 0
+        self.features: Features | None = None  # what every frame holds (None: nothing, the record alone)
+        self.info = [0, 0]  # BANKn_INFO of each bank
 
     def params(self) -> FrameParams:
         """The parameters the registers hold now."""
@@ -75,8 +80,28 @@ class ScriptedAccel:
         self.ready[b], self.last_bank, self.next_bank = 1, b, b ^ 1
         self.irq_status |= regs.IRQ_STATUS.field("frame_done").put(1)
         base = regs.MEM_BASE + b * DEPTH * SLOT_BYTES
-        for i, w in enumerate(record_slot(encode_eof(self.frames & 0xFFFF, 0, made_with), 0, 0)):
+        words = [w for s in range(self.count()) for w in self.slot(s)]
+        words += record_slot(encode_eof(self.frames & 0xFFFF, 0, made_with), self.count(), 0)
+        for i, w in enumerate(words):
             self.mem[base + 4 * i] = w
+        self.info[b] = regs.BANK0_INFO.field("frame").put(self.frames & 0xFFFF, self.count())
+
+    def count(self) -> int:
+        """Features per frame."""
+        if self.features is None:
+            return 0
+        if len(self.features) >= DEPTH:
+            raise ValueError(f"{len(self.features)} features: a bank holds {DEPTH - 1} and the record")
+        return len(self.features)
+
+    def slot(self, s: int) -> list[int]:
+        """The words of feature s's slot."""
+        f = self.features
+        assert f is not None
+        beat = encode_feature(scale=int(f.scale[s]), x=int(f.x[s]), y=int(f.y[s]), score=int(f.score[s]),
+                              sector=int(f.sector[s]), descriptor=bytes(f.descriptor[s]),
+                              response=int(f.response[s]), low=int(f.low[s]))  # fmt: skip
+        return feature_slot(beat)
 
     def lose_irq(self) -> None:
         self.irq_status &= ~regs.IRQ_STATUS.field("frame_done").put(1)
@@ -124,8 +149,8 @@ class ScriptedAccel:
             regs.SELECT.offset: self.select,
             regs.IRQ_STATUS.offset: self.irq_status,
             regs.IRQ_ENABLE.offset: self.irq_enable,
-            regs.BANK0_INFO.offset: 0,
-            regs.BANK1_INFO.offset: 0,
+            regs.BANK0_INFO.offset: self.info[0],
+            regs.BANK1_INFO.offset: self.info[1],
             regs.OVERRUN.offset: self.overruns,
         }
         return values.get(addr, 0)

@@ -15,6 +15,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+import numpy as np
+
 SHORT_LINE = 1  # frame_fault bit 0: tlast before x = WIDTH - 1
 LONG_LINE = 2  # bit 1: no tlast at x = WIDTH - 1
 FEW_LINES = 4  # bit 2: tuser at a line start before the frame is complete
@@ -63,9 +65,44 @@ class VideoCheckModel:
         self.protocol_errors = 0
         self.discarded_pixels = 0
 
+    def forget(self) -> None:
+        """Drop the closed frames' output beats and ends, keeping the open frame's beats (a long run
+        stays small): `out` then starts at the open frame's first beat, and later ends index it so."""
+        keep = self._y * self.width + self._x if self._open else 0
+        del self.out[: len(self.out) - keep]
+        self.ends.clear()
+
     def feed(self, beats: list[Beat]) -> None:
         for b in beats:
             self.beat(b)
+
+    def feed_arrays(self, data: np.ndarray, user: np.ndarray, last: np.ndarray) -> None:
+        """beat() for every (data, user, last) of the arrays, in bulk where nothing can happen: the
+        beats that carry an open frame on as expected (no tuser, tlast exactly at each line's end; the
+        frame's last pixel goes through beat()) and the beats without tuser while no frame is open."""
+        w, size, n, i = self.width, self.width * self.height, len(data), 0
+        while i < n:
+            if not self._open:
+                run = int(np.argmax(user[i:] != 0)) if user[i:].any() else n - i
+                self.discarded_pixels += run
+                i += run
+                if i == n:
+                    break
+            elif not self._faults:
+                pos = self._y * w + self._x
+                p = pos + np.arange(min(n - i, size - pos - 1))  # up to, not including, the frame's last pixel
+                ok = (user[i : i + len(p)] == 0) & ((last[i : i + len(p)] != 0) == (p % w == w - 1))
+                run = len(p) if ok.all() else int(np.argmin(ok))
+                if run:
+                    xs = (p[:run] % w).tolist()
+                    self.out.extend(OutBeat(d, 0, int(x == w - 1), False)
+                                    for d, x in zip(data[i : i + run].tolist(), xs, strict=True))  # fmt: skip
+                    self._y, self._x = divmod(pos + run, w)
+                    i += run
+                    if i == n:
+                        break
+            self.beat(Beat(int(data[i]), int(user[i]), int(last[i])))
+            i += 1
 
     def beat(self, b: Beat) -> None:
         if not self._open:

@@ -29,7 +29,6 @@ import itertools
 import json
 import os
 import shutil
-import signal
 import socket
 import subprocess
 import sys
@@ -51,6 +50,11 @@ from orb_ros.msgs import APT_PACKAGES, ros_env
 from orb_sim.sim_server import SimServer
 from orb_tools.rosbag_convert import bag_to_csv, bag_to_ros2, features_from_msg
 from orbtb.images import colour_photo
+from orbtb.procs import WAIT_S
+from orbtb.procs import alive as _alive
+from orbtb.procs import records as _records
+from orbtb.procs import stop as _stop
+from orbtb.procs import wait as _wait
 from orbtb.scoreboard import expected_features
 
 TINY = named("test-tiny")  # the simulated bitstream of this test (docs/configurations.md)
@@ -61,38 +65,12 @@ BUDGET = 40  # the accelerator's grid selection keeps at most 40 features a fram
 SELECTION = f"grid:{BUDGET}:{RECOMMENDED_COLS}x{RECOMMENDED_ROWS}:{RECOMMENDED_THRESHOLD_LO}"
 PHOTOS = ("astronaut", "coffee", "chelsea")
 CLIENT = Path(__file__).with_name("ros_client.py")
-WAIT_S = 600.0  # wall-clock bound of any wait (a frame takes milliseconds on the fast engine, seconds in GHDL)
 
 
 def _free_port() -> int:
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
         return s.getsockname()[1]
-
-
-def _stop(proc: subprocess.Popen, sig: int = signal.SIGINT, wait_s: float = 60.0) -> int | None:
-    """Signal the process group; when it does not end within wait_s, SIGABRT the process (a Python
-    started with PYTHONFAULTHANDLER=1 writes every thread's stack to its log: where it hung), then
-    SIGKILL the group. The exit status, None when it had to be killed."""
-    if proc.poll() is None:
-        try:
-            os.killpg(proc.pid, sig)
-            proc.wait(wait_s)
-        except subprocess.TimeoutExpired:
-            os.kill(proc.pid, signal.SIGABRT)
-            try:
-                proc.wait(5.0)
-            except subprocess.TimeoutExpired:
-                pass
-            try:
-                os.killpg(proc.pid, signal.SIGKILL)
-            except ProcessLookupError:  # the SIGABRT ended the whole group
-                pass
-            proc.wait()
-            return None
-        except ProcessLookupError:
-            pass
-    return proc.returncode
 
 
 @pytest.fixture(scope="module")
@@ -121,22 +99,6 @@ def ros_master(tmp_path_factory: pytest.TempPathFactory) -> Iterator[dict[str, s
     _stop(proc)
 
 
-def _records(path: Path, topic: str) -> list[dict]:
-    if not path.exists():
-        return []
-    lines = path.read_text().splitlines()
-    return [r for r in (json.loads(line) for line in lines if line.endswith("}")) if r["topic"] == topic]
-
-
-def _wait(what: str, ok, procs: dict[str, subprocess.Popen], log: Path) -> None:
-    deadline = time.monotonic() + WAIT_S
-    while not ok():
-        for name, p in procs.items():
-            assert p.poll() is None, f"{name} exited ({p.returncode}) waiting for {what}:\n{log.read_text()[-3000:]}"
-        assert time.monotonic() < deadline, f"timeout waiting for {what}:\n{log.read_text()[-3000:]}"
-        time.sleep(0.2)
-
-
 def _call(env: dict[str, str], *args: str) -> dict:
     r = subprocess.run([sys.executable, str(CLIENT), *args], env=env, capture_output=True, text=True, timeout=WAIT_S)
     assert r.returncode == 0, r.stderr
@@ -156,23 +118,6 @@ def _photo_of(frames: np.ndarray, feats: Features, threshold: int) -> int:
     found = [k for k, d in diffs.items() if d is None]
     assert len(found) == 1, f"a published frame equals no photograph at threshold {threshold}: {diffs}"
     return found[0]
-
-
-def _alive(marker: str) -> list[str]:
-    """Processes whose command line or environment mention `marker`."""
-    found = []
-    for proc in Path("/proc").iterdir():
-        if not proc.name.isdigit() or int(proc.name) == os.getpid():
-            continue
-        try:
-            text = (proc / "cmdline").read_bytes() + (proc / "environ").read_bytes()
-            state = (proc / "stat").read_text().split(") ")[1][0]
-        except OSError:
-            continue
-        if marker.encode() in text and state != "Z":
-            cmdline = (proc / "cmdline").read_bytes().replace(b"\0", b" ").decode(errors="replace")
-            found.append(f"{proc.name}: {cmdline[:200]}")
-    return found
 
 
 def test_node_end_to_end(ros_master: dict[str, str], tmp_path: Path) -> None:

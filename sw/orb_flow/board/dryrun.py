@@ -98,6 +98,7 @@ class Design:
     xdc_ports: list[str] = field(default_factory=list)
     clocks: list[dict[str, Any]] = field(default_factory=list)
     clock_groups: list[list[str]] = field(default_factory=list)
+    outputs: dict[str, str] = field(default_factory=dict)  # the files the build left in --out: name -> first line
 
     @classmethod
     def from_records(cls, config: str, records: list[dict[str, Any]]) -> Design:
@@ -226,7 +227,15 @@ def run(config: str, work: Path, *, board_part: str = "", vivado_dir: Path = VIV
     if proc.returncode != 0:
         raise RuntimeError(f"the build's TCL failed in the dry run:\n{proc.stderr.strip() or proc.stdout.strip()}")
     records = [json.loads(line) for line in record.read_text().splitlines() if line.strip()]
-    return Design.from_records(config, records)
+    d = Design.from_records(config, records)
+    out = work / "out"
+    d.outputs = {f.name: _first_line(f) for f in sorted(out.iterdir()) if f.is_file()} if out.is_dir() else {}
+    return d
+
+
+def _first_line(path: Path) -> str:
+    with path.open("rb") as f:
+        return f.readline().decode(errors="replace").strip()
 
 
 # --- facts --------------------------------------------------------------------------------------------
@@ -512,19 +521,42 @@ def check_addresses(d: Design) -> list[str]:
 
 
 def check_dtso(d: Design) -> list[str]:
-    """The device-tree overlay of this configuration describes the recorded address segment."""
+    """The device-tree overlays of this configuration describe the recorded address segment: the
+    plain one with the interrupt, the PYNQ one (docs/pynq.md) without it and without an fpga-region
+    (PYNQ programs the PL itself; on its images IRQ_F2P[0] belongs to PYNQ's `fabric` node)."""
     acc = board()["accel"]
-    text = (VIVADO / "linux" / f"orb-accel-{d.config}.dtso").read_text()
     errs = []
-    reg = re.search(r"reg = <0x([0-9a-f]+) 0x([0-9a-f]+)>;", text)
     segs = [s for s in _segments(d) if s[2].startswith(f"/{acc['cell']}/")]
-    if reg is None or not segs or (int(reg.group(1), 16), int(reg.group(2), 16)) != segs[0][:2]:
-        errs.append(f"orb-accel-{d.config}.dtso reg {reg and reg.groups()} differs from the address map {segs}")
+    for name in (f"orb-accel-{d.config}.dtso", f"orb-accel-{d.config}-pynq.dtso"):
+        text = (VIVADO / "linux" / name).read_text()
+        reg = re.search(r"reg = <0x([0-9a-f]+) 0x([0-9a-f]+)>;", text)
+        if reg is None or not segs or (int(reg.group(1), 16), int(reg.group(2), 16)) != segs[0][:2]:
+            errs.append(f"{name} reg {reg and reg.groups()} differs from the address map {segs}")
+    pynq = (VIVADO / "linux" / f"orb-accel-{d.config}-pynq.dtso").read_text()
+    if re.search(r"^\s*(interrupts|firmware-name)\b|&fpga_full", pynq, re.M):
+        errs.append(f"orb-accel-{d.config}-pynq.dtso must have neither an interrupt nor an fpga-region")
+    text = (VIVADO / "linux" / f"orb-accel-{d.config}.dtso").read_text()
     irq = re.search(r"interrupts = <0 (\d+) 4>;", text)
     accel_irq = [n for n in d.nets if f"{acc['cell']}/irq" in n]
     f2p = "ps7/IRQ_F2P"
     if irq is None or int(irq.group(1)) != 29 + acc["irq_f2p"] or not accel_irq or f2p not in accel_irq[0]:
         errs.append("the overlay's interrupt must be GIC SPI 29 + n for the accelerator's irq on IRQ_F2P[n]")
+    return errs
+
+
+def check_outputs(d: Design) -> list[str]:
+    """The build leaves the bitstream and the hardware handoff side by side with one stem (PYNQ's
+    Overlay("<stem>.bit") reads <stem>.hwh; docs/pynq.md), the handoff copied from where Vivado writes it
+    (the stub's stand-in), and the XSA with the same stem."""
+    stem = f"{board()['design_name']}_{d.config}"
+    errs = [f"no {stem}{ext} in the build's output folder (found {sorted(d.outputs)})"
+            for ext in (".bit", ".hwh") if f"{stem}{ext}" not in d.outputs]  # fmt: skip
+    hwh = d.outputs.get(f"{stem}.hwh", "")
+    if hwh and "stand-in for the hardware handoff" not in hwh:
+        errs.append(f"{stem}.hwh is not the block design's hardware handoff: {hwh!r}")
+    xsa = [Path(r["file"]).name for r in d.records if r["cmd"] == "write_hw_platform"]
+    if xsa != [f"{stem}.xsa"]:
+        errs.append(f"write_hw_platform wrote {xsa}, expected [{stem}.xsa]")
     return errs
 
 
@@ -573,6 +605,7 @@ CHECKS = {
     "clocks": check_clocks,
     "addresses": check_addresses,
     "overlay": check_dtso,
+    "outputs": check_outputs,
     "vlnv": check_vlnvs,
 }
 

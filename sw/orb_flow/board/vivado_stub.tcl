@@ -18,6 +18,7 @@ namespace eval ::orb_stub {
   variable xdc_mode 0
   variable core_clk_mhz ""
   variable spec [dict create]
+  variable project {}
 }
 
 proc ::orb_stub::json_str {s} {
@@ -90,6 +91,7 @@ proc set_param {args} {
 proc create_project {args} {
   lassign [::orb_stub::parse create_project $args] o p
   ::orb_stub::emit create_project name [lindex $p 0] dir [lindex $p 1] part [::orb_stub::opt $o -part]
+  set ::orb_stub::project [list [lindex $p 0] [lindex $p 1]]
   return [lindex $p 0]
 }
 proc current_project {args} { ::orb_stub::parse current_project $args; return project }
@@ -118,9 +120,19 @@ proc get_files {args} {
   lassign [::orb_stub::parse get_files $args] o p
   return [lindex $p 0]
 }
+# Vivado writes a block design's hardware handoff when it generates its targets, at
+# <project dir>/<project>.gen/sources_1/bd/<bd>/hw_handoff/<bd>.hwh (the path PYNQ's own build scripts
+# copy it from, Xilinx/PYNQ v3.1 boards/Pynq-Z2/base/build_bitstream.tcl); the stub writes a stand-in there
 proc generate_target {args} {
   lassign [::orb_stub::parse generate_target $args] o p
   ::orb_stub::emit generate_target what [lindex $p 0] object [lindex $p 1]
+  set bd [file rootname [file tail [lindex $p 1]]]
+  lassign $::orb_stub::project name dir
+  set handoff [file join $dir ${name}.gen sources_1 bd $bd hw_handoff]
+  file mkdir $handoff
+  set fh [open [file join $handoff ${bd}.hwh] w]
+  puts $fh "<!-- dry-run stand-in for the hardware handoff of $bd -->"
+  close $fh
 }
 proc make_wrapper {args} {
   lassign [::orb_stub::parse make_wrapper $args] o p

@@ -7,6 +7,10 @@
 - vivado/linux/orb-accel-<config>.dtso: one device-tree overlay per configuration (fpga-region
   firmware-name = that configuration's .bit.bin, the accelerator as a generic-uio device at the
   block design's address with its interrupt);
+- vivado/linux/orb-accel-<config>-pynq.dtso: the overlay PYNQ applies after programming the PL
+  itself (`make bitstream` compiles it to orb_board_<config>.dtbo beside the .bit; docs/pynq.md):
+  the generic-uio node for the registers, no fpga-region and no interrupt (on PYNQ images
+  IRQ_F2P[0] belongs to PYNQ's own `fabric` UIO device);
 - docs/board-configs.md: the configuration table of docs/board.md.
 
 Usage: python3 -m orb_flow.gen.board [--data vivado/board.json] [--out ROOT]
@@ -130,6 +134,33 @@ def render_dtso(b: dict[str, Any], name: str) -> str:
 """
 
 
+def render_dtso_pynq(b: dict[str, Any], name: str) -> str:
+    acc = b["accel"]
+    base, size = int(acc["base"], 16), int(acc["range"], 16)
+    return f"""// SPDX-License-Identifier: MIT
+// {HEADER}
+// Device-tree overlay of the {name} build for PYNQ (docs/pynq.md): `make bitstream` compiles it to
+// {b["design_name"]}_{name}.dtbo beside the .bit and the .hwh, and pynq.Overlay applies it after it has
+// programmed the PL itself, so there is no fpga-region firmware-name here. The accelerator's registers
+// as a generic-uio device (kernel argument uio_pdrv_genirq.of_id=generic-uio); no interrupts
+// property: on a PYNQ image IRQ_F2P[{acc["irq_f2p"]}] (GIC SPI {acc["gic_spi"]}) already belongs to PYNQ's own
+// generic-uio node `fabric`, through which orb_accel.pynq_bus waits for the frame interrupt.
+// Compile: dtc -@ -I dts -O dtb -o {b["design_name"]}_{name}.dtbo <this file>
+/dts-v1/;
+/plugin/;
+
+&amba {{
+	#address-cells = <1>;
+	#size-cells = <1>;
+
+	{acc["dt_name"]}@{base:x} {{
+		compatible = "generic-uio";
+		reg = <0x{base:08x} 0x{size:08x}>;
+	}};
+}};
+"""
+
+
 def default_budget(c: dict[str, Any]) -> int:
     """The driver's default budget on this configuration (orb_accel.HwConfig.default_budget)."""
     return min(recommended_budget(c["width"], c["height"]), c["mem_depth"] - 1)
@@ -168,6 +199,7 @@ def render(root: Path = ROOT, data: Path | None = None) -> dict[Path, str]:
     b = load(data or root / SOURCE)
     views = {Path("vivado/gen/board.tcl"): render_tcl(b), Path("docs/board-configs.md"): render_doc(b)}
     views |= {Path(f"vivado/linux/orb-accel-{n}.dtso"): render_dtso(b, n) for n in b["configs"]}
+    views |= {Path(f"vivado/linux/orb-accel-{n}-pynq.dtso"): render_dtso_pynq(b, n) for n in b["configs"]}
     return views
 
 

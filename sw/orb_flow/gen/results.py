@@ -2,8 +2,8 @@
 """Generate the docs' results tables from the measurement records, the one place of every figure.
 
 The records: docs/results/*.json (written by orb_flow.record from the benches', make sim's, make
-formal's, make test's and orb_flow.board.recovery's outputs) and sw/orb_flow/synth_expected.json
-(the synthesis estimates, written by make synth). Each table sits in a page between the lines
+test's, make formal's, the fault campaigns' and orb_flow.board.recovery's outputs) and
+sw/orb_flow/synth_expected.json (the synthesis estimates, written by make synth). Each table sits in a page between the lines
 ``<!-- generated: NAME (orb_flow.gen.results) -->`` and ``<!-- end generated -->``; this module
 replaces what is between them and leaves the rest of the page alone. A page that lacks a
 table's markers, or a record a table needs, is an error. Deterministic.
@@ -44,6 +44,7 @@ class Records:
         self.test = self._runs(root / "docs" / "results" / "test.json")
         self.formal = self._runs(root / "docs" / "results" / "formal.json")
         self.recovery = self._runs(root / "docs" / "results" / "recovery.json")
+        self.campaign = self._runs(root / "docs" / "results" / "campaign.json")
         self.synth = json.loads((root / SYNTH).read_text())["jobs"]
         self.board = json.loads((root / BOARD).read_text())
 
@@ -230,6 +231,42 @@ def bench_driver_table(records: Records) -> list[str]:
             f"Measured by {_source(run)} ({run['tools']}; median of {d['repeat']})."]  # fmt: skip
 
 
+GIGABIT_BYTES_S = 125e6  # 1 Gb/s (the Zybo Z7-20's Ethernet) in bytes per second, before framing overheads
+
+
+def bench_stream_table(records: Records) -> list[str]:
+    run = records.run("bench", "stream")
+    d = run["data"]
+    slowdown = records.run("bench", "driver")["data"]["a9_slowdown"]  # the driver's stated factor, one source
+    rows = []
+    for r in d["runs"]:
+        rows.append([f"{r['features']:,}", f"{r['message_bytes']:,} B", f"{r['bytes_per_feature']:g}",
+                     f"{r['encode_ms']:.3f} ms", f"{r['decode_ms']:.3f} ms", f"{r['loopback_ms']:.3f} ms",
+                     f"{r['message_bytes'] * 60 / 1e6:.1f} MB/s",
+                     f"{r['message_bytes'] / GIGABIT_BYTES_S * 1e3:.2f} ms",
+                     f"{r['encode_ms'] * slowdown:.2f} ms"])  # fmt: skip
+    head = ["features", "FRAME message", "bytes per feature", "encode (server, once per frame)",
+            "decode (client)", "publish() to the client's Frame, loopback", "at 60 frames/s", "on 1 Gb/s",
+            "encode, Cortex-A9 estimate"]  # fmt: skip
+    notes = (f"The last three columns are arithmetic, not measurements: the message's bytes at 60 frames/s, its "
+             f"time on a 1 Gb/s link (payload only), and the encoding time x {slowdown:g} (the driver benchmark's "
+             f"assumed CPython slowdown of the board's Cortex-A9).")  # fmt: skip
+    return [*_table(head, rows), "", notes, "",
+            f"Measured by {_source(run)} ({run['tools']}; protocol version {d['protocol_version']}; median of "
+            f"{d['repeat']})."]  # fmt: skip
+
+
+def bench_ros2_table(records: Records) -> list[str]:
+    run = records.run("bench", "ros2")
+    d = run["data"]
+    rows = [[f"{r['features']:,}", f"{r['build_ms']:.3f} ms", f"{r['serialize_ms']:.3f} ms",
+             f"{r['publish_ms']:.3f} ms", f"{r['build_ms'] + r['publish_ms']:.3f} ms", f"{r['deserialize_ms']:.3f} ms",
+             f"{r['message_bytes']:,}"] for r in d["runs"]]  # fmt: skip
+    head = ["features", "build from the Frame", "serialise (CDR)", "publish (no subscriber)", "node: build + publish",
+            "subscriber: deserialise", "bytes"]  # fmt: skip
+    return [*_table(head, rows), "", f"Measured by {_source(run)} ({run['tools']}; median of {d['repeat']})."]
+
+
 def synth_table(records: Records) -> list[str]:
     rows = []
     for key, j in sorted(records.synth.items(), key=lambda kv: (kv[0].split()[0], kv[0])):
@@ -340,6 +377,43 @@ def sim_table(records: Records) -> list[str]:
                      f"{run['commit']}, {run['date']}"])  # fmt: skip
     head = ["command", "image", "device", "engine", "features", "bit-exact (features, overlay)", "lost",
             "last pixel to end-of-frame record, clocks", "simulation", "commit, date"]  # fmt: skip
+    return _table(head, rows)
+
+
+CAMPAIGN_LABELS = {"no_sof": "no start of frame", "early_sof": "early start of frame", "hold": "CPU holding banks"}
+
+
+def _kinds(counts: dict[str, int]) -> str:
+    return ", ".join(f"{CAMPAIGN_LABELS.get(k, k.replace('_', ' '))} {n:,}" for k, n in counts.items())
+
+
+def _wall(seconds: float) -> str:
+    return f"{seconds / 60:.1f} min" if seconds >= 120 else f"{seconds:.0f} s"
+
+
+def campaign_table(records: Records) -> list[str]:
+    """The recorded fault campaigns (docs/results/campaign.json)."""
+    if not records.campaign:
+        raise ResultsError("docs/results/campaign.json has no run: run a campaign (tb/fast/test_fast_regressions.py) "
+                           "and record it (python -m orb_flow.record campaign ...)")  # fmt: skip
+    rows = []
+    for run in records.campaign.values():
+        d = run["data"]
+        g = d["generics"]
+        step = f"{g.get('STEP_NUM_g', 2)}:{g.get('STEP_DEN_g', 1)}"
+        device = f"{g['WIDTH_g']}x{g['HEIGHT_g']}, {g['SCALES_g']} x {step}, {g['SECTORS_g']} sectors, "
+        device += f"{g['MEM_DEPTH_g']:,} slots"
+        seed = str(d["seed"]) + (f" (initial state {d['init_seed']})" if d["init_seed"] else "")
+        frames = (f"{d['frames_sent']:,} sent; {d['frames_closed_good']:,} closed good, "
+                  f"{d['frames_closed_bad']:,} bad; {d['frames_published']:,} published, "
+                  f"{d['frames_skipped_bank_held']:,} skipped (bank held)")  # fmt: skip
+        bad = {k: str(d[k]) if d[k] == 0 else f"**{d[k]}**" for k in ("lockups", "mismatches")}
+        rows.append([f"`{run['command']}`", device, seed, f"{d['events']:,}", frames,
+                     f"{d['faults_injected']:,}: {_kinds(d['faults_by_kind'])}", _kinds(d["changes_by_kind"]),
+                     bad["lockups"], bad["mismatches"], f"{d['features_checked']:,}",
+                     f"{_wall(d['wall_s'])}, {d['machine']}", f"{run['commit']}, {run['date']}"])  # fmt: skip
+    head = ["command", "device", "seed", "events", "frames", "faults injected", "changes (each with a good frame)",
+            "lock-ups", "mismatches", "features checked", "wall time", "commit, date"]  # fmt: skip
     return _table(head, rows)
 
 
@@ -459,11 +533,14 @@ TABLES: dict[str, tuple[Path, Callable[[Records], list[str]]]] = {
     "track-bench": (Path("docs/evaluation.md"), track_tables),
     "density-bench": (Path("docs/evaluation.md"), density_table),
     "sim-runs": (Path("docs/fast-sim.md"), sim_table),
+    "campaigns": (Path("docs/fast-sim.md"), campaign_table),
     "bench-model": (Path("docs/benchmarks.md"), bench_model_table),
     "bench-sim": (Path("docs/benchmarks.md"), bench_sim_table),
     "board-resources": (Path("docs/board.md"), board_table),
     "board-recovery": (Path("docs/board.md"), recovery_table),
     "bench-driver": (Path("docs/ros.md"), bench_driver_table),
+    "bench-stream": (Path("docs/stream.md"), bench_stream_table),
+    "bench-ros2": (Path("docs/ros2.md"), bench_ros2_table),
     "synth-jobs": (Path("docs/synthesis.md"), synth_table),
     "synth-blocks": (Path("docs/synthesis.md"), blocks_table),
     "select-blocks": (Path("docs/selection.md"), lambda r: blocks_table(r, ("orb_harris", "orb_feat_select"))),

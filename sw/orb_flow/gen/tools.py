@@ -1,9 +1,10 @@
 # SPDX-License-Identifier: MIT
 """Generate docs/tools.md: every tool version the project names, in one place, from the files that
-hold them (pyproject.toml's requirements, .ci/run's and sw/orb_ros/debian-packages.txt's Debian
-packages, vivado/board.json's Vivado release and Digilent repositories, the IP facts of
-vivado/facts/ip/ and the tools each expected synthesis figure of sw/orb_flow/synth_expected.json
-was measured with). The page says which versions are pinned and which are whatever is installed.
+hold them (pyproject.toml's requirements, the PYNQ checks' venv's tb/pynq/requirements.txt,
+.ci/run's and sw/orb_ros/debian-packages.txt's Debian packages, vivado/board.json's Vivado release
+and Digilent repositories, the IP facts of vivado/facts/ip/ and the tools each expected synthesis
+figure of sw/orb_flow/synth_expected.json was measured with). The page says which versions are
+pinned and which are whatever is installed.
 
 A generated view: committed, byte-checked by tb/house/test_docs_gen.py. It holds no version of
 its own: change the source, then run `python -m orb_flow.gen.tools [--out ROOT]`.
@@ -29,6 +30,7 @@ VIEW = Path("docs/tools.md")
 GENERATOR = "sw/orb_flow/gen/tools.py"
 SOURCES = (
     "pyproject.toml",
+    "tb/pynq/requirements.txt",
     ".ci/run",
     "sw/orb_ros/debian-packages.txt",
     "vivado/board.json",
@@ -65,6 +67,17 @@ def python_rows(pyproject: dict) -> list[str]:
             spec = m["spec"].strip()
             rows.append(f"| {m['name']} | `{spec}` | {extra} | {_kind(spec)} |" if spec else "")
     return [r for r in rows if r]
+
+
+def requirement_rows(text: str) -> list[str]:
+    """A pip requirements file's lines (comments and blank lines left out) as table rows."""
+    rows = []
+    for line in text.splitlines():
+        m = _REQ.match(line.split("#", 1)[0].strip())
+        if m:
+            spec = m["spec"].strip()
+            rows.append(f"| {m['name']} | `{spec or '(any)'}` | {_kind(spec)} |")
+    return rows
 
 
 def debian_rows(ci_run: str, ros: list[str]) -> list[str]:
@@ -123,6 +136,7 @@ def measured_rows(expected: dict) -> list[str]:
 def render(root: Path) -> dict[Path, str]:
     pyproject = tomllib.loads((root / "pyproject.toml").read_text())
     ci_run = (root / ".ci" / "run").read_text()
+    pynq_reqs = (root / "tb" / "pynq" / "requirements.txt").read_text()
     ros = (root / "sw" / "orb_ros" / "debian-packages.txt").read_text().split()
     board = json.loads((root / "vivado" / "board.json").read_text())
     facts = [json.loads(p.read_text()) for p in sorted((root / "vivado" / "facts" / "ip").glob("*.json"))]
@@ -148,6 +162,14 @@ def render(root: Path) -> dict[Path, str]:
         "| package | requirement | extra | kind |",
         "|---|---|---|---|",
         *python_rows(pyproject),
+        "",
+        "## The PYNQ checks' venv (`tb/pynq/requirements.txt`)",
+        "",
+        "`make setup` installs them into `.venv-pynq` (PyPI's pynq pins numpy below 2; docs/pynq.md).",
+        "",
+        "| package | requirement | kind |",
+        "|---|---|---|",
+        *requirement_rows(pynq_reqs),
         "",
         "## Debian packages (`.ci/run`, `sw/orb_ros/debian-packages.txt`)",
         "",

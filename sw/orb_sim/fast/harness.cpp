@@ -109,13 +109,16 @@ void drive(Sim& s) {
 }
 
 // The next beat of the programs is sent (both sources): the position advances, idle = its gap.
-const Beat& next_beat(Sim& s) {
+Beat next_beat(Sim& s) {
   Program& p = s.programs[s.prog];
-  const Beat& b = p.beats[s.pos];
+  const Beat b = p.beats[s.pos];
   s.idle = b.gap;
   s.pos++;
   if (s.pos == p.beats.size()) {
     s.pos = 0;
+    // a program sent is not needed again unless the queue loops: its beats are freed (a long
+    // campaign queues tens of thousands of frames; set_loop must come before the sending)
+    if (!s.loop) std::vector<Beat>().swap(p.beats);
     s.prog++;
     if (s.prog == s.programs.size() && s.loop) s.prog = 0;
   }
@@ -135,7 +138,7 @@ void live_advance(Sim& s) {
   if (s.prog >= s.programs.size()) return;
   const uint32_t prog = uint32_t(s.prog);
   const bool first = s.pos == 0;
-  const Beat& b = next_beat(s);
+  const Beat b = next_beat(s);
   if (s.fifo.size() >= s.fifo_depth) {
     s.fifo_dropped++;
     return;

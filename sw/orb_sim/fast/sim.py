@@ -113,6 +113,8 @@ class FastSim:
         self.push(*frame_program(words, h_blank, v_blank))
 
     def set_loop(self, loop: bool) -> None:
+        """Play the queued programs round and round. Set it before the first of them is sent:
+        without it, a program's beats are freed once sent."""
         self.lib.fs_set_loop(self.h, int(loop))
 
     def set_live(self, pixel_clock: Fraction, fifo_depth: int) -> None:
