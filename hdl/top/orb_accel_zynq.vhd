@@ -7,8 +7,10 @@
 -- port maps, no VHDL-2008-only syntax) so Vivado can use it as a block-design module reference;
 -- orb_accel_top below it stays VHDL-2008.
 --
--- aresetn is synchronous and active low; it is inverted and registered into orb_accel_top's rst,
--- so the accelerator enters and leaves reset one clock after aresetn does. s_axis_video_tdata is
+-- aresetn is synchronous and active low; orb_accel_top's rst is its inverse and, registered, one
+-- clock more: the accelerator is reset at every edge that samples aresetn low (a one-clock pulse
+-- too) and at the first edge that samples it high again, the edge after which AXI lets the
+-- masters raise a valid. s_axis_video_tdata is
 -- always 24 bits (the interface's TDATA width does not depend on INPUT_g); for INPUT_g = "LUMA"
 -- the grey value is bits [7:0] and bits [23:8] are ignored. The AXI4-Lite address is
 -- C_S_AXI_CTRL_ADDR_WIDTH bits; orb_accel_top decodes the low max(18, clog2(0x10000 +
@@ -141,7 +143,8 @@ architecture rtl of orb_accel_zynq is
   constant ADDR_BITS_c : positive := top_addr_bits(MEM_DEPTH_g);
   constant DATA_BITS_c : positive := top_data_bits(INPUT_g);
 
-  signal rst        : std_logic := '1';
+  signal rst_q      : std_logic := '1';  -- aresetn low a clock ago
+  signal rst        : std_logic;
   signal top_awaddr : std_logic_vector(ADDR_BITS_c - 1 downto 0);
   signal top_araddr : std_logic_vector(ADDR_BITS_c - 1 downto 0);
   signal top_tdata  : std_logic_vector(DATA_BITS_c - 1 downto 0);
@@ -152,13 +155,17 @@ begin
     report "orb_accel_zynq: C_S_AXI_CTRL_ADDR_WIDTH must be at least max(18, clog2(0x10000 + 128 * MEM_DEPTH_g))"
     severity failure;
 
-  -- aresetn (synchronous, active low) to orb_accel_top's rst (synchronous, active high), registered
+  -- aresetn (synchronous, active low) to orb_accel_top's rst (synchronous, active high): at once, so that
+  -- the accelerator is reset at the edge that samples aresetn low (AXI: no response is offered during a
+  -- reset, however short), and one clock longer, registered
   reset_sync : process (aclk) is
   begin
     if rising_edge(aclk) then
-      rst <= not aresetn;
+      rst_q <= not aresetn;
     end if;
   end process reset_sync;
+
+  rst <= (not aresetn) or rst_q;
 
   top_awaddr <= s_axi_ctrl_awaddr(ADDR_BITS_c - 1 downto 0);
   top_araddr <= s_axi_ctrl_araddr(ADDR_BITS_c - 1 downto 0);

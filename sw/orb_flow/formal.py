@@ -665,18 +665,12 @@ _MERGE_TIMING = (
 )
 
 
-# orb_accel_zynq's reset contract: aresetn registered into orb_accel_top's rst reaches the accelerator a clock late,
-# so a reset is at least 2 clocks long (the top is in reset before aresetn rises again), and the masters keep AXI's
-# rule of no valid before the first edge that sees aresetn high
-_ZYNQ_RESET = """  // the reset contract: aresetn, once low, stays low for a second clock
-  reg arn1 = 1'b0, arn2 = 1'b0;  // aresetn 1 and 2 clocks ago
-  always @(posedge clk) begin
-    arn1 <= aresetn;
-    arn2 <= arn1;
-  end
-  always @(*) if (!init && arn2 && !arn1) assume (!aresetn);
+# orb_accel_zynq's reset contract: AXI's reset rule only (aresetn may be low for a single clock; the wrapper resets
+# orb_accel_top at once and a clock longer, so the top is still in reset at the first edge that samples aresetn high)
+_ZYNQ_RESET = """  reg arn1 = 1'b0;  // aresetn a clock ago
+  always @(posedge clk) arn1 <= aresetn;
   // AXI's reset rule for the masters and the video source: valids low while aresetn is low, raised only after
-  // an edge that sampled it high (orb_accel_top, reset a clock late, is still in reset in the clock after)
+  // an edge that sampled it high (orb_accel_top, reset a clock longer, is still in reset at that edge)
   always @(*) if (!init && (!aresetn || !arn1))
     assume (!s_axi_ctrl_awvalid && !s_axi_ctrl_wvalid && !s_axi_ctrl_arvalid && !s_axis_video_tvalid);"""
 
@@ -1552,12 +1546,12 @@ CHECKS: dict[str, Check] = {
             bugs_of={"chk_s_axil": "orb_axil_regs"},
             mutations=(
                 Mutation(
-                    "reset_pulse",
-                    "the reset contract dropped: a one-clock aresetn pulse; orb_accel_top is reset a clock late and "
-                    "answers, in the clock after the pulse, a read it took during it (the contract is needed)",
-                    "wrapper",
-                    r"^  always @\(\*\) if \(!init && arn2 && !arn1\) assume \(!aresetn\);",
-                    "",
+                    "reset_late",
+                    "the wrapper before this check: aresetn only registered into orb_accel_top's rst, so a one-clock "
+                    "pulse resets the top a clock late, and it answers after the pulse a read it took before",
+                    "top/orb_accel_zynq.vhd",
+                    r"^  rst <= \(not aresetn\) or rst_q;$",
+                    "  rst <= rst_q;",
                     "chk_s_axil.r_no_req",
                 ),
                 Mutation(

@@ -517,7 +517,6 @@ def test_video_check_live_16x6() -> None:
 def test_video_check_live_33x5() -> None:
     generics = {"WIDTH_g": 33, "HEIGHT_g": 5, "IDLE_TIMEOUT_g": 50}
     run("orb_video_check", "test_orb_video_check", generics, env={**SIM_ENV, "ORB_SEED": "9"}, testcase=LIVE_TESTS)
-    run("orb_video_check", "test_orb_video_check", {"WIDTH_g": 33, "HEIGHT_g": 5}, env={**SIM_ENV, "ORB_SEED": "9"})
 
 
 def test_feed_arrays_is_beat_by_beat() -> None:
