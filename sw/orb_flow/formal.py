@@ -832,6 +832,31 @@ _VIDEO_CHECK_EXTRA = """  // the documented contract: the detector behind orb_vi
     frame_end_last: assert (frame_end == (m_axis_video_tvalid && ox == {W} - 1 && oy == {H} - 1));
   end"""
 
+# orb_video_check with IDLE_TIMEOUT_g > 0 (a live source, docs/video-input.md): never held, every pixel
+# taken out a clock later or counted, and an output frame begun is finished however the input stops
+_VIDEO_CHECK_LIVE = """  // never held: s_axis_video_tready is 1 from the second clock out of reset on
+  reg rst_q = 1'b1;
+  always @(posedge clk) rst_q <= rst;
+  always @(*) if (!init && !rst && !rst_q) never_held: assert (s_axis_video_tready);
+  // latency 1: a pixel taken at one edge is on m_axis_video (the same value) after it, or counted as
+  // discarded (outside a frame, while padding, a start of frame inside an open frame)
+  reg t_v = 0;
+  reg [7:0] t_d;
+  reg [31:0] disc_q = 0;
+  always @(posedge clk) begin
+    t_v <= s_axis_video_tvalid && s_axis_video_tready && !rst;
+    t_d <= s_axis_video_tdata;
+    disc_q <= discarded_pixels;
+  end
+  always @(*) if (!init && !rst)
+    latency: assert (!t_v || (m_axis_video_tvalid && m_axis_video_tdata == t_d) || discarded_pixels == disc_q + 1);
+  // the idle timeout: inside an output frame (its first beat out, its last not yet) at most {N} clocks in a
+  // row without an output beat, whatever the input does (a bound of {N} - 1 fails)
+  reg [7:0] gap = 0;
+  always @(posedge clk) gap <= (rst || m_axis_video_tvalid || (ox == 0 && oy == 0)) ? 0 : (gap == 255 ? 255 : gap + 1);
+  always @(*) if (!init && !rst) idle_timeout: assert (gap <= {N});"""
+LIVE_GAP = 3  # the idle timeout property's bound for IDLE_TIMEOUT_g = 3 (IDLE_TIMEOUT_g clocks; 2 fails)
+
 CHECKS: dict[str, Check] = {
     c.key: c
     for c in (
@@ -1080,6 +1105,50 @@ CHECKS: dict[str, Check] = {
                     r"frame_last  <= emit_v and x = WIDTH_g - 1 and y = HEIGHT_g - 1;",
                     "frame_last  <= emit_v and x = WIDTH_g - 2 and y = HEIGHT_g - 1;",
                     "frame_end_last",
+                ),
+            ),
+        ),
+        Check(
+            "orb_video_check",
+            {"WIDTH_g": 4, "HEIGHT_g": 2, "IDLE_TIMEOUT_g": 3},
+            name="orb_video_check.live",
+            mode="bmc",
+            depth=24,
+            extra=_VIDEO_CHECK_EXTRA.format(W=4, H=2) + "\n" + _VIDEO_CHECK_LIVE.format(N=LIVE_GAP),
+            extra_props={
+                "frame_shape": "every output frame is WIDTH_g x HEIGHT_g: tuser at (0, 0), tlast at x = WIDTH_g - 1",
+                "frame_end_last": "frame_end exactly with the frame's last output beat",
+                "never_held": "s_axis_video_tready is 1 from the second clock out of reset on (a live source is "
+                "never held)",
+                "latency": "a pixel taken is on m_axis_video VIDEO_CHECK_LAT_c = 1 clock later (the same value), or "
+                "counted in discarded_pixels",
+                "idle_timeout": f"inside an output frame at most {LIVE_GAP} clocks in a row without an output beat "
+                f"(IDLE_TIMEOUT_g = 3: the open frame is padded; {LIVE_GAP - 1} fails)",
+            },
+            mutations=(
+                Mutation(
+                    "live_held",
+                    "a live source held like one that can wait: tready low while a frame is padded",
+                    "input/orb_video_check.vhd",
+                    r"^      if LIVE_c then\n        ready <= '1';\n      end if;\n",
+                    "",
+                    "never_held",
+                ),
+                Mutation(
+                    "no_idle_timeout",
+                    "the idle timeout never fires: a cut frame stays open until the next start of frame",
+                    "input/orb_video_check.vhd",
+                    r"elsif LIVE_c and is_open = '1' and padding = '0' and idle = IDLE_TIMEOUT_g - 1 then",
+                    "elsif false then",
+                    "idle_timeout",
+                ),
+                Mutation(
+                    "live_discard_uncounted",
+                    "a live pixel arriving while a frame is padded is dropped without being counted",
+                    "input/orb_video_check.vhd",
+                    r"(if LIVE_c and s_axis_video_tvalid = '1' and ready = '1' then\n\s*)discard <= true;",
+                    r"\1null;",
+                    "latency",
                 ),
             ),
         ),
