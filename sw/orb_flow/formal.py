@@ -857,6 +857,36 @@ _VIDEO_CHECK_LIVE = """  // never held: s_axis_video_tready is 1 from the second
   always @(*) if (!init && !rst) idle_timeout: assert (gap <= {N});"""
 LIVE_GAP = 3  # the idle timeout property's bound for IDLE_TIMEOUT_g = 3 (IDLE_TIMEOUT_g clocks; 2 fails)
 
+# orb_video_check's planted bugs of the output's shape and the sink's contract, run with and without
+# IDLE_TIMEOUT_g
+_VIDEO_CHECK_SHAPE_BUGS = (
+    Mutation(
+        "sink_stalls",
+        "the documented contract broken: the sink stalls m_axis_video (no longer assumed ready); "
+        "orb_video_check then changes a waiting beat (the contract is needed, not vacuous)",
+        "wrapper",
+        r"^  always @\(\*\) if \(!init\) assume \(m_axis_video_tready\);",
+        "",
+        "chk_m_axis_video",
+    ),
+    Mutation(
+        "tlast_copied",
+        "m_axis_video_tlast copied from the input's tlast instead of the position",
+        "input/orb_video_check.vhd",
+        r"o_last  <= '1' when x = WIDTH_g - 1 else '0';",
+        "o_last  <= placed.last;",
+        "frame_shape",
+    ),
+    Mutation(
+        "frame_end_early",
+        "frame_end one position early (at x = WIDTH_g - 2 of the last line)",
+        "input/orb_video_check.vhd",
+        r"frame_last  <= emit_v and x = WIDTH_g - 1 and y = HEIGHT_g - 1;",
+        "frame_last  <= emit_v and x = WIDTH_g - 2 and y = HEIGHT_g - 1;",
+        "frame_end_last",
+    ),
+)
+
 CHECKS: dict[str, Check] = {
     c.key: c
     for c in (
@@ -1081,31 +1111,7 @@ CHECKS: dict[str, Check] = {
                     "disc_cnt <= disc_cnt;",
                     "latency",
                 ),
-                Mutation(
-                    "sink_stalls",
-                    "the documented contract broken: the sink stalls m_axis_video (no longer assumed ready); "
-                    "orb_video_check then changes a waiting beat (the contract is needed, not vacuous)",
-                    "wrapper",
-                    r"^  always @\(\*\) if \(!init\) assume \(m_axis_video_tready\);",
-                    "",
-                    "chk_m_axis_video",
-                ),
-                Mutation(
-                    "tlast_copied",
-                    "m_axis_video_tlast copied from the input's tlast instead of the position",
-                    "input/orb_video_check.vhd",
-                    r"o_last  <= '1' when x = WIDTH_g - 1 else '0';",
-                    "o_last  <= placed.last;",
-                    "frame_shape",
-                ),
-                Mutation(
-                    "frame_end_early",
-                    "frame_end one position early (at x = WIDTH_g - 2 of the last line)",
-                    "input/orb_video_check.vhd",
-                    r"frame_last  <= emit_v and x = WIDTH_g - 1 and y = HEIGHT_g - 1;",
-                    "frame_last  <= emit_v and x = WIDTH_g - 2 and y = HEIGHT_g - 1;",
-                    "frame_end_last",
-                ),
+                *_VIDEO_CHECK_SHAPE_BUGS,
             ),
         ),
         Check(
@@ -1150,6 +1156,7 @@ CHECKS: dict[str, Check] = {
                     r"\1null;",
                     "latency",
                 ),
+                *_VIDEO_CHECK_SHAPE_BUGS,
             ),
         ),
         Check(
