@@ -29,15 +29,18 @@ entity orb_accel_top is
   generic (
     -- defaults: the named configuration TOPS_DEFAULT_c (docs/configurations.md); legal values:
     -- orb_limits_pkg (docs/limits.md)
-    WIDTH_g      : width_t      := TOPS_DEFAULT_c.width;     -- frame width
-    HEIGHT_g     : height_t     := TOPS_DEFAULT_c.height;    -- frame height
-    SCALES_g     : scales_t     := TOPS_DEFAULT_c.scales;    -- scales (pyramid levels)
-    STEP_NUM_g   : step_num_t   := TOPS_DEFAULT_c.step_num;  -- pyramid step STEP_NUM_g:STEP_DEN_g
-    STEP_DEN_g   : step_den_t   := TOPS_DEFAULT_c.step_den;  -- (2:1: the box)
-    SECTORS_g    : sectors_t    := TOPS_DEFAULT_c.sectors;   -- orientation sectors in all
-    MEM_DEPTH_g  : mem_depth_t  := TOPS_DEFAULT_c.mem_depth; -- feature slots per bank
-    INPUT_g      : string       := "RGB";                    -- "RGB", "RBG" (dvi2rgb) or "LUMA"
-    BLOCK_LOG2_g : block_log2_t := TOPS_DEFAULT_c.block_log2 -- overlay block size 2^BLOCK_LOG2_g
+    WIDTH_g      : width_t      := TOPS_DEFAULT_c.width;      -- frame width
+    HEIGHT_g     : height_t     := TOPS_DEFAULT_c.height;     -- frame height
+    SCALES_g     : scales_t     := TOPS_DEFAULT_c.scales;     -- scales (pyramid levels)
+    STEP_NUM_g   : step_num_t   := TOPS_DEFAULT_c.step_num;   -- pyramid step STEP_NUM_g:STEP_DEN_g
+    STEP_DEN_g   : step_den_t   := TOPS_DEFAULT_c.step_den;   -- (2:1: the box)
+    SECTORS_g    : sectors_t    := TOPS_DEFAULT_c.sectors;    -- orientation sectors in all
+    MEM_DEPTH_g  : mem_depth_t  := TOPS_DEFAULT_c.mem_depth;  -- feature slots per bank
+    INPUT_g      : string       := "RGB";                     -- "RGB", "RBG" (dvi2rgb) or "LUMA"
+    BLOCK_LOG2_g : block_log2_t := TOPS_DEFAULT_c.block_log2; -- overlay block size 2^BLOCK_LOG2_g
+    -- orb_video_check's: 0 a source that waits while a faulty frame is padded; > 0 a live source
+    -- (HDMI), never held, and the clocks an open frame's input may be idle (docs/video-input.md)
+    IDLE_TIMEOUT_g : natural range 0 to 16777215 := 0
   );
   port (
     clk : in    std_logic;
@@ -312,8 +315,9 @@ begin
 
   check : entity work.orb_video_check
     generic map (
-      WIDTH_g  => WIDTH_g,
-      HEIGHT_g => HEIGHT_g
+      WIDTH_g        => WIDTH_g,
+      HEIGHT_g       => HEIGHT_g,
+      IDLE_TIMEOUT_g => IDLE_TIMEOUT_g
     )
     port map (
       clk                 => clk,

@@ -7,12 +7,19 @@
 -- port maps, no VHDL-2008-only syntax) so Vivado can use it as a block-design module reference;
 -- orb_accel_top below it stays VHDL-2008.
 --
--- aresetn is synchronous and active low; it is inverted and registered into orb_accel_top's rst,
--- so the accelerator enters and leaves reset one clock after aresetn does. s_axis_video_tdata is
+-- aresetn is synchronous and active low; orb_accel_top's rst is its inverse and, registered, one
+-- clock more: the accelerator is reset at every edge that samples aresetn low (a one-clock pulse
+-- too) and at the first edge that samples it high again, the edge after which AXI lets the
+-- masters raise a valid. s_axis_video_tdata is
 -- always 24 bits (the interface's TDATA width does not depend on INPUT_g); for INPUT_g = "LUMA"
 -- the grey value is bits [7:0] and bits [23:8] are ignored. The AXI4-Lite address is
 -- C_S_AXI_CTRL_ADDR_WIDTH bits; orb_accel_top decodes the low max(18, clog2(0x10000 +
 -- 128 * MEM_DEPTH_g)) of them (20 for MEM_DEPTH_g = 4096), the bits above are ignored.
+-- IDLE_TIMEOUT_g > 0 makes the video checker treat the input as a live source (HDMI through
+-- v_vid_in_axi4s, which loses pixels when its FIFO is full): never held, pixels arriving while a
+-- faulty frame is padded discarded, and an open frame idle IDLE_TIMEOUT_g clocks padded at once,
+-- so that a frame cut by an unplugged cable is closed before the video returns; the default 4,096
+-- clocks is longer than a line's blanking in every board mode (docs/board.md, "Recovery").
 -- Ports and generics: docs/entities/orb_accel_zynq.md
 
 library ieee;
@@ -34,6 +41,7 @@ entity orb_accel_zynq is
     MEM_DEPTH_g             : integer := 1024;  -- feature slots per bank
     INPUT_g                 : string  := "RBG"; -- "RGB", "RBG" (Digilent dvi2rgb) or "LUMA"
     BLOCK_LOG2_g            : integer := 3;     -- overlay block size 2^BLOCK_LOG2_g
+    IDLE_TIMEOUT_g          : integer := 4096;  -- HDMI: an open frame idle this many clocks is padded
     C_S_AXI_CTRL_ADDR_WIDTH : integer := 20     -- s_axi_ctrl address bits (at least 18)
   );
   -- vsg_on generic_600
@@ -135,7 +143,8 @@ architecture rtl of orb_accel_zynq is
   constant ADDR_BITS_c : positive := top_addr_bits(MEM_DEPTH_g);
   constant DATA_BITS_c : positive := top_data_bits(INPUT_g);
 
-  signal rst        : std_logic := '1';
+  signal rst_q      : std_logic := '1';  -- aresetn low a clock ago
+  signal rst        : std_logic;
   signal top_awaddr : std_logic_vector(ADDR_BITS_c - 1 downto 0);
   signal top_araddr : std_logic_vector(ADDR_BITS_c - 1 downto 0);
   signal top_tdata  : std_logic_vector(DATA_BITS_c - 1 downto 0);
@@ -146,13 +155,17 @@ begin
     report "orb_accel_zynq: C_S_AXI_CTRL_ADDR_WIDTH must be at least max(18, clog2(0x10000 + 128 * MEM_DEPTH_g))"
     severity failure;
 
-  -- aresetn (synchronous, active low) to orb_accel_top's rst (synchronous, active high), registered
+  -- aresetn (synchronous, active low) to orb_accel_top's rst (synchronous, active high): at once, so that
+  -- the accelerator is reset at the edge that samples aresetn low (AXI: no response is offered during a
+  -- reset, however short), and one clock longer, registered
   reset_sync : process (aclk) is
   begin
     if rising_edge(aclk) then
-      rst <= not aresetn;
+      rst_q <= not aresetn;
     end if;
   end process reset_sync;
+
+  rst <= (not aresetn) or rst_q;
 
   top_awaddr <= s_axi_ctrl_awaddr(ADDR_BITS_c - 1 downto 0);
   top_araddr <= s_axi_ctrl_araddr(ADDR_BITS_c - 1 downto 0);
@@ -160,15 +173,16 @@ begin
 
   accel : entity work.orb_accel_top
     generic map (
-      WIDTH_g      => WIDTH_g,
-      HEIGHT_g     => HEIGHT_g,
-      SCALES_g     => SCALES_g,
-      STEP_NUM_g   => STEP_NUM_g,
-      STEP_DEN_g   => STEP_DEN_g,
-      SECTORS_g    => SECTORS_g,
-      MEM_DEPTH_g  => MEM_DEPTH_g,
-      INPUT_g      => INPUT_g,
-      BLOCK_LOG2_g => BLOCK_LOG2_g
+      WIDTH_g        => WIDTH_g,
+      HEIGHT_g       => HEIGHT_g,
+      SCALES_g       => SCALES_g,
+      STEP_NUM_g     => STEP_NUM_g,
+      STEP_DEN_g     => STEP_DEN_g,
+      SECTORS_g      => SECTORS_g,
+      MEM_DEPTH_g    => MEM_DEPTH_g,
+      INPUT_g        => INPUT_g,
+      BLOCK_LOG2_g   => BLOCK_LOG2_g,
+      IDLE_TIMEOUT_g => IDLE_TIMEOUT_g
     )
     port map (
       clk                 => aclk,

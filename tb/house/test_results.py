@@ -42,6 +42,7 @@ def _copy_root(tmp: Path) -> Path:
         Path("docs/results/bench.json"),
         Path("docs/results/test.json"),
         Path("docs/results/formal.json"),
+        Path("docs/results/recovery.json"),
         Path("docs/results/campaign.json"),
     ]:
         (tmp / rel).parent.mkdir(parents=True, exist_ok=True)

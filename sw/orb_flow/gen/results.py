@@ -2,8 +2,8 @@
 """Generate the docs' results tables from the measurement records, the one place of every figure.
 
 The records: docs/results/*.json (written by orb_flow.record from the benches', make sim's, make
-test's, make formal's and the fault campaigns' outputs) and sw/orb_flow/synth_expected.json (the synthesis estimates,
-written by make synth). Each table sits in a page between the lines
+test's, make formal's, the fault campaigns' and orb_flow.board.recovery's outputs) and
+sw/orb_flow/synth_expected.json (the synthesis estimates, written by make synth). Each table sits in a page between the lines
 ``<!-- generated: NAME (orb_flow.gen.results) -->`` and ``<!-- end generated -->``; this module
 replaces what is between them and leaves the rest of the page alone. A page that lacks a
 table's markers, or a record a table needs, is an error. Deterministic.
@@ -43,6 +43,7 @@ class Records:
         self.bench = self._runs(root / "docs" / "results" / "bench.json")
         self.test = self._runs(root / "docs" / "results" / "test.json")
         self.formal = self._runs(root / "docs" / "results" / "formal.json")
+        self.recovery = self._runs(root / "docs" / "results" / "recovery.json")
         self.campaign = self._runs(root / "docs" / "results" / "campaign.json")
         self.synth = json.loads((root / SYNTH).read_text())["jobs"]
         self.board = json.loads((root / BOARD).read_text())
@@ -441,6 +442,48 @@ def board_table(records: Records) -> list[str]:
     return _table(head, rows)
 
 
+def _frames_lost(r: dict[str, Any] | None) -> str:
+    if r is None:
+        return "-"
+    after = r["lost"] - 1
+    text = f"{r['lost']} (the event frame{f' and {after} after it' if after else ' only'})"
+    return text if after else f"**{text}**"
+
+
+def recovery_table(records: Records) -> list[str]:
+    """The board's recovery after a cut (orb_flow.board.recovery): frames lost per configuration and
+    event, with the old checker (IDLE_TIMEOUT_g 0) and the board's."""
+    if not records.recovery:
+        raise ResultsError("docs/results/recovery.json has no run: measure it (python -m orb_flow.board.recovery) "
+                           "and record it (python -m orb_flow.record recovery)")  # fmt: skip
+    rows, sources, timeouts = [], [], set[int]()
+    for run in records.recovery.values():
+        sources.append(f"Measured by {_source(run)} ({run['tools']}).")
+        cases: dict[tuple[str, str, float], dict[int, dict[str, Any]]] = {}
+        for r in run["data"]:
+            cases.setdefault((r["config"], r["event"], r["at"]), {})[r["idle_timeout"]] = r
+        for (config, event, _), by in cases.items():
+            old, new = by.get(0), next((r for t, r in sorted(by.items()) if t), None)
+            r = new or old
+            assert r is not None
+            height = int(config.split("x")[1])  # board configurations are named WIDTHxHEIGHT
+            line = r["cut_after_pixels"] // (r["pixels"] // height)
+            if event == "cut":
+                out_ms = r["cable_out_pixel_clocks"] / r["pixel_mhz"] / 1000
+                what = f"cable out in line {line} of {height}, for {out_ms:.1f} ms"
+            else:
+                what = f"a start of frame in line {line} of {height} (a restart, no gap)"
+            dropped = " / ".join(f"{x['fifo_dropped']:,}" if x else "-" for x in (old, new))
+            timeouts.update(t for t in by if t)
+            rows.append([config, f"{r['pixel_mhz']:g} / {r['core_mhz']} MHz", what, _frames_lost(old),
+                         _frames_lost(new), dropped])  # fmt: skip
+    board = ", ".join(f"{t:,}" for t in sorted(timeouts)) or "-"
+    head = ["configuration", "pixel / core clock", "event", "frames lost: old checker (IDLE_TIMEOUT_g 0)",
+            f"frames lost: the board's checker (IDLE_TIMEOUT_g {board})",
+            "pixels the input FIFO dropped (old / board's)"]  # fmt: skip
+    return [*_table(head, rows), "", *sources]
+
+
 def headline(records: Records) -> list[str]:
     held = {r["extractor"]: r for r in records.run("eval", "scale-bench-held")["data"]}
     rot = {r["method"]: r for r in records.run("eval", "rotation-bench-grid")["data"]}
@@ -494,6 +537,7 @@ TABLES: dict[str, tuple[Path, Callable[[Records], list[str]]]] = {
     "bench-model": (Path("docs/benchmarks.md"), bench_model_table),
     "bench-sim": (Path("docs/benchmarks.md"), bench_sim_table),
     "board-resources": (Path("docs/board.md"), board_table),
+    "board-recovery": (Path("docs/board.md"), recovery_table),
     "bench-driver": (Path("docs/ros.md"), bench_driver_table),
     "bench-stream": (Path("docs/stream.md"), bench_stream_table),
     "bench-ros2": (Path("docs/ros2.md"), bench_ros2_table),

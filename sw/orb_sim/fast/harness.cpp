@@ -8,8 +8,14 @@
 //
 // Per tick: inputs set -> clk 0, eval -> handshakes sampled (valid && ready before the edge) ->
 // clk 1, eval -> the sources and sinks advance on what was sampled.
+//
+// A live source (fs_live; docs/fast-sim.md): the programs play at a pixel clock of num/den of the
+// core clock, each beat's gap counted in pixel clocks (blanking), into a FIFO that the accelerator's
+// s_axis_video reads and that drops the pixels arriving while it is full, as the board's HDMI input
+// bridge (v_vid_in_axi4s) does: a source that cannot be held.
 #include <cstdint>
 #include <cstring>
+#include <deque>
 #include <memory>
 #include <vector>
 
@@ -28,6 +34,13 @@ struct Program {
   std::vector<Beat> beats;
 };
 
+struct Queued {  // a live source's beat in the FIFO
+  uint32_t data;
+  uint8_t flags;
+  uint32_t prog;
+  bool first;  // the first beat of its program
+};
+
 struct Sim {
   std::unique_ptr<VerilatedContext> ctx;
   std::unique_ptr<Vorb_accel_top> top;
@@ -40,6 +53,12 @@ struct Sim {
   uint64_t frames_started = 0, beats_sent = 0, last_beat_cycle = 0, stall = 0, stall_max = 0;
   std::vector<uint64_t> frame_start_cycles;  // cycle at which each program's first beat was accepted
   std::vector<uint32_t> frame_start_prog;
+  // live source: pixel clock = num / den of the clock, into a FIFO of fifo_depth beats
+  bool live = false;
+  uint64_t live_num = 0, live_den = 1, live_acc = 0;
+  size_t fifo_depth = 0;
+  std::deque<Queued> fifo;
+  uint64_t fifo_dropped = 0, fifo_max = 0;
   // overlay sink
   uint32_t ready_permille = 1000;
   uint64_t rng = 0x9E3779B97F4A7C15ull;
@@ -69,7 +88,13 @@ bool source_has_beat(const Sim& s) {
 
 void drive(Sim& s) {
   Vorb_accel_top* t = s.top.get();
-  if (source_has_beat(s)) {
+  if (s.live) {
+    t->s_axis_video_tvalid = !s.fifo.empty();
+    const Queued q = s.fifo.empty() ? Queued{0, 0, 0, false} : s.fifo.front();
+    t->s_axis_video_tdata = q.data;
+    t->s_axis_video_tuser = q.flags & 1;
+    t->s_axis_video_tlast = (q.flags >> 1) & 1;
+  } else if (source_has_beat(s)) {
     const Beat& b = s.programs[s.prog].beats[s.pos];
     t->s_axis_video_tvalid = 1;
     t->s_axis_video_tdata = b.data;
@@ -81,6 +106,45 @@ void drive(Sim& s) {
     t->s_axis_video_tlast = 0;
   }
   t->m_axis_video_tready = (s.ready_permille >= 1000) ? 1 : ((xorshift(s.rng) % 1000) < s.ready_permille);
+}
+
+// The next beat of the programs is sent (both sources): the position advances, idle = its gap.
+Beat next_beat(Sim& s) {
+  Program& p = s.programs[s.prog];
+  const Beat b = p.beats[s.pos];
+  s.idle = b.gap;
+  s.pos++;
+  if (s.pos == p.beats.size()) {
+    s.pos = 0;
+    // a program sent is not needed again unless the queue loops: its beats are freed (a long
+    // campaign queues tens of thousands of frames; set_loop must come before the sending)
+    if (!s.loop) std::vector<Beat>().swap(p.beats);
+    s.prog++;
+    if (s.prog == s.programs.size() && s.loop) s.prog = 0;
+  }
+  return b;
+}
+
+// A live source's pixel clock ticks num/den times per clock: one pixel slot each, blanking (the
+// gap after the last beat) or the next beat into the FIFO, dropped when the FIFO is full.
+void live_advance(Sim& s) {
+  s.live_acc += s.live_num;
+  if (s.live_acc < s.live_den) return;
+  s.live_acc -= s.live_den;
+  if (s.idle > 0) {
+    s.idle--;
+    return;
+  }
+  if (s.prog >= s.programs.size()) return;
+  const uint32_t prog = uint32_t(s.prog);
+  const bool first = s.pos == 0;
+  const Beat b = next_beat(s);
+  if (s.fifo.size() >= s.fifo_depth) {
+    s.fifo_dropped++;
+    return;
+  }
+  s.fifo.push_back(Queued{b.data, b.flags, prog, first});
+  if (s.fifo.size() > s.fifo_max) s.fifo_max = s.fifo.size();
 }
 
 // One clock: returns after the rising edge. The AXI4-Lite inputs are whatever the caller set.
@@ -111,25 +175,28 @@ void tick(Sim& s) {
   t->eval();
   s.ctx->timeInc(5);
   s.cycle++;
-  if (in_fire) {
-    Program& p = s.programs[s.prog];
+  if (s.live) {
+    if (in_fire) {
+      const Queued q = s.fifo.front();
+      s.fifo.pop_front();
+      if (q.first) {
+        s.frames_started++;
+        s.frame_start_cycles.push_back(s.cycle);
+        s.frame_start_prog.push_back(q.prog);
+      }
+      s.beats_sent++;
+      s.last_beat_cycle = s.cycle;
+    }
+    live_advance(s);
+  } else if (in_fire) {
     if (s.pos == 0) {
       s.frames_started++;
       s.frame_start_cycles.push_back(s.cycle);
       s.frame_start_prog.push_back(uint32_t(s.prog));
     }
-    s.idle = p.beats[s.pos].gap;
-    s.pos++;
+    next_beat(s);
     s.beats_sent++;
     s.last_beat_cycle = s.cycle;
-    if (s.pos == p.beats.size()) {
-      s.pos = 0;
-      // a program sent is not needed again unless the queue loops: its beats are freed (a long
-      // campaign queues tens of thousands of frames; set_loop must come before the sending)
-      if (!s.loop) std::vector<Beat>().swap(p.beats);
-      s.prog++;
-      if (s.prog == s.programs.size() && s.loop) s.prog = 0;
-    }
   } else if (s.idle > 0 && !(t->s_axis_video_tvalid)) {
     s.idle--;
   }
@@ -203,22 +270,36 @@ void fs_push(void* h, const uint32_t* data, const uint8_t* flags, const uint32_t
 
 void fs_set_loop(void* h, int loop) { static_cast<Sim*>(h)->loop = loop != 0; }
 
+// The source becomes live (see the top): a pixel clock of num/den of the clock (num <= den), a
+// FIFO of `depth` beats that drops on overflow.
+void fs_live(void* h, uint64_t num, uint64_t den, uint64_t depth) {
+  auto* s = static_cast<Sim*>(h);
+  s->live = true;
+  s->live_num = num;
+  s->live_den = den;
+  s->live_acc = 0;
+  s->fifo_depth = depth;
+}
+
+bool video_done(const Sim& s) { return s.prog >= s.programs.size() && s.fifo.empty(); }
+
 // Run until the source has sent everything queued (or `timeout` clocks): 1 when done.
 int fs_run_video(void* h, uint64_t timeout) {
   auto* s = static_cast<Sim*>(h);
   for (uint64_t i = 0; i < timeout; i++) {
-    if (s->prog >= s->programs.size()) return 1;
+    if (video_done(*s)) return 1;
     tick(*s);
   }
-  return s->prog >= s->programs.size() ? 1 : 0;
+  return video_done(*s) ? 1 : 0;
 }
 
-// stats[0..7]: frames started, beats sent, cycle of the last beat, longest input stall, overlay
-// beats out, cycle of the last irq rise, irq rises, cycle.
+// stats[0..9]: frames started, beats sent, cycle of the last beat, longest input stall, overlay
+// beats out, cycle of the last irq rise, irq rises, cycle, beats a live source's FIFO dropped, its
+// highest fill.
 void fs_stats(void* h, uint64_t* stats) {
   auto* s = static_cast<Sim*>(h);
-  uint64_t v[8] = {s->frames_started, s->beats_sent, s->last_beat_cycle, s->stall_max,
-                   s->out_beats,      s->irq_rise_cycle, s->irq_rises, s->cycle};
+  uint64_t v[10] = {s->frames_started, s->beats_sent,     s->last_beat_cycle, s->stall_max,    s->out_beats,
+                    s->irq_rise_cycle, s->irq_rises,      s->cycle,           s->fifo_dropped, s->fifo_max};
   std::memcpy(stats, v, sizeof v);
 }
 

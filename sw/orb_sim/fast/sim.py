@@ -5,6 +5,7 @@ its C++ harness (harness.cpp), loaded through ctypes, and the driver's bus over 
     sim = FastSim(build_fast(cfg))                # orb_sim.fast.build: built once per configuration
     sim.reset()
     sim.push_frame(words)                         # a frame of tdata words, with blanking
+    sim.set_live(Fraction(3, 4), 4096)            # optional: a source that cannot be held
     accel = OrbAccel(FastBus(sim), bank_read="slot")
     frame = accel.next_frame(timeout_s=0.01)      # simulated seconds: the video plays meanwhile
 
@@ -15,6 +16,7 @@ run); Python sets up frames and reads results between them. 10 ns per clock.
 from __future__ import annotations
 
 import ctypes
+from fractions import Fraction
 from pathlib import Path
 
 import numpy as np
@@ -28,7 +30,7 @@ _U32P = ctypes.POINTER(ctypes.c_uint32)
 _U8P = ctypes.POINTER(ctypes.c_uint8)
 _U64P = ctypes.POINTER(ctypes.c_uint64)
 STATS = ("frames_started", "beats_sent", "last_beat_cycle", "longest_stall", "overlay_beats", "irq_rise_cycle",
-         "irq_rises", "cycle")  # fmt: skip
+         "irq_rises", "cycle", "fifo_dropped", "fifo_max")  # fmt: skip
 
 
 class FastSimError(RuntimeError):
@@ -63,7 +65,7 @@ class FastSim:
         sigs = {
             "fs_new": ([u32], vp), "fs_free": ([vp], None), "fs_cycle": ([vp], u64), "fs_set_rst": ([vp, i32], None),
             "fs_run": ([vp, u64], None), "fs_push": ([vp, _U32P, _U8P, _U32P, u64], None),
-            "fs_set_loop": ([vp, i32], None),
+            "fs_set_loop": ([vp, i32], None), "fs_live": ([vp, u64, u64, u64], None),
             "fs_run_video": ([vp, u64], i32), "fs_stats": ([vp, _U64P], None),
             "fs_frame_start": ([vp, u64, _U64P], ctypes.c_int64), "fs_set_out_ready": ([vp, u32, u64], None),
             "fs_capture": ([vp, i32], None), "fs_captured": ([vp, _U32P, _U8P, u64], u64),
@@ -114,6 +116,16 @@ class FastSim:
         """Play the queued programs round and round. Set it before the first of them is sent:
         without it, a program's beats are freed once sent."""
         self.lib.fs_set_loop(self.h, int(loop))
+
+    def set_live(self, pixel_clock: Fraction, fifo_depth: int) -> None:
+        """Make the source live (harness.cpp): the queued programs play at `pixel_clock` (of the
+        clock, at most 1) beats or blanking clocks per clock, whatever tready does, into a FIFO of
+        `fifo_depth` beats in front of s_axis_video that drops what arrives while it is full (the
+        board's HDMI input bridge); a program's gaps count pixel clocks. The stats' fifo_dropped and
+        fifo_max say what it lost and how full it got."""
+        if not 0 < pixel_clock <= 1 or fifo_depth < 1:
+            raise ValueError(f"a live source needs 0 < pixel clock <= 1 and a FIFO, got {pixel_clock}, {fifo_depth}")
+        self.lib.fs_live(self.h, pixel_clock.numerator, pixel_clock.denominator, fifo_depth)
 
     def run_video(self, timeout_clocks: int) -> bool:
         """Run until every queued beat is sent; False when `timeout_clocks` passed first."""
