@@ -674,6 +674,21 @@ _ZYNQ_RESET = """  reg arn1 = 1'b0;  // aresetn a clock ago
   always @(*) if (!init && (!aresetn || !arn1))
     assume (!s_axi_ctrl_awvalid && !s_axi_ctrl_wvalid && !s_axi_ctrl_arvalid && !s_axis_video_tvalid);"""
 
+# orb_accel_zynq's video path with the sink always ready and no soft reset (CTRL.soft_reset empties the
+# overlay's pipeline; other writes, CTRL.enable among them, are free): the live input (IDLE_TIMEOUT_g
+# 4,096) is never held, and every beat taken leaves OVERLAY_VIDEO_LAT_c = 3 clocks later (the top's video
+# path is the overlay's); the top and then its core leave reset a clock after the interface each, so the
+# rate counts from the third edge out of reset
+ZYNQ_RATE_FROM = 3  # s_axis_video_tready is 1 from the clock 3 edges after the last that sampled aresetn low (2 fails)
+_SOFT_BIT = regs.CTRL.field("soft_reset").lsb
+_ZYNQ_TIMING = f"""  // no soft reset: no write data with a 1 in CTRL.soft_reset's bit (any register: W names none)
+  always @(*) if (!init) assume (!(s_axi_ctrl_wvalid && s_axi_ctrl_wstrb[{_SOFT_BIT // 8}] &&
+                                   s_axi_ctrl_wdata[{_SOFT_BIT}]));
+  reg [3:0] since = 0;  // clocks out of reset (saturating)
+  always @(posedge clk) since <= rst ? 0 : (since == 15 ? 15 : since + 1);
+  always @(*) if (!init && since >= {ZYNQ_RATE_FROM}) rate: assert (s_axis_video_tready);
+""" + _latency("video", "video", 3, 24)
+
 _FEAT_MEM_COMMON = """  // the entity registers every input once; these are its registered release, stream (tready is 1)
   // and abort
   reg rel_q = 0, relb_q = 0, beat_q = 0, last_q = 0, abort_q = 0;
@@ -1659,6 +1674,52 @@ CHECKS: dict[str, Check] = {
                 ),
             ),
         ),
+        Check(
+            "orb_accel_zynq",
+            {
+                "WIDTH_g": 64,
+                "HEIGHT_g": 48,
+                "SCALES_g": 1,
+                "SECTORS_g": 16,
+                "MEM_DEPTH_g": 16,
+                "INPUT_g": "LUMA",
+                "BLOCK_LOG2_g": 2,
+                "C_S_AXI_CTRL_ADDR_WIDTH": 18,
+            },
+            name="orb_accel_zynq.timing",
+            mode="bmc",
+            depth=14,
+            quick=False,
+            axil={"MAXW": 2, "MAXR": 1, "BOUND": 4, "RBOUND": 6, "REGMAP": 1, "MEM_DEPTH": 16},
+            extra=_ZYNQ_RESET + "\n" + _sink_ready("video") + "\n" + _ZYNQ_TIMING,
+            bugs_of={"chk_s_axil": "orb_axil_regs", "chk_m_axis_video": "orb_accel_zynq"},
+            extra_props={
+                "rate": "with the sink always ready and no soft reset, s_axis_video_tready is 1 from the clock after "
+                "the third edge that samples aresetn high on (the wrapper's live video checker never holds the "
+                "input; a clock earlier fails: the top and its core leave reset a clock apart)",
+                "latency": "with the sink always ready and no soft reset, every video beat taken is on m_axis_video "
+                "OVERLAY_VIDEO_LAT_c = 3 clocks later, in order, nothing else, with its tuser and tlast",
+            },
+            mutations=(
+                Mutation(
+                    "wrapper_not_live",
+                    "the wrapper's video checker not live (IDLE_TIMEOUT_g 0, orb_accel_top's default): it holds "
+                    "the input while it pads a bad frame",
+                    "top/orb_accel_zynq.vhd",
+                    r"IDLE_TIMEOUT_g => IDLE_TIMEOUT_g",
+                    "IDLE_TIMEOUT_g => 0",
+                    "rate",
+                ),
+                Mutation(
+                    "overlay_tlast_early",
+                    "the overlay's tlast taken from stage 1 instead of stage 2 (a clock early)",
+                    "output/orb_overlay.vhd",
+                    r"m_last  <= d2_last;",
+                    "m_last  <= d1_last;",
+                    "latency",
+                ),
+            ),
+        ),
     )
 }
 
@@ -1705,6 +1766,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     ap.add_argument("--table", action="store_true", help="print docs/formal.md's table from the summary and exit")
     ap.add_argument("--out", type=Path, default=OUT)
     args = ap.parse_args(argv)
+    args.out = args.out.resolve()  # the planted bugs' GHDL runs in another folder
     if args.list:
         for c in CHECKS.values():
             print(f"{c.key:16} {c.mode} depth {c.depth} {'quick' if c.quick else 'slow'} {dict(c.generics)}")
