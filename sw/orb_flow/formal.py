@@ -665,6 +665,20 @@ _MERGE_TIMING = (
 )
 
 
+# the tops' checks: orb_accel_zynq's generics (orb_accel_top's but the address width) and the AXI4-Lite
+# checker's parameters of both
+_ZYNQ_GENERICS = {
+    "WIDTH_g": 64,
+    "HEIGHT_g": 48,
+    "SCALES_g": 1,
+    "SECTORS_g": 16,
+    "MEM_DEPTH_g": 16,
+    "INPUT_g": "LUMA",
+    "BLOCK_LOG2_g": 2,
+    "C_S_AXI_CTRL_ADDR_WIDTH": 18,
+}
+_TOP_AXIL = {"MAXW": 2, "MAXR": 1, "BOUND": 4, "RBOUND": 6, "REGMAP": 1, "MEM_DEPTH": 16}
+
 # orb_accel_zynq's reset contract: AXI's reset rule only (aresetn may be low for a single clock; the wrapper resets
 # orb_accel_top at once and a clock longer, so the top is still in reset at the first edge that samples aresetn high)
 _ZYNQ_RESET = """  reg arn1 = 1'b0;  // aresetn a clock ago
@@ -1591,19 +1605,11 @@ CHECKS: dict[str, Check] = {
         ),
         Check(
             "orb_accel_top",
-            {
-                "WIDTH_g": 64,
-                "HEIGHT_g": 48,
-                "SCALES_g": 1,
-                "SECTORS_g": 16,
-                "MEM_DEPTH_g": 16,
-                "INPUT_g": "LUMA",
-                "BLOCK_LOG2_g": 2,
-            },
+            {k: v for k, v in _ZYNQ_GENERICS.items() if k != "C_S_AXI_CTRL_ADDR_WIDTH"},
             mode="bmc",
             depth=10,
             quick=False,
-            axil={"MAXW": 2, "MAXR": 1, "BOUND": 4, "RBOUND": 6, "REGMAP": 1, "MEM_DEPTH": 16},
+            axil=_TOP_AXIL,
             bugs_of={"chk_s_axil": "orb_axil_regs"},
             mutations=(
                 Mutation(
@@ -1619,20 +1625,11 @@ CHECKS: dict[str, Check] = {
         ),
         Check(
             "orb_accel_zynq",
-            {
-                "WIDTH_g": 64,
-                "HEIGHT_g": 48,
-                "SCALES_g": 1,
-                "SECTORS_g": 16,
-                "MEM_DEPTH_g": 16,
-                "INPUT_g": "LUMA",
-                "BLOCK_LOG2_g": 2,
-                "C_S_AXI_CTRL_ADDR_WIDTH": 18,
-            },
+            _ZYNQ_GENERICS,
             mode="bmc",
             depth=10,
             quick=False,
-            axil={"MAXW": 2, "MAXR": 1, "BOUND": 4, "RBOUND": 6, "REGMAP": 1, "MEM_DEPTH": 16},
+            axil=_TOP_AXIL,
             extra=_ZYNQ_RESET,
             bugs_of={"chk_s_axil": "orb_axil_regs"},
             mutations=(
@@ -1676,21 +1673,12 @@ CHECKS: dict[str, Check] = {
         ),
         Check(
             "orb_accel_zynq",
-            {
-                "WIDTH_g": 64,
-                "HEIGHT_g": 48,
-                "SCALES_g": 1,
-                "SECTORS_g": 16,
-                "MEM_DEPTH_g": 16,
-                "INPUT_g": "LUMA",
-                "BLOCK_LOG2_g": 2,
-                "C_S_AXI_CTRL_ADDR_WIDTH": 18,
-            },
+            _ZYNQ_GENERICS,
             name="orb_accel_zynq.timing",
             mode="bmc",
             depth=14,
             quick=False,
-            axil={"MAXW": 2, "MAXR": 1, "BOUND": 4, "RBOUND": 6, "REGMAP": 1, "MEM_DEPTH": 16},
+            axil=_TOP_AXIL,
             extra=_ZYNQ_RESET + "\n" + _sink_ready("video") + "\n" + _ZYNQ_TIMING,
             bugs_of={"chk_s_axil": "orb_axil_regs", "chk_m_axis_video": "orb_accel_zynq"},
             extra_props={
