@@ -3,7 +3,8 @@
 
 The records: docs/results/*.json (written by orb_flow.record from the benches', make sim's, make
 test's, make formal's, the fault campaigns' and orb_flow.board.recovery's outputs) and
-sw/orb_flow/synth_expected.json (the synthesis estimates, written by make synth). Each table sits in a page between the lines
+sw/orb_flow/synth_expected.json (the synthesis estimates, written by make synth). Each table sits
+in a page between the lines
 ``<!-- generated: NAME (orb_flow.gen.results) -->`` and ``<!-- end generated -->``; this module
 replaces what is between them and leaves the rest of the page alone. A page that lacks a
 table's markers, or a record a table needs, is an error. Deterministic.
