@@ -592,6 +592,17 @@ _FRAME_GATE_PASS = """  // latency 0, nothing invented: a beat on m_axis_video i
                            m_axis_video_tuser == s_axis_video_tuser && m_axis_video_tlast == s_axis_video_tlast &&
                            s_axis_video_tready == m_axis_video_tready));"""
 
+# orb_video_check's latency checks: the pixel taken at the last edge (t_v, its value t_d) and discarded_pixels then
+_VIDEO_CHECK_TAKEN = """  reg t_v = 0;
+  reg [7:0] t_d;
+  reg [31:0] disc_q = 0;
+  always @(posedge clk) begin
+    t_v <= s_axis_video_tvalid && s_axis_video_tready && !rst;
+    t_d <= s_axis_video_tdata;
+    disc_q <= discarded_pixels;
+  end
+"""
+
 _VIDEO_CHECK_RATE = """  // rate: s_axis_video_tready is low for at most {N} clocks in a row out of reset: padding a bad
   // frame, and then the next one when the start of frame held meanwhile is bad itself (its tlast at
   // x = 0), all without taking input (a bound of {N} - 1 fails)
@@ -600,15 +611,7 @@ _VIDEO_CHECK_RATE = """  // rate: s_axis_video_tready is low for at most {N} clo
   always @(*) if (!init && !rst) rate: assert (low <= {N});
   // latency 1: a pixel taken at one edge is on m_axis_video (the same value) after it, or counted as
   // discarded, or held (tready falls: a start of frame inside an open frame waits for its padding)
-  reg t_v = 0;
-  reg [7:0] t_d;
-  reg [31:0] disc_q = 0;
-  always @(posedge clk) begin
-    t_v <= s_axis_video_tvalid && s_axis_video_tready && !rst;
-    t_d <= s_axis_video_tdata;
-    disc_q <= discarded_pixels;
-  end
-  always @(*) if (!init && !rst)
+{TAKEN}  always @(*) if (!init && !rst)
     latency: assert (!t_v || (m_axis_video_tvalid && m_axis_video_tdata == t_d) ||
                      discarded_pixels == disc_q + 1 || !s_axis_video_tready);"""
 
@@ -864,20 +867,10 @@ _VIDEO_CHECK_EXTRA = """  // the documented contract: the detector behind orb_vi
 # orb_video_check with IDLE_TIMEOUT_g > 0 (a live source, docs/video-input.md): never held, every pixel
 # taken out a clock later or counted, and an output frame begun is finished however the input stops
 _VIDEO_CHECK_LIVE = """  // never held: s_axis_video_tready is 1 from the second clock out of reset on
-  reg rst_q = 1'b1;
-  always @(posedge clk) rst_q <= rst;
   always @(*) if (!init && !rst && !rst_q) never_held: assert (s_axis_video_tready);
   // latency 1: a pixel taken at one edge is on m_axis_video (the same value) after it, or counted as
   // discarded (outside a frame, while padding, a start of frame inside an open frame)
-  reg t_v = 0;
-  reg [7:0] t_d;
-  reg [31:0] disc_q = 0;
-  always @(posedge clk) begin
-    t_v <= s_axis_video_tvalid && s_axis_video_tready && !rst;
-    t_d <= s_axis_video_tdata;
-    disc_q <= discarded_pixels;
-  end
-  always @(*) if (!init && !rst)
+{TAKEN}  always @(*) if (!init && !rst)
     latency: assert (!t_v || (m_axis_video_tvalid && m_axis_video_tdata == t_d) || discarded_pixels == disc_q + 1);
   // the idle timeout: inside an output frame (its first beat out, its last not yet) at most {N} clocks in a
   // row without an output beat, whatever the input does (a bound of {N} - 1 fails)
@@ -1114,7 +1107,7 @@ CHECKS: dict[str, Check] = {
             {"WIDTH_g": 4, "HEIGHT_g": 2},
             mode="bmc",
             depth=24,
-            extra=_VIDEO_CHECK_EXTRA.format(W=4, H=2) + "\n" + _VIDEO_CHECK_RATE.format(N=15),
+            extra=_VIDEO_CHECK_EXTRA.format(W=4, H=2) + "\n" + _VIDEO_CHECK_RATE.format(N=15, TAKEN=_VIDEO_CHECK_TAKEN),
             extra_props={
                 "frame_shape": "every output frame is WIDTH_g x HEIGHT_g: tuser at (0, 0), tlast at x = WIDTH_g - 1",
                 "frame_end_last": "frame_end exactly with the frame's last output beat",
@@ -1149,7 +1142,9 @@ CHECKS: dict[str, Check] = {
             name="orb_video_check.live",
             mode="bmc",
             depth=24,
-            extra=_VIDEO_CHECK_EXTRA.format(W=4, H=2) + "\n" + _VIDEO_CHECK_LIVE.format(N=LIVE_GAP),
+            extra=_VIDEO_CHECK_EXTRA.format(W=4, H=2)
+            + "\n"
+            + _VIDEO_CHECK_LIVE.format(N=LIVE_GAP, TAKEN=_VIDEO_CHECK_TAKEN),
             extra_props={
                 "frame_shape": "every output frame is WIDTH_g x HEIGHT_g: tuser at (0, 0), tlast at x = WIDTH_g - 1",
                 "frame_end_last": "frame_end exactly with the frame's last output beat",
