@@ -204,6 +204,7 @@ class NamedConfig:
     sectors: int
     mem_depth: int
     block_log2: int
+    mem_kind: str  # "bram": orb_feat_mem's two banks; "ddr": orb_feat_dma's ring (docs/feature-dma.md)
     threshold: int
     threshold_lo: int
     selection: str
@@ -225,7 +226,8 @@ class NamedConfig:
         """The VHDL generics of orb_accel_top / orb_accel_zynq for this configuration."""
         return {"WIDTH_g": self.width, "HEIGHT_g": self.height, "SCALES_g": self.scales,
                 "STEP_NUM_g": self.step_num, "STEP_DEN_g": self.step_den, "SECTORS_g": self.sectors,
-                "MEM_DEPTH_g": self.mem_depth, "BLOCK_LOG2_g": self.block_log2, "INPUT_g": input_format}  # fmt: skip
+                "MEM_DEPTH_g": self.mem_depth, "BLOCK_LOG2_g": self.block_log2, "INPUT_g": input_format,
+                "MEM_KIND_g": self.mem_kind.upper()}  # fmt: skip
 
     @property
     def capacity(self) -> int:

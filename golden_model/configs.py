@@ -21,6 +21,7 @@ CONFIGS: dict[str, dict[str, int | str | tuple[str, ...]]] = {
         "sectors": 32,
         "mem_depth": 1024,
         "block_log2": 3,
+        "mem_kind": "bram",
         "threshold": 20,
         "threshold_lo": 20,
         "selection": "all",
@@ -44,6 +45,7 @@ CONFIGS: dict[str, dict[str, int | str | tuple[str, ...]]] = {
         "sectors": 64,
         "mem_depth": 4096,
         "block_log2": 4,
+        "mem_kind": "bram",
         "threshold": 20,
         "threshold_lo": 14,
         "selection": "grid",
@@ -61,7 +63,10 @@ CONFIGS: dict[str, dict[str, int | str | tuple[str, ...]]] = {
         ),
     },
     "board-vga": {
-        "about": "The Zybo Z7-20 build at 640x480@60: 4 levels of 5:4, 32 sectors, 1,024 slots per bank.",
+        "about": (
+            "The Zybo Z7-20 build at 640x480@60: 4 levels of 5:4, 32 sectors, the features in a ring of DDR "
+            "buffers of 1,024 slots (docs/feature-dma.md)."
+        ),
         "width": 640,
         "height": 480,
         "scales": 4,
@@ -70,6 +75,7 @@ CONFIGS: dict[str, dict[str, int | str | tuple[str, ...]]] = {
         "sectors": 32,
         "mem_depth": 1024,
         "block_log2": 4,
+        "mem_kind": "ddr",
         "threshold": 20,
         "threshold_lo": 14,
         "selection": "grid",
@@ -86,7 +92,7 @@ CONFIGS: dict[str, dict[str, int | str | tuple[str, ...]]] = {
     "board-720p": {
         "about": (
             "The Zybo Z7-20 build at 1280x720@60 (the board's default build): 4 levels of 5:4, 32 sectors, "
-            "2,048 slots per bank."
+            "the features in a ring of DDR buffers of 2,048 slots (docs/feature-dma.md)."
         ),
         "width": 1280,
         "height": 720,
@@ -96,6 +102,7 @@ CONFIGS: dict[str, dict[str, int | str | tuple[str, ...]]] = {
         "sectors": 32,
         "mem_depth": 2048,
         "block_log2": 4,
+        "mem_kind": "ddr",
         "threshold": 20,
         "threshold_lo": 14,
         "selection": "grid",
@@ -111,9 +118,8 @@ CONFIGS: dict[str, dict[str, int | str | tuple[str, ...]]] = {
     },
     "board-1080p": {
         "about": (
-            "The Zybo Z7-20 build at 1920x1080@60: 4 levels of 5:4, 32 sectors, 1,024 slots per bank (block "
-            "RAM allows no more; the budget is the bank's 1,023 features, below the 2,000 recommended for "
-            "the size)."
+            "The Zybo Z7-20 build at 1920x1080@60: 4 levels of 5:4, 32 sectors, the features in a ring of "
+            "DDR buffers of 2,048 slots (the recommended 2,000 features a frame; docs/feature-dma.md)."
         ),
         "width": 1920,
         "height": 1080,
@@ -121,12 +127,13 @@ CONFIGS: dict[str, dict[str, int | str | tuple[str, ...]]] = {
         "step_num": 5,
         "step_den": 4,
         "sectors": 32,
-        "mem_depth": 1024,
+        "mem_depth": 2048,
         "block_log2": 4,
+        "mem_kind": "ddr",
         "threshold": 20,
         "threshold_lo": 14,
         "selection": "grid",
-        "budget": 1023,
+        "budget": 2000,
         "cols": 8,
         "rows": 6,
         "used_by": ("make bitstream CONFIG=board-1080p",),
@@ -150,6 +157,7 @@ CONFIGS: dict[str, dict[str, int | str | tuple[str, ...]]] = {
         "sectors": 32,
         "mem_depth": 1024,
         "block_log2": 4,
+        "mem_kind": "bram",
         "threshold": 20,
         "threshold_lo": 14,
         "selection": "grid",
@@ -176,6 +184,7 @@ CONFIGS: dict[str, dict[str, int | str | tuple[str, ...]]] = {
         "sectors": 32,
         "mem_depth": 1024,
         "block_log2": 4,
+        "mem_kind": "bram",
         "threshold": 20,
         "threshold_lo": 14,
         "selection": "grid",
@@ -198,6 +207,7 @@ CONFIGS: dict[str, dict[str, int | str | tuple[str, ...]]] = {
         "sectors": 32,
         "mem_depth": 512,
         "block_log2": 3,
+        "mem_kind": "bram",
         "threshold": 20,
         "threshold_lo": 14,
         "selection": "grid",

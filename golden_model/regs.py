@@ -11,7 +11,7 @@ from golden_model._fields import Register
 
 ORB_ID = 0x4F524231  # magic identification word, ASCII "ORB1"
 VERSION_MAJOR = 3  # register map major version (incompatible changes)
-VERSION_MINOR = 1  # register map minor version (compatible additions)
+VERSION_MINOR = 2  # register map minor version (compatible additions)
 MEM_BASE = 0x10000  # byte address of the feature-memory window; register offsets lie below it
 BANKS = 2  # feature-memory banks (double buffering)
 
@@ -514,6 +514,221 @@ DISCARDED = Register(
     description="input pixels outside any open frame (no start of frame, extra lines)",
 )
 
+RING_BASE = Register(
+    name="RING_BASE",
+    offset=0x058,
+    access="rw",
+    fields=(
+        Field(
+            name="base",
+            lsb=0,
+            width=32,
+            reset=0,
+            description="byte address of ring buffer 0, a multiple of 64 (output ring_base)",
+        ),
+    ),
+    description="DDR ring (docs/feature-dma.md): byte address of ring buffer 0",
+)
+
+RING_STRIDE = Register(
+    name="RING_STRIDE",
+    offset=0x05C,
+    access="rw",
+    fields=(
+        Field(
+            name="stride",
+            lsb=0,
+            width=32,
+            reset=0,
+            description="bytes from the start of one ring buffer to the next, a multiple of 64 (output ring_stride)",
+        ),
+    ),
+    description="DDR ring: bytes from one ring buffer to the next",
+)
+
+RING_COUNT = Register(
+    name="RING_COUNT",
+    offset=0x060,
+    access="rw",
+    fields=(
+        Field(
+            name="count",
+            lsb=0,
+            width=5,
+            reset=0,
+            max=16,
+            description="ring buffers, 0 to 16; frames go to buffers 0, 1, .., count - 1, 0, .. (output ring_count)",
+        ),
+    ),
+    description="DDR ring: number of ring buffers",
+)
+
+RING_STATUS = Register(
+    name="RING_STATUS",
+    offset=0x064,
+    access="ro",
+    fields=(
+        Field(
+            name="ready",
+            lsb=0,
+            width=16,
+            reset=0,
+            port="ring_ready",
+            description="bit i: ring buffer i holds a published frame the CPU has not released (input ring_ready)",
+        ),
+        Field(
+            name="last",
+            lsb=16,
+            width=4,
+            reset=0,
+            port="ring_last",
+            description="the ring buffer of the most recently published frame, 0 after reset (input ring_last)",
+        ),
+        Field(
+            name="error",
+            lsb=24,
+            width=4,
+            reset=0,
+            port="ring_error",
+            description="ring configuration checks: bit 0 unaligned, 1 overlap, 2 outside, 3 off (input ring_error)",
+        ),
+        Field(
+            name="busy",
+            lsb=28,
+            width=1,
+            reset=0,
+            port="ring_busy",
+            description="a slot is queued, in a burst or waits for its write response (input ring_busy)",
+        ),
+    ),
+    description="DDR ring status from the feature writer orb_feat_dma",
+)
+
+RING_RELEASE = Register(
+    name="RING_RELEASE",
+    offset=0x068,
+    access="wo",
+    fields=(
+        Field(
+            name="index",
+            lsb=0,
+            width=4,
+            reset=0,
+            description="writing i (0 to 15) pulses ring_release_valid for one clock with ring_release_index = i",
+        ),
+    ),
+    description="DDR ring handshake: the CPU hands a read ring buffer back",
+)
+
+RING_INFO = Register(
+    name="RING_INFO",
+    offset=0x06C,
+    access="ro",
+    fields=(
+        Field(
+            name="count",
+            lsb=0,
+            width=16,
+            reset=0,
+            port="ring_last_count",
+            description="features of the most recently published frame (input ring_last_count)",
+        ),
+        Field(
+            name="frame",
+            lsb=16,
+            width=16,
+            reset=0,
+            port="ring_last_frame",
+            description="frame number of the most recently published frame (input ring_last_frame)",
+        ),
+    ),
+    description="header of the most recently published DDR frame (ring buffer RING_STATUS.last, its slot 0)",
+)
+
+DMA_DROPPED = Register(
+    name="DMA_DROPPED",
+    offset=0x070,
+    access="ro",
+    fields=(
+        Field(
+            name="count",
+            lsb=0,
+            width=32,
+            reset=0,
+            port="dma_dropped",
+            description="input dma_dropped",
+        ),
+    ),
+    description="frames dropped by the DDR path: ring configuration in error, burst FIFO full, error response",
+)
+
+DMA_BUS_ERRORS = Register(
+    name="DMA_BUS_ERRORS",
+    offset=0x074,
+    access="ro",
+    fields=(
+        Field(
+            name="count",
+            lsb=0,
+            width=32,
+            reset=0,
+            port="dma_bus_errors",
+            description="input dma_bus_errors",
+        ),
+    ),
+    description="AXI write responses SLVERR or DECERR to the DDR feature writer",
+)
+
+DMA_BEATS = Register(
+    name="DMA_BEATS",
+    offset=0x078,
+    access="ro",
+    fields=(
+        Field(
+            name="count",
+            lsb=0,
+            width=32,
+            reset=0,
+            port="dma_beats",
+            description="input dma_beats",
+        ),
+    ),
+    description="64-bit W beats the DDR feature writer has written (8 bytes each), modulo 2^32",
+)
+
+CFG_DDR = Register(
+    name="CFG_DDR",
+    offset=0x07C,
+    access="ro",
+    fields=(
+        Field(
+            name="ddr",
+            lsb=0,
+            width=1,
+            reset=None,
+            generic="MEM_DDR_g",
+            description="features in 0: the block-RAM banks, 1: the DDR ring (RING_*, DMA_*) (generic MEM_DDR_g)",
+        ),
+        Field(
+            name="win_base",
+            lsb=4,
+            width=12,
+            reset=None,
+            generic="WIN_BASE_MB_g",
+            description="start of the DDR window the ring must lie in, MiB (generic WIN_BASE_MB_g)",
+        ),
+        Field(
+            name="win_size",
+            lsb=16,
+            width=13,
+            reset=None,
+            generic="WIN_SIZE_MB_g",
+            description="size of the DDR window, MiB, 1 to 4096 (generic WIN_SIZE_MB_g)",
+        ),
+    ),
+    description="configuration read-back: feature memory kind and DDR window",
+)
+
 REGISTERS: tuple[Register, ...] = (
     ID,
     VERSION,
@@ -536,6 +751,16 @@ REGISTERS: tuple[Register, ...] = (
     OVERFLOW_COUNT,
     DESC_LOST,
     DISCARDED,
+    RING_BASE,
+    RING_STRIDE,
+    RING_COUNT,
+    RING_STATUS,
+    RING_RELEASE,
+    RING_INFO,
+    DMA_DROPPED,
+    DMA_BUS_ERRORS,
+    DMA_BEATS,
+    CFG_DDR,
 )
 BY_NAME: dict[str, Register] = {r.name: r for r in REGISTERS}
 BY_OFFSET: dict[int, Register] = {r.offset: r for r in REGISTERS}

@@ -48,8 +48,8 @@ package orb_configs_pkg is
     block_log2 => 4
   );
 
-  -- board-vga: The Zybo Z7-20 build at 640x480@60: 4 levels of 5:4, 32 sectors, 1,024 slots per
-  -- bank.
+  -- board-vga: The Zybo Z7-20 build at 640x480@60: 4 levels of 5:4, 32 sectors, the features in a
+  -- ring of DDR buffers of 1,024 slots (docs/feature-dma.md).
   constant BOARD_VGA_c : orb_config_t := (
     width      => 640,
     height     => 480,
@@ -62,7 +62,7 @@ package orb_configs_pkg is
   );
 
   -- board-720p: The Zybo Z7-20 build at 1280x720@60 (the board's default build): 4 levels of 5:4,
-  -- 32 sectors, 2,048 slots per bank.
+  -- 32 sectors, the features in a ring of DDR buffers of 2,048 slots (docs/feature-dma.md).
   constant BOARD_720P_c : orb_config_t := (
     width      => 1280,
     height     => 720,
@@ -74,9 +74,9 @@ package orb_configs_pkg is
     block_log2 => 4
   );
 
-  -- board-1080p: The Zybo Z7-20 build at 1920x1080@60: 4 levels of 5:4, 32 sectors, 1,024 slots per
-  -- bank (block RAM allows no more; the budget is the bank's 1,023 features, below the 2,000
-  -- recommended for the size).
+  -- board-1080p: The Zybo Z7-20 build at 1920x1080@60: 4 levels of 5:4, 32 sectors, the features in
+  -- a ring of DDR buffers of 2,048 slots (the recommended 2,000 features a frame;
+  -- docs/feature-dma.md).
   constant BOARD_1080P_c : orb_config_t := (
     width      => 1920,
     height     => 1080,
@@ -84,7 +84,7 @@ package orb_configs_pkg is
     step_num   => 5,
     step_den   => 4,
     sectors    => 32,
-    mem_depth  => 1024,
+    mem_depth  => 2048,
     block_log2 => 4
   );
 

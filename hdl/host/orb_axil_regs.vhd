@@ -7,22 +7,26 @@
 -- interrupt enable and W1C status bits (set by frame_done_pulse and error_pulse; irq is the
 -- registered OR(status AND enable): latency AXIL_IRQ_LAT_c = 2 clocks from the pulse,
 -- orb_latency_pkg, docs/latency.md) and pulses release_valid with release_bank when the CPU
--- writes BANK_RELEASE. One transaction per channel at a time: AW and W are each held in a
--- one-entry buffer (awready/wready low while it is full) and may come in any order and with
--- any delay; the write is decoded once both are there and no B response is pending (or it is taken
--- at that edge), and executed with its B response one clock later; arready is
--- low from an AR handshake until its R handshake. A register read answers on R one clock after
--- the AR handshake. Memory port contract: every 32-bit aligned read at MEM_BASE_c or above
+-- writes BANK_RELEASE. For the DDR feature memory orb_feat_dma (docs/feature-dma.md) it holds the
+-- ring (ring_base, ring_stride, ring_count from RING_BASE, RING_STRIDE, RING_COUNT), pulses
+-- ring_release_valid with ring_release_index when the CPU writes RING_RELEASE, shows the ring's
+-- status and counters (RING_STATUS, RING_INFO, DMA_*; inputs that read 0 when left unconnected)
+-- and reads back MEM_DDR_g and the DDR window in CFG_DDR. One transaction per channel at a
+-- time: AW and W are each held in a one-entry buffer (awready/wready low while it is full) and
+-- may come in any order and with any delay; the write is decoded once both are there and no B
+-- response is pending (or it is taken at that edge), and executed with its B response one clock
+-- later; arready is low from an AR handshake until its R handshake. A register read answers on
+-- R one clock after the AR handshake. Memory port contract: every 32-bit aligned read at MEM_BASE_c or above
 -- raises mem_rd_en for one clock with mem_rd_addr = address - MEM_BASE_c (a byte offset, bits
 -- 1..0 zero); orb_feat_mem must drive the word on mem_rd_data so that it is valid at the
 -- MEM_LATENCY_g-th rising edge after the edge that sampled mem_rd_en = '1' (1: block RAM
 -- output, 2: block RAM with output register), where it is taken and returned with OKAY.
 -- SLVERR (no state change) answers misaligned or unknown addresses, writes to ro registers and to
--- the memory window, reads of the wo BANK_RELEASE, and rw/wo writes that set a reserved bit or
--- give a field a value outside its minimum and maximum (CTRL.mode 2 or 3, BANK_RELEASE.bank >=
--- BANKS_c, SELECT.cols or SELECT.rows 0, SELECT.budget above MEM_DEPTH_g - 1); byte strobes are
--- honoured (merged into the current value before that check). rst resets the control state and
--- every register to its documented reset value.
+-- the memory window, reads of the wo BANK_RELEASE and RING_RELEASE, and rw/wo writes that set a
+-- reserved bit or give a field a value outside its minimum and maximum (CTRL.mode 2 or 3,
+-- BANK_RELEASE.bank >= BANKS_c, SELECT.cols or SELECT.rows 0, SELECT.budget above MEM_DEPTH_g - 1,
+-- RING_COUNT.count above 16); byte strobes are honoured (merged into the current value before
+-- that check). rst resets the control state and every register to its documented reset value.
 -- The decode is data: a register file driven by orb_regs_pkg's tables REGS_c (offset, access,
 -- defined bits, reset value, live and pulse bits per register) and REG_LIMITS_c (field minima and
 -- maxima; a maximum marked `depth` is MEM_DEPTH_g - 1),
@@ -38,6 +42,8 @@ use work.orb_regs_pkg.all;
 use work.orb_regs_types_pkg.all;
 use work.orb_limits_pkg.all;
 
+-- the DDR ring's inputs have defaults: orb_accel_top may leave them unconnected (a BRAM build)
+-- vsg_off port_012
 entity orb_axil_regs is
   generic (
     WIDTH_g       : width_t                      := 640;
@@ -48,7 +54,12 @@ entity orb_axil_regs is
     SECTORS_g     : sectors_t                    := 32;   -- orientation sectors in all (orb_limits_pkg)
     MEM_DEPTH_g   : positive range 1 to 16777215 := 4096; -- read back only (CFG_MEM.depth)
     MEM_LATENCY_g : positive range 1 to 8        := 2;    -- mem_rd_en to mem_rd_data, clocks
-    ADDR_BITS_g   : positive range 18 to 20      := 18
+    ADDR_BITS_g   : positive range 18 to 20      := 18;
+    -- the DDR feature memory (docs/feature-dma.md), read back in CFG_DDR: 1 if the features go to the
+    -- DDR ring, and the DDR window the ring must lie in (MiB)
+    MEM_DDR_g     : natural range 0 to 1    := 0;
+    WIN_BASE_MB_g : natural range 0 to 4095 := 0;
+    WIN_SIZE_MB_g : natural range 1 to 4096 := 4096
   );
   port (
     clk : in    std_logic;
@@ -108,9 +119,26 @@ entity orb_axil_regs is
     release_bank  : out   std_logic_vector(BANK_RELEASE_BANK_MSB_c - BANK_RELEASE_BANK_LSB_c downto 0);
     mem_rd_en     : out   std_logic;
     mem_rd_addr   : out   std_logic_vector(ADDR_BITS_g - 1 downto 0);
-    mem_rd_data   : in    std_logic_vector(31 downto 0)
+    mem_rd_data   : in    std_logic_vector(31 downto 0);
+    -- DDR ring (orb_feat_dma, docs/feature-dma.md): configuration and release
+    ring_base          : out   std_logic_vector(31 downto 0);
+    ring_stride        : out   std_logic_vector(31 downto 0);
+    ring_count         : out   std_logic_vector(RING_COUNT_COUNT_MSB_c - RING_COUNT_COUNT_LSB_c downto 0);
+    ring_release_valid : out   std_logic;
+    ring_release_index : out   std_logic_vector(RING_RELEASE_INDEX_MSB_c - RING_RELEASE_INDEX_LSB_c downto 0);
+    -- DDR ring status and counters (0 when unconnected: a build without orb_feat_dma)
+    ring_ready      : in    std_logic_vector(15 downto 0) := (others => '0');
+    ring_last       : in    std_logic_vector(3 downto 0)  := (others => '0');
+    ring_error      : in    std_logic_vector(3 downto 0)  := (others => '0');
+    ring_busy       : in    std_logic                     := '0';
+    ring_last_count : in    std_logic_vector(15 downto 0) := (others => '0');
+    ring_last_frame : in    std_logic_vector(15 downto 0) := (others => '0');
+    dma_dropped     : in    std_logic_vector(31 downto 0) := (others => '0');
+    dma_bus_errors  : in    std_logic_vector(31 downto 0) := (others => '0');
+    dma_beats       : in    std_logic_vector(31 downto 0) := (others => '0')
   );
 end entity orb_axil_regs;
+-- vsg_on port_012
 
 architecture rtl of orb_axil_regs is
 
@@ -266,6 +294,10 @@ begin
   assert STATUS_BANK_READY_MSB_c - STATUS_BANK_READY_LSB_c + 1 = BANKS_c and BANK_RELEASE_BANK_MAX_c = BANKS_c - 1
     report "orb_axil_regs: orb_regs_pkg's bank fields do not match BANKS_c"
     severity failure;
+  assert RING_COUNT_COUNT_MAX_c = ring_ready'length and 2 ** ring_release_index'length = ring_ready'length
+         and RING_STATUS_READY_MSB_c - RING_STATUS_READY_LSB_c + 1 = ring_ready'length
+    report "orb_axil_regs: orb_regs_pkg's ring fields do not match the 16 ring buffers of ring_ready"
+    severity failure;
   assert REG_IRQ_STATUS_MASK_c = REG_IRQ_ENABLE_MASK_c and REGS_c(REG_IRQ_STATUS_IDX_c).acc = access_w1c
          and IRQ_STATUS_FRAME_DONE_LSB_c = IRQ_ENABLE_FRAME_DONE_LSB_c
          and IRQ_STATUS_ERROR_LSB_c = IRQ_ENABLE_ERROR_LSB_c
@@ -302,6 +334,19 @@ begin
     live_v(REG_OVERFLOW_COUNT_IDX_c)  := overflow_count;
     live_v(REG_DESC_LOST_IDX_c)       := desc_lost;
     live_v(REG_DISCARDED_IDX_c)       := discarded;
+    live_v(REG_RING_STATUS_IDX_c)     := put(put(ZERO_c, ring_ready, RING_STATUS_READY_MSB_c, RING_STATUS_READY_LSB_c),
+                                             ring_last, RING_STATUS_LAST_MSB_c, RING_STATUS_LAST_LSB_c);
+    live_v(REG_RING_STATUS_IDX_c)     := put(put(live_v(REG_RING_STATUS_IDX_c),
+                                                 ring_error, RING_STATUS_ERROR_MSB_c, RING_STATUS_ERROR_LSB_c),
+                                             (0 => ring_busy), RING_STATUS_BUSY_MSB_c, RING_STATUS_BUSY_LSB_c);
+    live_v(REG_RING_INFO_IDX_c)       := put(put(ZERO_c, ring_last_count, RING_INFO_COUNT_MSB_c, RING_INFO_COUNT_LSB_c),
+                                             ring_last_frame, RING_INFO_FRAME_MSB_c, RING_INFO_FRAME_LSB_c);
+    live_v(REG_DMA_DROPPED_IDX_c)     := dma_dropped;
+    live_v(REG_DMA_BUS_ERRORS_IDX_c)  := dma_bus_errors;
+    live_v(REG_DMA_BEATS_IDX_c)       := dma_beats;
+    live_v(REG_CFG_DDR_IDX_c)         := put(put(put(ZERO_c, MEM_DDR_g, CFG_DDR_DDR_MSB_c, CFG_DDR_DDR_LSB_c),
+                                                 WIN_BASE_MB_g, CFG_DDR_WIN_BASE_MSB_c, CFG_DDR_WIN_BASE_LSB_c),
+                                             WIN_SIZE_MB_g, CFG_DDR_WIN_SIZE_MSB_c, CFG_DDR_WIN_SIZE_LSB_c);
     set_v(REG_IRQ_STATUS_IDX_c)      := put(put(ZERO_c, (0 => frame_done_pulse), IRQ_STATUS_FRAME_DONE_MSB_c,
                                              IRQ_STATUS_FRAME_DONE_LSB_c),
                                          (0 => error_pulse), IRQ_STATUS_ERROR_MSB_c, IRQ_STATUS_ERROR_LSB_c);
@@ -549,5 +594,11 @@ begin
   release_bank  <= held(REG_BANK_RELEASE_IDX_c)(BANK_RELEASE_BANK_MSB_c downto BANK_RELEASE_BANK_LSB_c);
   mem_rd_en     <= mem_en_r;
   mem_rd_addr   <= mem_addr;
+  -- the DDR ring
+  ring_base          <= held(REG_RING_BASE_IDX_c)(RING_BASE_BASE_MSB_c downto RING_BASE_BASE_LSB_c);
+  ring_stride        <= held(REG_RING_STRIDE_IDX_c)(RING_STRIDE_STRIDE_MSB_c downto RING_STRIDE_STRIDE_LSB_c);
+  ring_count         <= held(REG_RING_COUNT_IDX_c)(RING_COUNT_COUNT_MSB_c downto RING_COUNT_COUNT_LSB_c);
+  ring_release_valid <= written(REG_RING_RELEASE_IDX_c);
+  ring_release_index <= held(REG_RING_RELEASE_IDX_c)(RING_RELEASE_INDEX_MSB_c downto RING_RELEASE_INDEX_LSB_c);
 
 end architecture rtl;

@@ -37,6 +37,7 @@ use work.orb_util_pkg.all;
 use work.orb_latency_pkg.all;
 use work.orb_feat_pkg.all;
 use work.orb_limits_pkg.all;
+use work.orb_slot_pkg.all;
 
 entity orb_feat_mem is
   generic (
@@ -145,18 +146,6 @@ architecture rtl of orb_feat_mem is
   signal rd_pend : std_logic_vector(1 to 2) := (others => '0');
   signal rd_word : std_logic_vector(31 downto 0) := (others => '0');
 
-  -- word(dst + bits - 1 downto dst) := data(src + bits - 1 downto src): a stream field into the slot
-  procedure copy_field (
-    variable word : inout std_logic_vector;
-    dst           : in    natural;
-    data          : in    std_logic_vector;
-    src           : in    natural;
-    bits          : in    positive
-  ) is
-  begin
-    word(dst + bits - 1 downto dst) := data(src + bits - 1 downto src);
-  end procedure copy_field;
-
   function bank_index (b : std_logic) return natural is
   begin
     if b = '1' then
@@ -244,43 +233,8 @@ begin
               wbank & phys;
 
   -- The RAM word: CPU words 0..9 of the slot (word k at bits 32 * k + 31 downto 32 * k), fields at
-  -- orb_feat_pkg's SLOT_/REC_ positions (docs/feature-word.md); a field of the stream word is
-  -- copied whole (its orb_feat_pkg width), the rest of its slot field stays 0.
-  pack : process (all) is
-    variable w : std_logic_vector(WORD_BITS_c - 1 downto 0);
-  begin
-    w := (others => '0');
-    if in_last = '1' then
-      -- end-of-frame record: count, flags, frame number, dropped upstream, truncated count, and
-      -- the parameters the frame was processed with (the end-of-frame beat's, docs/feature-word.md)
-      w(REC_COUNT_LO_c + SLOT_BITS_c - 1 downto REC_COUNT_LO_c) := std_logic_vector(cnt);
-      w(SLOT_RECORD_BIT_c)                                      := '1';
-      if trunc /= 0 then
-        w(REC_TRUNCATED_BIT_c) := '1';
-      end if;
-      copy_field(w, REC_FRAME_LO_c, in_data, EOF_FRAME_LO_c, EOF_FRAME_BITS_c);
-      copy_field(w, REC_DROPPED_LO_c, in_data, EOF_DROPS_LO_c, EOF_DROPS_BITS_c);
-      w(REC_TRUNC_LO_c + trunc'length - 1 downto REC_TRUNC_LO_c) := std_logic_vector(trunc);
-      copy_field(w, REC_THRESHOLD_LO_c, in_data, EOF_THRESHOLD_LO_c, EOF_THRESHOLD_BITS_c);
-      copy_field(w, REC_TLO_LO_c, in_data, EOF_TLO_LO_c, EOF_TLO_BITS_c);
-      w(REC_MODE_ORB_BIT_c)    := in_data(EOF_MODE_ORB_BIT_c);
-      w(REC_SELECT_GRID_BIT_c) := in_data(EOF_SELECT_GRID_BIT_c);
-      copy_field(w, REC_BUDGET_LO_c, in_data, EOF_BUDGET_LO_c, EOF_BUDGET_BITS_c);
-      copy_field(w, REC_COLS_LO_c, in_data, EOF_COLS_LO_c, EOF_COLS_BITS_c);
-      copy_field(w, REC_ROWS_LO_c, in_data, EOF_ROWS_LO_c, EOF_ROWS_BITS_c);
-    else
-      -- feature: x, y, score, response, scale, low, sector, descriptor (record flag 0)
-      copy_field(w, SLOT_X_LO_c, in_data, FEAT_X_LO_c, FEAT_X_BITS_c);
-      copy_field(w, SLOT_Y_LO_c, in_data, FEAT_Y_LO_c, FEAT_Y_BITS_c);
-      copy_field(w, SLOT_SCORE_LO_c, in_data, FEAT_SCORE_LO_c, FEAT_SCORE_BITS_c);
-      copy_field(w, SLOT_RESPONSE_LO_c, in_data, FEAT_RESPONSE_LO_c, FEAT_RESPONSE_BITS_c);
-      copy_field(w, SLOT_SCALE_LO_c, in_data, FEAT_SCALE_LO_c, FEAT_SCALE_BITS_c);
-      w(SLOT_LOW_BIT_c) := in_data(FEAT_LOW_BIT_c);
-      copy_field(w, SLOT_SECTOR_LO_c, in_data, FEAT_SECTOR_LO_c, FEAT_SECTOR_BITS_c);
-      copy_field(w, SLOT_DESC_LO_c, in_data, FEAT_DESC_LO_c, FEAT_DESC_BITS_c);
-    end if;
-    wr_data <= w;
-  end process pack;
+  -- orb_feat_pkg's SLOT_/REC_ positions (docs/feature-word.md), made as orb_feat_dma makes its slots
+  wr_data <= slot_word(in_data, in_last, cnt, trunc);
 
   -- Simple dual-port RAM: one write port (the stream), one registered read port (the CPU),
   -- read-first. A process variable: one value per word for the simulator instead of a signal

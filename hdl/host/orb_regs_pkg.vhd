@@ -21,7 +21,7 @@ package orb_regs_pkg is
   -- register map major version (incompatible changes)
   constant VERSION_MAJOR_c : natural := 3;
   -- register map minor version (compatible additions)
-  constant VERSION_MINOR_c : natural := 1;
+  constant VERSION_MINOR_c : natural := 2;
   -- byte address of the feature-memory window; register offsets lie below it
   constant MEM_BASE_c : natural := 16#10000#;
   -- feature-memory banks (double buffering)
@@ -39,7 +39,7 @@ package orb_regs_pkg is
   constant REG_VERSION_c         : natural := 16#004#;
   constant REG_VERSION_IDX_c     : natural := 1;
   constant REG_VERSION_MASK_c    : std_logic_vector(31 downto 0) := x"FFFFFFFF";
-  constant REG_VERSION_RESET_c   : std_logic_vector(31 downto 0) := x"00030001";
+  constant REG_VERSION_RESET_c   : std_logic_vector(31 downto 0) := x"00030002";
   constant VERSION_MINOR_LSB_c   : natural := 0;
   constant VERSION_MINOR_MSB_c   : natural := 15;
   constant VERSION_MINOR_RESET_c : natural := VERSION_MINOR_c;
@@ -256,13 +256,113 @@ package orb_regs_pkg is
   constant DISCARDED_COUNT_MSB_c   : natural := 31;
   constant DISCARDED_COUNT_RESET_c : natural := 0;
 
-  constant REG_COUNT_c : positive := 21;
+  -- RING_BASE (rw): DDR ring (docs/feature-dma.md): byte address of ring buffer 0
+  constant REG_RING_BASE_c        : natural := 16#058#;
+  constant REG_RING_BASE_IDX_c    : natural := 21;
+  constant REG_RING_BASE_MASK_c   : std_logic_vector(31 downto 0) := x"FFFFFFFF";
+  constant REG_RING_BASE_RESET_c  : std_logic_vector(31 downto 0) := x"00000000";
+  constant RING_BASE_BASE_LSB_c   : natural := 0;
+  constant RING_BASE_BASE_MSB_c   : natural := 31;
+  constant RING_BASE_BASE_RESET_c : natural := 0;
+
+  -- RING_STRIDE (rw): DDR ring: bytes from one ring buffer to the next
+  constant REG_RING_STRIDE_c          : natural := 16#05C#;
+  constant REG_RING_STRIDE_IDX_c      : natural := 22;
+  constant REG_RING_STRIDE_MASK_c     : std_logic_vector(31 downto 0) := x"FFFFFFFF";
+  constant REG_RING_STRIDE_RESET_c    : std_logic_vector(31 downto 0) := x"00000000";
+  constant RING_STRIDE_STRIDE_LSB_c   : natural := 0;
+  constant RING_STRIDE_STRIDE_MSB_c   : natural := 31;
+  constant RING_STRIDE_STRIDE_RESET_c : natural := 0;
+
+  -- RING_COUNT (rw): DDR ring: number of ring buffers
+  constant REG_RING_COUNT_c         : natural := 16#060#;
+  constant REG_RING_COUNT_IDX_c     : natural := 23;
+  constant REG_RING_COUNT_MASK_c    : std_logic_vector(31 downto 0) := x"0000001F";
+  constant REG_RING_COUNT_RESET_c   : std_logic_vector(31 downto 0) := x"00000000";
+  constant RING_COUNT_COUNT_LSB_c   : natural := 0;
+  constant RING_COUNT_COUNT_MSB_c   : natural := 4;
+  constant RING_COUNT_COUNT_RESET_c : natural := 0;
+  constant RING_COUNT_COUNT_MAX_c   : natural := 16;
+
+  -- RING_STATUS (ro): DDR ring status from the feature writer orb_feat_dma
+  constant REG_RING_STATUS_c         : natural := 16#064#;
+  constant REG_RING_STATUS_IDX_c     : natural := 24;
+  constant REG_RING_STATUS_MASK_c    : std_logic_vector(31 downto 0) := x"1F0FFFFF";
+  constant RING_STATUS_READY_LSB_c   : natural := 0;
+  constant RING_STATUS_READY_MSB_c   : natural := 15;
+  constant RING_STATUS_READY_RESET_c : natural := 0;
+  constant RING_STATUS_LAST_LSB_c    : natural := 16;
+  constant RING_STATUS_LAST_MSB_c    : natural := 19;
+  constant RING_STATUS_LAST_RESET_c  : natural := 0;
+  constant RING_STATUS_ERROR_LSB_c   : natural := 24;
+  constant RING_STATUS_ERROR_MSB_c   : natural := 27;
+  constant RING_STATUS_ERROR_RESET_c : natural := 0;
+  constant RING_STATUS_BUSY_LSB_c    : natural := 28;
+  constant RING_STATUS_BUSY_MSB_c    : natural := 28;
+  constant RING_STATUS_BUSY_RESET_c  : natural := 0;
+
+  -- RING_RELEASE (wo): DDR ring handshake: the CPU hands a read ring buffer back
+  constant REG_RING_RELEASE_c         : natural := 16#068#;
+  constant REG_RING_RELEASE_IDX_c     : natural := 25;
+  constant REG_RING_RELEASE_MASK_c    : std_logic_vector(31 downto 0) := x"0000000F";
+  constant REG_RING_RELEASE_RESET_c   : std_logic_vector(31 downto 0) := x"00000000";
+  constant RING_RELEASE_INDEX_LSB_c   : natural := 0;
+  constant RING_RELEASE_INDEX_MSB_c   : natural := 3;
+  constant RING_RELEASE_INDEX_RESET_c : natural := 0;
+
+  -- RING_INFO (ro): header of the most recently published DDR frame (ring buffer RING_STATUS.last, its slot 0)
+  constant REG_RING_INFO_c         : natural := 16#06C#;
+  constant REG_RING_INFO_IDX_c     : natural := 26;
+  constant REG_RING_INFO_MASK_c    : std_logic_vector(31 downto 0) := x"FFFFFFFF";
+  constant RING_INFO_COUNT_LSB_c   : natural := 0;
+  constant RING_INFO_COUNT_MSB_c   : natural := 15;
+  constant RING_INFO_COUNT_RESET_c : natural := 0;
+  constant RING_INFO_FRAME_LSB_c   : natural := 16;
+  constant RING_INFO_FRAME_MSB_c   : natural := 31;
+  constant RING_INFO_FRAME_RESET_c : natural := 0;
+
+  -- DMA_DROPPED (ro): frames dropped by the DDR path: ring configuration in error, burst FIFO full, error response
+  constant REG_DMA_DROPPED_c         : natural := 16#070#;
+  constant REG_DMA_DROPPED_IDX_c     : natural := 27;
+  constant REG_DMA_DROPPED_MASK_c    : std_logic_vector(31 downto 0) := x"FFFFFFFF";
+  constant DMA_DROPPED_COUNT_LSB_c   : natural := 0;
+  constant DMA_DROPPED_COUNT_MSB_c   : natural := 31;
+  constant DMA_DROPPED_COUNT_RESET_c : natural := 0;
+
+  -- DMA_BUS_ERRORS (ro): AXI write responses SLVERR or DECERR to the DDR feature writer
+  constant REG_DMA_BUS_ERRORS_c         : natural := 16#074#;
+  constant REG_DMA_BUS_ERRORS_IDX_c     : natural := 28;
+  constant REG_DMA_BUS_ERRORS_MASK_c    : std_logic_vector(31 downto 0) := x"FFFFFFFF";
+  constant DMA_BUS_ERRORS_COUNT_LSB_c   : natural := 0;
+  constant DMA_BUS_ERRORS_COUNT_MSB_c   : natural := 31;
+  constant DMA_BUS_ERRORS_COUNT_RESET_c : natural := 0;
+
+  -- DMA_BEATS (ro): 64-bit W beats the DDR feature writer has written (8 bytes each), modulo 2^32
+  constant REG_DMA_BEATS_c         : natural := 16#078#;
+  constant REG_DMA_BEATS_IDX_c     : natural := 29;
+  constant REG_DMA_BEATS_MASK_c    : std_logic_vector(31 downto 0) := x"FFFFFFFF";
+  constant DMA_BEATS_COUNT_LSB_c   : natural := 0;
+  constant DMA_BEATS_COUNT_MSB_c   : natural := 31;
+  constant DMA_BEATS_COUNT_RESET_c : natural := 0;
+
+  -- CFG_DDR (ro): configuration read-back: feature memory kind and DDR window
+  constant REG_CFG_DDR_c          : natural := 16#07C#;
+  constant REG_CFG_DDR_IDX_c      : natural := 30;
+  constant REG_CFG_DDR_MASK_c     : std_logic_vector(31 downto 0) := x"1FFFFFF1";
+  constant CFG_DDR_DDR_LSB_c      : natural := 0;
+  constant CFG_DDR_DDR_MSB_c      : natural := 0;
+  constant CFG_DDR_WIN_BASE_LSB_c : natural := 4;
+  constant CFG_DDR_WIN_BASE_MSB_c : natural := 15;
+  constant CFG_DDR_WIN_SIZE_LSB_c : natural := 16;
+  constant CFG_DDR_WIN_SIZE_MSB_c : natural := 28;
+
+  constant REG_COUNT_c : positive := 31;
 
   constant REGS_c : reg_desc_array_t(0 to REG_COUNT_c - 1) :=
   (
     -- register              => (offset, access, mask, reset, live, pulse)
     REG_ID_IDX_c             => (REG_ID_c, access_ro, x"FFFFFFFF", x"4F524231", x"00000000", x"00000000"),
-    REG_VERSION_IDX_c        => (REG_VERSION_c, access_ro, x"FFFFFFFF", x"00030001", x"00000000", x"00000000"),
+    REG_VERSION_IDX_c        => (REG_VERSION_c, access_ro, x"FFFFFFFF", x"00030002", x"00000000", x"00000000"),
     REG_CFG_SIZE_IDX_c       => (REG_CFG_SIZE_c, access_ro, x"FFFFFFFF", x"00000000", x"FFFFFFFF", x"00000000"),
     REG_CFG_ORB_IDX_c        => (REG_CFG_ORB_c, access_ro, x"1FFFFF0F", x"00020000", x"1FF0FF0F", x"00000000"),
     REG_CFG_MEM_IDX_c        => (REG_CFG_MEM_c, access_ro, x"0FFFFFFF", x"00000000", x"0FFFFFFF", x"00000000"),
@@ -281,18 +381,29 @@ package orb_regs_pkg is
     REG_OVERRUN_IDX_c        => (REG_OVERRUN_c, access_ro, x"FFFFFFFF", x"00000000", x"FFFFFFFF", x"00000000"),
     REG_OVERFLOW_COUNT_IDX_c => (REG_OVERFLOW_COUNT_c, access_ro, x"FFFFFFFF", x"00000000", x"FFFFFFFF", x"00000000"),
     REG_DESC_LOST_IDX_c      => (REG_DESC_LOST_c, access_ro, x"FFFFFFFF", x"00000000", x"FFFFFFFF", x"00000000"),
-    REG_DISCARDED_IDX_c      => (REG_DISCARDED_c, access_ro, x"FFFFFFFF", x"00000000", x"FFFFFFFF", x"00000000")
+    REG_DISCARDED_IDX_c      => (REG_DISCARDED_c, access_ro, x"FFFFFFFF", x"00000000", x"FFFFFFFF", x"00000000"),
+    REG_RING_BASE_IDX_c      => (REG_RING_BASE_c, access_rw, x"FFFFFFFF", x"00000000", x"00000000", x"00000000"),
+    REG_RING_STRIDE_IDX_c    => (REG_RING_STRIDE_c, access_rw, x"FFFFFFFF", x"00000000", x"00000000", x"00000000"),
+    REG_RING_COUNT_IDX_c     => (REG_RING_COUNT_c, access_rw, x"0000001F", x"00000000", x"00000000", x"00000000"),
+    REG_RING_STATUS_IDX_c    => (REG_RING_STATUS_c, access_ro, x"1F0FFFFF", x"00000000", x"1F0FFFFF", x"00000000"),
+    REG_RING_RELEASE_IDX_c   => (REG_RING_RELEASE_c, access_wo, x"0000000F", x"00000000", x"00000000", x"00000000"),
+    REG_RING_INFO_IDX_c      => (REG_RING_INFO_c, access_ro, x"FFFFFFFF", x"00000000", x"FFFFFFFF", x"00000000"),
+    REG_DMA_DROPPED_IDX_c    => (REG_DMA_DROPPED_c, access_ro, x"FFFFFFFF", x"00000000", x"FFFFFFFF", x"00000000"),
+    REG_DMA_BUS_ERRORS_IDX_c => (REG_DMA_BUS_ERRORS_c, access_ro, x"FFFFFFFF", x"00000000", x"FFFFFFFF", x"00000000"),
+    REG_DMA_BEATS_IDX_c      => (REG_DMA_BEATS_c, access_ro, x"FFFFFFFF", x"00000000", x"FFFFFFFF", x"00000000"),
+    REG_CFG_DDR_IDX_c        => (REG_CFG_DDR_c, access_ro, x"1FFFFFF1", x"00000000", x"1FFFFFF1", x"00000000")
   );
 
-  constant REG_LIMITS_c : reg_limit_array_t(0 to 5) :=
+  constant REG_LIMITS_c : reg_limit_array_t(0 to 6) :=
   (
     -- field => (register, mask, min, max, depth, lsb)
-    0 => (REG_CTRL_IDX_c, x"00000030", x"00000000", x"00000010", false, 4),        -- CTRL.mode
-    1 => (REG_SELECT_IDX_c, x"00000003", x"00000000", x"00000001", false, 0),      -- SELECT.mode
-    2 => (REG_SELECT_IDX_c, x"00000F00", x"00000100", x"00000F00", false, 8),      -- SELECT.cols
-    3 => (REG_SELECT_IDX_c, x"0000F000", x"00001000", x"0000F000", false, 12),     -- SELECT.rows
-    4 => (REG_SELECT_IDX_c, x"0FFF0000", x"00000000", x"0FFF0000", true, 16),      -- SELECT.budget
-    5 => (REG_BANK_RELEASE_IDX_c, x"0000000F", x"00000000", x"00000001", false, 0) -- BANK_RELEASE.bank
+    0 => (REG_CTRL_IDX_c, x"00000030", x"00000000", x"00000010", false, 4),         -- CTRL.mode
+    1 => (REG_SELECT_IDX_c, x"00000003", x"00000000", x"00000001", false, 0),       -- SELECT.mode
+    2 => (REG_SELECT_IDX_c, x"00000F00", x"00000100", x"00000F00", false, 8),       -- SELECT.cols
+    3 => (REG_SELECT_IDX_c, x"0000F000", x"00001000", x"0000F000", false, 12),      -- SELECT.rows
+    4 => (REG_SELECT_IDX_c, x"0FFF0000", x"00000000", x"0FFF0000", true, 16),       -- SELECT.budget
+    5 => (REG_BANK_RELEASE_IDX_c, x"0000000F", x"00000000", x"00000001", false, 0), -- BANK_RELEASE.bank
+    6 => (REG_RING_COUNT_IDX_c, x"0000001F", x"00000000", x"00000010", false, 0)    -- RING_COUNT.count
   );
 
 end package orb_regs_pkg;

@@ -5,11 +5,14 @@
 -- orb_video_check (the detector only ever sees complete frames; faulty ones are padded and
 -- flagged) -> orb_core (SCALES_g scales of the STEP_NUM_g:STEP_DEN_g pyramid, SECTORS_g
 -- orientation sectors, orb or fast mode) ->
--- orb_feat_mem (two banks the CPU reads over AXI4-Lite; a frame flagged bad by the checker is
--- aborted there, never published) and orb_overlay (the previous frame's features drawn on the
+-- the feature memory (MEM_KIND_g "BRAM": orb_feat_mem, two banks the CPU reads over AXI4-Lite;
+-- "DDR": orb_feat_dma, a ring of frame buffers in DDR written through the AXI4 master m_axi_feat,
+-- docs/feature-dma.md; a frame flagged bad by the checker is aborted there, never published) and
+-- orb_overlay (the previous frame's features drawn on the
 -- passing video, m_axis_video, in the input's packing). orb_axil_regs holds the registers
 -- (docs/registers.md) and forwards reads at MEM_BASE_c and above to the feature memory. rst
--- resets everything; CTRL.soft_reset resets the video and feature path (not the registers), the
+-- resets everything (the AXI4 master at once); CTRL.soft_reset resets the video and feature path
+-- (not the registers; a burst under way on m_axi_feat is finished), the
 -- overlay once m_axis_video holds no beat waiting for the sink (a soft reset never withdraws a
 -- beat without its handshake: AXI4-Stream, docs/formal.md).
 -- Ports and generics: docs/entities/orb_accel_top.md
@@ -40,7 +43,13 @@ entity orb_accel_top is
     BLOCK_LOG2_g : block_log2_t := TOPS_DEFAULT_c.block_log2; -- overlay block size 2^BLOCK_LOG2_g
     -- orb_video_check's: 0 a source that waits while a faulty frame is padded; > 0 a live source
     -- (HDMI), never held, and the clocks an open frame's input may be idle (docs/video-input.md)
-    IDLE_TIMEOUT_g : natural range 0 to 16777215 := 0
+    IDLE_TIMEOUT_g : natural range 0 to 16777215 := 0;
+    -- the feature memory: "BRAM" (two banks the CPU reads over AXI4-Lite, docs/feature-memory.md)
+    -- or "DDR" (a ring of frame buffers in DDR written through m_axi_feat, docs/feature-dma.md)
+    MEM_KIND_g    : string                    := "BRAM";
+    DMA_FIFO_g    : positive range 16 to 4096 := 256; -- "DDR": slots the burst FIFO holds
+    WIN_BASE_MB_g : natural range 0 to 4095   := 0;   -- "DDR": the window the ring must lie in, MiB
+    WIN_SIZE_MB_g : positive range 1 to 4096  := 4096
   );
   port (
     clk : in    std_logic;
@@ -77,7 +86,26 @@ entity orb_accel_top is
     s_axil_rresp   : out   std_logic_vector(1 downto 0);
     s_axil_rvalid  : out   std_logic;
     s_axil_rready  : in    std_logic;
-    irq            : out   std_logic
+    irq            : out   std_logic;
+    -- AXI4 write master of the "DDR" feature memory (idle for "BRAM", its inputs unused there)
+    m_axi_feat_awid    : out   std_logic_vector(0 downto 0);
+    m_axi_feat_awaddr  : out   std_logic_vector(31 downto 0);
+    m_axi_feat_awlen   : out   std_logic_vector(7 downto 0);
+    m_axi_feat_awsize  : out   std_logic_vector(2 downto 0);
+    m_axi_feat_awburst : out   std_logic_vector(1 downto 0);
+    m_axi_feat_awcache : out   std_logic_vector(3 downto 0);
+    m_axi_feat_awprot  : out   std_logic_vector(2 downto 0);
+    m_axi_feat_awvalid : out   std_logic;
+    m_axi_feat_awready : in    std_logic;
+    m_axi_feat_wdata   : out   std_logic_vector(63 downto 0);
+    m_axi_feat_wstrb   : out   std_logic_vector(7 downto 0);
+    m_axi_feat_wlast   : out   std_logic;
+    m_axi_feat_wvalid  : out   std_logic;
+    m_axi_feat_wready  : in    std_logic;
+    m_axi_feat_bid     : in    std_logic_vector(0 downto 0);
+    m_axi_feat_bresp   : in    std_logic_vector(1 downto 0);
+    m_axi_feat_bvalid  : in    std_logic;
+    m_axi_feat_bready  : out   std_logic
   );
 end entity orb_accel_top;
 
@@ -89,6 +117,7 @@ architecture rtl of orb_accel_top is
   constant SEL_SLOTS_c : positive := maximum(2, level_base(MEM_DEPTH_g - 1, STEP_NUM_g, STEP_DEN_g, SCALES_g, SCALES_g));
   constant LUMA_c      : boolean  := INPUT_g = "LUMA";
   constant RBG_c       : boolean  := INPUT_g = "RBG";
+  constant DDR_c       : boolean  := MEM_KIND_g = "DDR";
 
   -- resets
   signal soft_reset : std_logic;
@@ -160,6 +189,24 @@ architecture rtl of orb_accel_top is
   signal mem_rd_en      : std_logic;
   signal mem_rd_addr    : std_logic_vector(ADDR_BITS_c - 1 downto 0);
   signal mem_rd_data    : std_logic_vector(31 downto 0);
+  signal error_pulse    : std_logic;
+
+  -- the DDR ring (docs/feature-dma.md)
+  signal ring_base    : std_logic_vector(31 downto 0);
+  signal ring_stride  : std_logic_vector(31 downto 0);
+  signal ring_count   : std_logic_vector(4 downto 0);
+  signal ring_rel     : std_logic;
+  signal ring_rel_idx : std_logic_vector(3 downto 0);
+  signal ring_ready   : std_logic_vector(15 downto 0) := (others => '0');
+  signal ring_last    : std_logic_vector(3 downto 0) := (others => '0');
+  signal ring_error   : std_logic_vector(3 downto 0) := (others => '0');
+  signal ring_busy    : std_logic := '0';
+  signal ring_lcount  : std_logic_vector(15 downto 0) := (others => '0');
+  signal ring_lframe  : std_logic_vector(15 downto 0) := (others => '0');
+  signal dma_dropped  : std_logic_vector(31 downto 0) := (others => '0');
+  signal dma_bus_err  : std_logic_vector(31 downto 0) := (others => '0');
+  signal dma_beats    : std_logic_vector(31 downto 0) := (others => '0');
+  signal dma_error    : std_logic := '0';
 
 begin
 
@@ -173,6 +220,10 @@ begin
 
   assert mem_depth_legal(MEM_DEPTH_g)
     report "orb_accel_top: MEM_DEPTH_g must be " & MEM_DEPTH_TEXT_c
+    severity failure;
+
+  assert MEM_KIND_g = "BRAM" or MEM_KIND_g = "DDR"
+    report "orb_accel_top: MEM_KIND_g must be ""BRAM"" or ""DDR"""
     severity failure;
 
   -- The soft reset (a register pulse) resets the video and feature path for one clock after it;
@@ -208,61 +259,78 @@ begin
       SECTORS_g     => SECTORS_g,
       MEM_DEPTH_g   => MEM_DEPTH_g,
       MEM_LATENCY_g => FEAT_MEM_READ_LAT_c,
-      ADDR_BITS_g   => ADDR_BITS_c
+      ADDR_BITS_g   => ADDR_BITS_c,
+      MEM_DDR_g     => boolean'pos(DDR_c),
+      WIN_BASE_MB_g => WIN_BASE_MB_g,
+      WIN_SIZE_MB_g => WIN_SIZE_MB_g
     )
     port map (
-      clk              => clk,
-      rst              => rst,
-      s_axil_awaddr    => s_axil_awaddr,
-      s_axil_awprot    => s_axil_awprot,
-      s_axil_awvalid   => s_axil_awvalid,
-      s_axil_awready   => s_axil_awready,
-      s_axil_wdata     => s_axil_wdata,
-      s_axil_wstrb     => s_axil_wstrb,
-      s_axil_wvalid    => s_axil_wvalid,
-      s_axil_wready    => s_axil_wready,
-      s_axil_bresp     => s_axil_bresp,
-      s_axil_bvalid    => s_axil_bvalid,
-      s_axil_bready    => s_axil_bready,
-      s_axil_araddr    => s_axil_araddr,
-      s_axil_arprot    => s_axil_arprot,
-      s_axil_arvalid   => s_axil_arvalid,
-      s_axil_arready   => s_axil_arready,
-      s_axil_rdata     => s_axil_rdata,
-      s_axil_rresp     => s_axil_rresp,
-      s_axil_rvalid    => s_axil_rvalid,
-      s_axil_rready    => s_axil_rready,
-      enable           => enable,
-      soft_reset       => soft_reset,
-      mode_orb         => mode_orb,
-      threshold        => thresh,
-      threshold_lo     => thr_lo,
-      select_grid      => sel_grid,
-      grid_cols        => sel_cols,
-      grid_rows        => sel_rows,
-      budget           => budget,
-      frame_count      => std_logic_vector(frames),
-      dropped          => dropped,
-      proto_errors     => protocol_errors,
-      bank_ready       => bank_ready,
-      last_bank        => last_bank,
-      overflow         => overflow,
-      bank0_count      => bank0_count,
-      bank0_frame      => bank0_frame,
-      bank1_count      => bank1_count,
-      bank1_frame      => bank1_frame,
-      overrun          => overrun,
-      overflow_count   => overflow_count,
-      desc_lost        => desc_lost,
-      discarded        => discarded,
-      frame_done_pulse => mem_frame_done,
-      error_pulse      => frame_abort,
-      irq              => irq,
-      release_valid    => release_valid,
-      release_bank     => release_bank,
-      mem_rd_en        => mem_rd_en,
-      mem_rd_addr      => mem_rd_addr,
-      mem_rd_data      => mem_rd_data
+      clk                => clk,
+      rst                => rst,
+      s_axil_awaddr      => s_axil_awaddr,
+      s_axil_awprot      => s_axil_awprot,
+      s_axil_awvalid     => s_axil_awvalid,
+      s_axil_awready     => s_axil_awready,
+      s_axil_wdata       => s_axil_wdata,
+      s_axil_wstrb       => s_axil_wstrb,
+      s_axil_wvalid      => s_axil_wvalid,
+      s_axil_wready      => s_axil_wready,
+      s_axil_bresp       => s_axil_bresp,
+      s_axil_bvalid      => s_axil_bvalid,
+      s_axil_bready      => s_axil_bready,
+      s_axil_araddr      => s_axil_araddr,
+      s_axil_arprot      => s_axil_arprot,
+      s_axil_arvalid     => s_axil_arvalid,
+      s_axil_arready     => s_axil_arready,
+      s_axil_rdata       => s_axil_rdata,
+      s_axil_rresp       => s_axil_rresp,
+      s_axil_rvalid      => s_axil_rvalid,
+      s_axil_rready      => s_axil_rready,
+      enable             => enable,
+      soft_reset         => soft_reset,
+      mode_orb           => mode_orb,
+      threshold          => thresh,
+      threshold_lo       => thr_lo,
+      select_grid        => sel_grid,
+      grid_cols          => sel_cols,
+      grid_rows          => sel_rows,
+      budget             => budget,
+      frame_count        => std_logic_vector(frames),
+      dropped            => dropped,
+      proto_errors       => protocol_errors,
+      bank_ready         => bank_ready,
+      last_bank          => last_bank,
+      overflow           => overflow,
+      bank0_count        => bank0_count,
+      bank0_frame        => bank0_frame,
+      bank1_count        => bank1_count,
+      bank1_frame        => bank1_frame,
+      overrun            => overrun,
+      overflow_count     => overflow_count,
+      desc_lost          => desc_lost,
+      discarded          => discarded,
+      frame_done_pulse   => mem_frame_done,
+      error_pulse        => error_pulse,
+      irq                => irq,
+      release_valid      => release_valid,
+      release_bank       => release_bank,
+      ring_base          => ring_base,
+      ring_stride        => ring_stride,
+      ring_count         => ring_count,
+      ring_release_valid => ring_rel,
+      ring_release_index => ring_rel_idx,
+      ring_ready         => ring_ready,
+      ring_last          => ring_last,
+      ring_error         => ring_error,
+      ring_busy          => ring_busy,
+      ring_last_count    => ring_lcount,
+      ring_last_frame    => ring_lframe,
+      dma_dropped        => dma_dropped,
+      dma_bus_errors     => dma_bus_err,
+      dma_beats          => dma_beats,
+      mem_rd_en          => mem_rd_en,
+      mem_rd_addr        => mem_rd_addr,
+      mem_rd_data        => mem_rd_data
     );
 
   -- Video broadcast: a beat is taken when both the luma path and the overlay can take it.
@@ -393,40 +461,128 @@ begin
     end if;
   end process count_frames;
 
-  mem : entity work.orb_feat_mem
-    generic map (
-      DEPTH_g     => MEM_DEPTH_g,
-      SEL_SLOTS_g => SEL_SLOTS_c
-    )
-    port map (
-      clk                => clk,
-      rst                => core_rst,
-      s_axis_feat_tdata  => f_data,
-      s_axis_feat_tvalid => f_valid and ovf_ready,
-      s_axis_feat_tready => mem_ready,
-      s_axis_feat_tlast  => f_last,
-      frame_abort        => frame_abort,
-      release_valid      => release_valid,
-      release_bank       => release_bank(0),
-      frame_done         => mem_frame_done,
-      bank_ready         => bank_ready,
-      bank_truncated     => open,
-      last_bank          => last_bank,
-      bank0_count        => bank0_count,
-      bank0_frame        => bank0_frame,
-      bank0_dropped      => open,
-      bank0_trunc        => open,
-      bank1_count        => bank1_count,
-      bank1_frame        => bank1_frame,
-      bank1_dropped      => open,
-      bank1_trunc        => open,
-      overrun            => overrun,
-      overflow           => overflow_count,
-      aborted            => open,
-      mem_rd_en          => mem_rd_en,
-      mem_rd_addr        => mem_rd_addr(MEM_BITS_c - 1 downto 0),
-      mem_rd_data        => mem_rd_data
-    );
+  error_pulse <= frame_abort or dma_error;
+
+  -- The block-RAM feature memory: two banks the CPU reads through the register block's window.
+  gen_bram : if not DDR_c generate
+    mem : entity work.orb_feat_mem
+      generic map (
+        DEPTH_g     => MEM_DEPTH_g,
+        SEL_SLOTS_g => SEL_SLOTS_c
+      )
+      port map (
+        clk                => clk,
+        rst                => core_rst,
+        s_axis_feat_tdata  => f_data,
+        s_axis_feat_tvalid => f_valid and ovf_ready,
+        s_axis_feat_tready => mem_ready,
+        s_axis_feat_tlast  => f_last,
+        frame_abort        => frame_abort,
+        release_valid      => release_valid,
+        release_bank       => release_bank(0),
+        frame_done         => mem_frame_done,
+        bank_ready         => bank_ready,
+        bank_truncated     => open,
+        last_bank          => last_bank,
+        bank0_count        => bank0_count,
+        bank0_frame        => bank0_frame,
+        bank0_dropped      => open,
+        bank0_trunc        => open,
+        bank1_count        => bank1_count,
+        bank1_frame        => bank1_frame,
+        bank1_dropped      => open,
+        bank1_trunc        => open,
+        overrun            => overrun,
+        overflow           => overflow_count,
+        aborted            => open,
+        mem_rd_en          => mem_rd_en,
+        mem_rd_addr        => mem_rd_addr(MEM_BITS_c - 1 downto 0),
+        mem_rd_data        => mem_rd_data
+      );
+
+    m_axi_feat_awid    <= (others => '0');
+    m_axi_feat_awaddr  <= (others => '0');
+    m_axi_feat_awlen   <= (others => '0');
+    m_axi_feat_awsize  <= (others => '0');
+    m_axi_feat_awburst <= (others => '0');
+    m_axi_feat_awcache <= (others => '0');
+    m_axi_feat_awprot  <= (others => '0');
+    m_axi_feat_awvalid <= '0';
+    m_axi_feat_wdata   <= (others => '0');
+    m_axi_feat_wstrb   <= (others => '0');
+    m_axi_feat_wlast   <= '0';
+    m_axi_feat_wvalid  <= '0';
+    m_axi_feat_bready  <= '0';
+  end generate gen_bram;
+
+  -- The DDR feature memory: the ring of frame buffers, written through m_axi_feat; the soft reset
+  -- never cuts a burst (core_rst), the AXI reset (rst) resets the master at once.
+  gen_ddr : if DDR_c generate
+    dma : entity work.orb_feat_dma
+      generic map (
+        DEPTH_g       => MEM_DEPTH_g,
+        SEL_SLOTS_g   => SEL_SLOTS_c,
+        FIFO_DEPTH_g  => DMA_FIFO_g,
+        OUTSTANDING_g => 4,
+        WIN_BASE_MB_g => WIN_BASE_MB_g,
+        WIN_SIZE_MB_g => WIN_SIZE_MB_g
+      )
+      port map (
+        clk                => clk,
+        rst                => core_rst,
+        bus_rst            => rst,
+        s_axis_feat_tdata  => f_data,
+        s_axis_feat_tvalid => f_valid and ovf_ready,
+        s_axis_feat_tready => mem_ready,
+        s_axis_feat_tlast  => f_last,
+        frame_abort        => frame_abort,
+        ring_base          => ring_base,
+        ring_stride        => ring_stride,
+        ring_count         => ring_count,
+        release_valid      => ring_rel,
+        release_index      => ring_rel_idx,
+        frame_done         => mem_frame_done,
+        dma_error          => dma_error,
+        ring_ready         => ring_ready,
+        ring_last          => ring_last,
+        ring_error         => ring_error,
+        busy               => ring_busy,
+        last_count         => ring_lcount,
+        last_frame         => ring_lframe,
+        overrun            => overrun,
+        overflow           => overflow_count,
+        aborted            => open,
+        dma_dropped        => dma_dropped,
+        bus_errors         => dma_bus_err,
+        beats              => dma_beats,
+        m_axi_feat_awid    => m_axi_feat_awid,
+        m_axi_feat_awaddr  => m_axi_feat_awaddr,
+        m_axi_feat_awlen   => m_axi_feat_awlen,
+        m_axi_feat_awsize  => m_axi_feat_awsize,
+        m_axi_feat_awburst => m_axi_feat_awburst,
+        m_axi_feat_awcache => m_axi_feat_awcache,
+        m_axi_feat_awprot  => m_axi_feat_awprot,
+        m_axi_feat_awvalid => m_axi_feat_awvalid,
+        m_axi_feat_awready => m_axi_feat_awready,
+        m_axi_feat_wdata   => m_axi_feat_wdata,
+        m_axi_feat_wstrb   => m_axi_feat_wstrb,
+        m_axi_feat_wlast   => m_axi_feat_wlast,
+        m_axi_feat_wvalid  => m_axi_feat_wvalid,
+        m_axi_feat_wready  => m_axi_feat_wready,
+        m_axi_feat_bid     => m_axi_feat_bid,
+        m_axi_feat_bresp   => m_axi_feat_bresp,
+        m_axi_feat_bvalid  => m_axi_feat_bvalid,
+        m_axi_feat_bready  => m_axi_feat_bready
+      );
+
+    bank_ready  <= (others => '0');
+    last_bank   <= '0';
+    bank0_count <= (others => '0');
+    bank0_frame <= (others => '0');
+    bank1_count <= (others => '0');
+    bank1_frame <= (others => '0');
+    mem_rd_data <= (others => '0');
+  end generate gen_ddr;
 
   overflow <= '1' when unsigned(overflow_count) /= 0 else
               '0';

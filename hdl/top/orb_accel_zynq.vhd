@@ -15,6 +15,9 @@
 -- the grey value is bits [7:0] and bits [23:8] are ignored. The AXI4-Lite address is
 -- C_S_AXI_CTRL_ADDR_WIDTH bits; orb_accel_top decodes the low max(18, clog2(0x10000 +
 -- 128 * MEM_DEPTH_g)) of them (20 for MEM_DEPTH_g = 4096), the bits above are ignored.
+-- MEM_KIND_g "DDR" writes the features into a ring of DDR buffers through m_axi_feat (64-bit AXI4,
+-- write only, for the PS7's S_AXI_HP0; docs/feature-dma.md) instead of the block-RAM banks; its
+-- inputs are unused for "BRAM".
 -- IDLE_TIMEOUT_g > 0 makes the video checker treat the input as a live source (HDMI through
 -- v_vid_in_axi4s, which loses pixels when its FIFO is full): never held, pixels arriving while a
 -- faulty frame is padded discarded, and an open frame idle IDLE_TIMEOUT_g clocks padded at once,
@@ -32,17 +35,20 @@ use ieee.std_logic_1164.all;
 -- vsg_off generic_600
 entity orb_accel_zynq is
   generic (
-    WIDTH_g                 : integer := 640;   -- frame width
-    HEIGHT_g                : integer := 480;   -- frame height
-    SCALES_g                : integer := 2;     -- scales (pyramid levels)
-    STEP_NUM_g              : integer := 2;     -- pyramid step STEP_NUM_g:STEP_DEN_g
+    WIDTH_g                 : integer := 640;    -- frame width
+    HEIGHT_g                : integer := 480;    -- frame height
+    SCALES_g                : integer := 2;      -- scales (pyramid levels)
+    STEP_NUM_g              : integer := 2;      -- pyramid step STEP_NUM_g:STEP_DEN_g
     STEP_DEN_g              : integer := 1;
-    SECTORS_g               : integer := 32;    -- orientation sectors in all
-    MEM_DEPTH_g             : integer := 1024;  -- feature slots per bank
-    INPUT_g                 : string  := "RBG"; -- "RGB", "RBG" (Digilent dvi2rgb) or "LUMA"
-    BLOCK_LOG2_g            : integer := 3;     -- overlay block size 2^BLOCK_LOG2_g
-    IDLE_TIMEOUT_g          : integer := 4096;  -- HDMI: an open frame idle this many clocks is padded
-    C_S_AXI_CTRL_ADDR_WIDTH : integer := 20     -- s_axi_ctrl address bits (at least 18)
+    SECTORS_g               : integer := 32;     -- orientation sectors in all
+    MEM_DEPTH_g             : integer := 1024;   -- feature slots per bank
+    INPUT_g                 : string  := "RBG";  -- "RGB", "RBG" (Digilent dvi2rgb) or "LUMA"
+    BLOCK_LOG2_g            : integer := 3;      -- overlay block size 2^BLOCK_LOG2_g
+    IDLE_TIMEOUT_g          : integer := 4096;   -- HDMI: an open frame idle this many clocks is padded
+    MEM_KIND_g              : string  := "BRAM"; -- "BRAM" (banks read over s_axi_ctrl) or "DDR" (m_axi_feat)
+    WIN_BASE_MB_g           : integer := 0;      -- "DDR": the DDR window the ring must lie in, MiB
+    WIN_SIZE_MB_g           : integer := 1024;   -- (the Zybo Z7-20's 1 GiB at 0)
+    C_S_AXI_CTRL_ADDR_WIDTH : integer := 20      -- s_axi_ctrl address bits (at least 18)
   );
   -- vsg_on generic_600
   port (
@@ -81,7 +87,27 @@ entity orb_accel_zynq is
     m_axis_video_tuser  : out   std_logic;
     m_axis_video_tlast  : out   std_logic;
     -- interrupt (level, active high)
-    irq : out   std_logic
+    irq : out   std_logic;
+    -- AXI4 write master to DDR (the PS7's S_AXI_HP0) of the "DDR" feature memory (docs/feature-dma.md);
+    -- idle for "BRAM"
+    m_axi_feat_awid    : out   std_logic_vector(0 downto 0);
+    m_axi_feat_awaddr  : out   std_logic_vector(31 downto 0);
+    m_axi_feat_awlen   : out   std_logic_vector(7 downto 0);
+    m_axi_feat_awsize  : out   std_logic_vector(2 downto 0);
+    m_axi_feat_awburst : out   std_logic_vector(1 downto 0);
+    m_axi_feat_awcache : out   std_logic_vector(3 downto 0);
+    m_axi_feat_awprot  : out   std_logic_vector(2 downto 0);
+    m_axi_feat_awvalid : out   std_logic;
+    m_axi_feat_awready : in    std_logic;
+    m_axi_feat_wdata   : out   std_logic_vector(63 downto 0);
+    m_axi_feat_wstrb   : out   std_logic_vector(7 downto 0);
+    m_axi_feat_wlast   : out   std_logic;
+    m_axi_feat_wvalid  : out   std_logic;
+    m_axi_feat_wready  : in    std_logic;
+    m_axi_feat_bid     : in    std_logic_vector(0 downto 0);
+    m_axi_feat_bresp   : in    std_logic_vector(1 downto 0);
+    m_axi_feat_bvalid  : in    std_logic;
+    m_axi_feat_bready  : out   std_logic
   );
 
   -- Interface attributes for Vivado's IP integrator (UG994, "HDL Parameters for Interface
@@ -94,7 +120,7 @@ entity orb_accel_zynq is
   --
   -- attribute x_interface_info of aclk         : signal is "xilinx.com:signal:clock:1.0 aclk CLK";
   -- attribute x_interface_parameter of aclk    : signal is
-  --   "ASSOCIATED_BUSIF s_axi_ctrl:s_axis_video:m_axis_video, ASSOCIATED_RESET aresetn";
+  --   "ASSOCIATED_BUSIF s_axi_ctrl:s_axis_video:m_axis_video:m_axi_feat, ASSOCIATED_RESET aresetn";
   -- attribute x_interface_info of aresetn      : signal is "xilinx.com:signal:reset:1.0 aresetn RST";
   -- attribute x_interface_parameter of aresetn : signal is "POLARITY ACTIVE_LOW";
 
@@ -103,6 +129,25 @@ entity orb_accel_zynq is
 
   attribute x_interface_info of irq      : signal is "xilinx.com:signal:interrupt:1.0 irq INTERRUPT";
   attribute x_interface_parameter of irq : signal is "SENSITIVITY LEVEL_HIGH";
+
+  -- m_axi_feat: the master's outputs name the interface (its inputs cannot carry attributes here,
+  -- above; Vivado infers the interface from the m_axi_feat_ prefix and these)
+  attribute x_interface_info of m_axi_feat_awaddr       : signal is "xilinx.com:interface:aximm:1.0 m_axi_feat AWADDR";
+  attribute x_interface_parameter of m_axi_feat_awaddr  : signal is
+    "PROTOCOL AXI4, DATA_WIDTH 64, ADDR_WIDTH 32, ID_WIDTH 1, READ_WRITE_MODE WRITE_ONLY, " &
+    "MAX_BURST_LENGTH 8, NUM_WRITE_OUTSTANDING 4, NUM_READ_OUTSTANDING 0";
+  attribute x_interface_info of m_axi_feat_awid    : signal is "xilinx.com:interface:aximm:1.0 m_axi_feat AWID";
+  attribute x_interface_info of m_axi_feat_awlen   : signal is "xilinx.com:interface:aximm:1.0 m_axi_feat AWLEN";
+  attribute x_interface_info of m_axi_feat_awsize  : signal is "xilinx.com:interface:aximm:1.0 m_axi_feat AWSIZE";
+  attribute x_interface_info of m_axi_feat_awburst : signal is "xilinx.com:interface:aximm:1.0 m_axi_feat AWBURST";
+  attribute x_interface_info of m_axi_feat_awcache : signal is "xilinx.com:interface:aximm:1.0 m_axi_feat AWCACHE";
+  attribute x_interface_info of m_axi_feat_awprot  : signal is "xilinx.com:interface:aximm:1.0 m_axi_feat AWPROT";
+  attribute x_interface_info of m_axi_feat_awvalid : signal is "xilinx.com:interface:aximm:1.0 m_axi_feat AWVALID";
+  attribute x_interface_info of m_axi_feat_wdata   : signal is "xilinx.com:interface:aximm:1.0 m_axi_feat WDATA";
+  attribute x_interface_info of m_axi_feat_wstrb   : signal is "xilinx.com:interface:aximm:1.0 m_axi_feat WSTRB";
+  attribute x_interface_info of m_axi_feat_wlast   : signal is "xilinx.com:interface:aximm:1.0 m_axi_feat WLAST";
+  attribute x_interface_info of m_axi_feat_wvalid  : signal is "xilinx.com:interface:aximm:1.0 m_axi_feat WVALID";
+  attribute x_interface_info of m_axi_feat_bready  : signal is "xilinx.com:interface:aximm:1.0 m_axi_feat BREADY";
 
 end entity orb_accel_zynq;
 
@@ -182,7 +227,10 @@ begin
       MEM_DEPTH_g    => MEM_DEPTH_g,
       INPUT_g        => INPUT_g,
       BLOCK_LOG2_g   => BLOCK_LOG2_g,
-      IDLE_TIMEOUT_g => IDLE_TIMEOUT_g
+      IDLE_TIMEOUT_g => IDLE_TIMEOUT_g,
+      MEM_KIND_g     => MEM_KIND_g,
+      WIN_BASE_MB_g  => WIN_BASE_MB_g,
+      WIN_SIZE_MB_g  => WIN_SIZE_MB_g
     )
     port map (
       clk                 => aclk,
@@ -216,7 +264,25 @@ begin
       s_axil_rresp        => s_axi_ctrl_rresp,
       s_axil_rvalid       => s_axi_ctrl_rvalid,
       s_axil_rready       => s_axi_ctrl_rready,
-      irq                 => irq
+      irq                 => irq,
+      m_axi_feat_awid     => m_axi_feat_awid,
+      m_axi_feat_awaddr   => m_axi_feat_awaddr,
+      m_axi_feat_awlen    => m_axi_feat_awlen,
+      m_axi_feat_awsize   => m_axi_feat_awsize,
+      m_axi_feat_awburst  => m_axi_feat_awburst,
+      m_axi_feat_awcache  => m_axi_feat_awcache,
+      m_axi_feat_awprot   => m_axi_feat_awprot,
+      m_axi_feat_awvalid  => m_axi_feat_awvalid,
+      m_axi_feat_awready  => m_axi_feat_awready,
+      m_axi_feat_wdata    => m_axi_feat_wdata,
+      m_axi_feat_wstrb    => m_axi_feat_wstrb,
+      m_axi_feat_wlast    => m_axi_feat_wlast,
+      m_axi_feat_wvalid   => m_axi_feat_wvalid,
+      m_axi_feat_wready   => m_axi_feat_wready,
+      m_axi_feat_bid      => m_axi_feat_bid,
+      m_axi_feat_bresp    => m_axi_feat_bresp,
+      m_axi_feat_bvalid   => m_axi_feat_bvalid,
+      m_axi_feat_bready   => m_axi_feat_bready
     );
 
 end architecture rtl;

@@ -90,8 +90,8 @@ FLOW_VERSION = 4  # 4: the timing pass keeps its netlist (net.json) for the wors
 # (their defaults, given explicitly so that they are in the record and the cache key).
 TOPS: dict[str, dict[str, int | str]] = {
     "orb_core": {},
-    "orb_accel_top": {"MEM_DEPTH_g": 1024, "INPUT_g": "RGB"},
-    "orb_accel_zynq": {"MEM_DEPTH_g": 1024, "INPUT_g": "RBG"},
+    "orb_accel_top": {"MEM_DEPTH_g": 1024, "INPUT_g": "RGB", "MEM_KIND_g": "BRAM"},
+    "orb_accel_zynq": {"MEM_DEPTH_g": 1024, "INPUT_g": "RBG", "MEM_KIND_g": "BRAM"},
 }
 DEFAULT_TOP = "orb_core"
 # make synth: (top, "WxHxS"), resources only; documented in docs/synthesis.md
@@ -250,6 +250,8 @@ def generics_job(top: str, c: dict[str, Any]) -> Job:
         extra += [("STEP_NUM_g", str(c["step_num"])), ("STEP_DEN_g", str(c["step_den"]))]
     if c["block_log2"] != 3:
         extra.append(("BLOCK_LOG2_g", str(c["block_log2"])))
+    if c.get("mem_kind", "bram") != "bram":  # the tops' default MEM_KIND_g "BRAM"
+        extra.append(("MEM_KIND_g", c["mem_kind"].upper()))
     return Job(top, parse_config(f"{c['width']}x{c['height']}x{c['scales']}"), tuple(extra))
 
 

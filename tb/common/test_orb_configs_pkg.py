@@ -31,6 +31,7 @@ DATA = ROOT / "golden_model" / "data" / "configs.json"
 VIEWS = (gen.VHDL, gen.PYTHON, gen.MARKDOWN)
 RAW: dict[str, Any] = json.loads(DATA.read_text())
 HARDWARE = RAW["hardware"]
+VHDL_FIELDS = gen.VHDL_FIELDS  # the record's numeric generics (mem_kind is the string generic MEM_KIND_g)
 
 
 @pytest.mark.parametrize("view", VIEWS, ids=lambda p: p.name)
@@ -49,7 +50,7 @@ def _broken(what: str) -> dict[str, Any]:
     elif what == "missing field":
         del c["board-vga"]["sectors"]
     elif what == "budget over the bank":
-        c["board-1080p"]["budget"] = 1024
+        c["board-vga"]["budget"] = 1024
     elif what == "too many levels for the frame":
         c["test-tiny"]["scales"] = 8
     elif what == "illegal sectors":
@@ -66,6 +67,8 @@ def _broken(what: str) -> dict[str, Any]:
         del c["recommended-vga"]
     elif what == "low threshold not the register's reset":
         c["recommended-vga"]["threshold_lo"] = 12
+    elif what == "unknown memory kind":
+        c["board-vga"]["mem_kind"] = "sram"
     elif what == "nothing verifies it":
         c["sim-qvga"]["verified_by"] = []
     return raw
@@ -85,6 +88,7 @@ def _broken(what: str) -> dict[str, Any]:
         "unknown tops default",
         "no recommended configuration",
         "low threshold not the register's reset",
+        "unknown memory kind",
         "nothing verifies it",
     ],
 )
@@ -141,8 +145,8 @@ def _vhdl_constants() -> dict[str, dict[str, int]]:
 def test_vhdl_constants_equal_the_data() -> None:
     consts = _vhdl_constants()
     for name, entry in RAW["configs"].items():
-        assert consts[name.upper().replace("-", "_")] == {f: entry[f] for f in HARDWARE}, name
-    assert consts["TOPS_DEFAULT"] == {f: RAW["configs"][RAW["tops_default"]][f] for f in HARDWARE}
+        assert consts[name.upper().replace("-", "_")] == {f: entry[f] for f in VHDL_FIELDS}, name
+    assert consts["TOPS_DEFAULT"] == {f: RAW["configs"][RAW["tops_default"]][f] for f in VHDL_FIELDS}
 
 
 def _generic_defaults(path: Path) -> dict[str, str]:
@@ -153,13 +157,16 @@ def _generic_defaults(path: Path) -> dict[str, str]:
 
 
 def test_tops_generic_defaults_are_the_tops_default() -> None:
-    want = {f.upper(): RAW["configs"][RAW["tops_default"]][f] for f in HARDWARE}
+    want = {f.upper(): RAW["configs"][RAW["tops_default"]][f] for f in VHDL_FIELDS}
     top = _generic_defaults(ROOT / "hdl" / "top" / "orb_accel_top.vhd")
     for generic in want:
         assert top[generic] == f"TOPS_DEFAULT_c.{generic.lower()}", f"orb_accel_top {generic}_g := {top[generic]}"
+    kind = '"' + RAW["configs"][RAW["tops_default"]]["mem_kind"].upper() + '"'  # a string generic in both
+    assert top["MEM_KIND"] == kind, f"orb_accel_top MEM_KIND_g := {top['MEM_KIND']}, TOPS_DEFAULT has {kind}"
     zynq = _generic_defaults(ROOT / "hdl" / "top" / "orb_accel_zynq.vhd")
     for generic, value in want.items():
         assert zynq[generic] == str(value), f"orb_accel_zynq {generic}_g := {zynq[generic]}, TOPS_DEFAULT has {value}"
+    assert zynq["MEM_KIND"] == kind, f"orb_accel_zynq MEM_KIND_g := {zynq['MEM_KIND']}, TOPS_DEFAULT has {kind}"
 
 
 def test_verifying_tests_name_the_configuration() -> None:

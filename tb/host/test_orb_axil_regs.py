@@ -10,8 +10,10 @@ garbage at every other edge, so a read taken one clock early or late returns a w
 Checked: the reset value of every register (generics and status ports included) from
 golden_model.regs; rw round trips and the control outputs; byte strobes; SLVERR without a state
 change for unknown, misaligned and ro-write addresses, writes into the memory window, reads of the
-wo register and illegal values; W1C semantics and the irq level; the soft-reset and bank-release
-pulses; memory reads; AW-before-W and W-before-AW with forced delays; back-to-back transactions;
+wo registers and illegal values; W1C semantics and the irq level; the soft-reset, bank-release and
+ring-release pulses; the DDR ring's registers (RING_BASE, RING_STRIDE, RING_COUNT up to its maximum
+16 and their outputs, RING_RELEASE, the live RING_STATUS, RING_INFO and DMA_* inputs, CFG_DDR's
+generics); memory reads; AW-before-W and W-before-AW with forced delays; back-to-back transactions;
 a random mix of reads and writes against a Python model of the rules in docs/registers.md; and a
 fuzz on raw channels (axil_fuzz: random addresses, strobes, AW/W orders, delays and B/R pauses,
 5,000 transactions per generic set) against the same model (docs/axil-regs.md).
@@ -50,7 +52,15 @@ GENERIC_NAMES = (
     "MEM_DEPTH",
     "MEM_LATENCY",
     "ADDR_BITS",
+    "MEM_DDR",
+    "WIN_BASE_MB",
+    "WIN_SIZE_MB",
 )
+# every input port a ro field shows, and its width (the field's): driven with random values
+STATUS_PORTS = {f.port: f.width for r in regs.REGISTERS for f in r.fields if f.port is not None}
+# the DDR ring's configuration outputs: (port, register, field)
+RING_OUTPUTS = (("ring_base", "RING_BASE", "base"), ("ring_stride", "RING_STRIDE", "stride"),
+                ("ring_count", "RING_COUNT", "count"))  # fmt: skip
 OP_TIMEOUT_NS = 2000 * PERIOD_NS  # "nothing hangs": every transaction must finish within this
 
 
@@ -64,6 +74,7 @@ class Monitor:
     hs: dict[str, list[int]] = field(default_factory=lambda: {c: [] for c in ("aw", "w", "b", "ar", "r")})
     soft_resets: list[int] = field(default_factory=list)
     releases: list[tuple[int, int]] = field(default_factory=list)
+    ring_releases: list[tuple[int, int]] = field(default_factory=list)
     mem_reqs: list[int] = field(default_factory=list)
     mem: dict[int, int] = field(default_factory=dict)
 
@@ -93,6 +104,8 @@ class Monitor:
                 self.soft_resets.append(n)
             if dut.release_valid.value == 1:
                 self.releases.append((n, int(dut.release_bank.value)))
+            if dut.ring_release_valid.value == 1:
+                self.ring_releases.append((n, int(dut.ring_release_index.value)))
             if dut.mem_rd_en.value == 1:
                 addr = int(dut.mem_rd_addr.value)
                 self.mem_reqs.append(addr)
@@ -108,7 +121,8 @@ class Model:
     def __init__(self, generics: dict[str, int], ports: dict[str, int], mem_word, addr_bits: int) -> None:
         self.generics, self.ports, self.mem_word, self.addr_bits = generics, ports, mem_word, addr_bits
         self.values = {r.name: r.reset_value(generics, ports) for r in regs.REGISTERS if r.access in ("rw", "w1c")}
-        self.releases: list[int] = []
+        self.releases: list[int] = []  # BANK_RELEASE.bank of each release pulse
+        self.ring_releases: list[int] = []  # RING_RELEASE.index of each ring release pulse
         self.soft_resets = 0
 
     def read(self, addr: int) -> tuple[int, int]:
@@ -135,9 +149,12 @@ class Model:
             return OKAY
         if not r.legal(merged, self.generics):
             return SLVERR
-        if r.access == "wo":  # BANK_RELEASE
-            if strb & 1:
-                self.releases.append(r.field("bank").get(merged))
+        if r.access == "wo":  # BANK_RELEASE, RING_RELEASE: a pulse if a strobed byte holds a defined bit
+            if bm & r.mask:
+                if r.name == "BANK_RELEASE":
+                    self.releases.append(r.field("bank").get(merged))
+                else:
+                    self.ring_releases.append(regs.RING_RELEASE.field("index").get(merged))
             return OKAY
         pulse = [f for f in r.fields if f.pulse]
         for f in pulse:
@@ -161,22 +178,9 @@ class Bench:
         that drives them itself)."""
         dut = self.dut
         rng = np.random.default_rng(seed)
-        self.ports = {
-            "frame_count": int(rng.integers(0, 1 << 32)),
-            "dropped": int(rng.integers(0, 1 << 32)),
-            "proto_errors": int(rng.integers(0, 1 << 32)),
-            "bank_ready": int(rng.integers(0, 1 << regs.BANKS)),
-            "last_bank": int(rng.integers(0, 2)),
-            "overflow": int(rng.integers(0, 2)),
-            **{
-                name: int(rng.integers(0, 1 << 16))
-                for name in ("bank0_count", "bank0_frame", "bank1_count", "bank1_frame")
-            },
-            **{name: int(rng.integers(0, 1 << 32)) for name in ("overrun", "overflow_count", "desc_lost", "discarded")},
-        }
+        self.ports = {}
         dut.rst.value = 1
-        for name, value in self.ports.items():
-            getattr(dut, name).value = value
+        self.drive_status(rng)
         dut.frame_done_pulse.value = 0
         dut.error_pulse.value = 0
         dut.mem_rd_data.value = 0
@@ -194,6 +198,17 @@ class Bench:
         await ClockCycles(dut.clk, 4)
         dut.rst.value = 0
         await ClockCycles(dut.clk, 2)
+
+    def drive_status(self, rng: np.random.Generator) -> None:
+        """Drive every status input (STATUS_PORTS: the ports the ro fields show, the DDR ring's
+        included) with a random value and record it in self.ports (which a Model shares)."""
+        for name, width in STATUS_PORTS.items():
+            self.ports[name] = int(rng.integers(0, 1 << width))
+            getattr(self.dut, name).value = self.ports[name]
+
+    def ring_outputs(self) -> dict[str, int]:
+        """The ring configuration outputs, by register name."""
+        return {reg: int(getattr(self.dut, port).value) for port, reg, _ in RING_OUTPUTS}
 
     def set_pauses(self, prob: float, seed: int = 1) -> None:
         set_axil_pauses(self.axil, prob, seed)
@@ -257,8 +272,11 @@ async def reset_values(dut) -> None:
     assert int(dut.budget.value) == min(regs.SELECT.field("budget").reset, b.g["MEM_DEPTH_g"] - 1)
     assert int(dut.mode_orb.value) == (regs.CTRL.field("mode").reset == 0)
     assert int(dut.enable.value) == regs.CTRL.field("enable").reset
-    for name in ("irq", "soft_reset", "release_valid", "mem_rd_en"):
+    for name in ("irq", "soft_reset", "release_valid", "ring_release_valid", "mem_rd_en"):
         assert int(getattr(dut, name).value) == 0, f"{name} is not 0 after reset"
+    for port, reg, fld in RING_OUTPUTS:
+        want = regs.BY_NAME[reg].field(fld).reset
+        assert int(getattr(dut, port).value) == want, f"{port} is not {reg}.{fld}'s reset value {want}"
     for reg in regs.REGISTERS:
         resp, value = await b.read(reg.offset)
         if reg.access == "wo":
@@ -275,6 +293,15 @@ async def reset_values(dut) -> None:
     assert (await b.read_ok(regs.FRAME_COUNT)) == 0xDEADBEEF
     st = await b.read_ok(regs.STATUS)
     assert regs.STATUS.field("overflow").get(st) == 1 - b.ports["overflow"]
+    # every status input, new random values: each ro register with a port shows them
+    rng = np.random.default_rng(22)
+    live = [r for r in regs.REGISTERS if any(f.port is not None for f in r.fields)]
+    for _ in range(4):
+        b.drive_status(rng)
+        await ClockCycles(dut.clk, 1)
+        for reg in live:
+            expected = b.reset_value(reg)
+            assert await b.read_ok(reg) == expected, f"{reg.name}: not {expected:#010x}, its inputs {b.ports}"
 
 
 @cocotb.test()
@@ -346,13 +373,21 @@ async def illegal_values(dut) -> None:
     for bank in (regs.BANKS, 7, 15):
         assert await b.write(regs.BANK_RELEASE.offset, bank) == SLVERR, f"BANK_RELEASE {bank} accepted"
     assert await b.write(regs.BANK_RELEASE.offset, 0x10) == SLVERR
+    ring_max = regs.RING_COUNT.field("count").max
+    assert await b.write(regs.RING_COUNT.offset, 5) == OKAY
+    for count in (ring_max + 1, 31, 0x20, 0x25, 1 << 31):
+        assert await b.write(regs.RING_COUNT.offset, count) == SLVERR, f"RING_COUNT {count:#x} accepted"
+    for index in (0x10, 0x1F, 1 << 8):
+        assert await b.write(regs.RING_RELEASE.offset, index) == SLVERR, f"RING_RELEASE {index:#x} accepted"
     await ClockCycles(dut.clk, 3)
+    assert await b.read_ok(regs.RING_COUNT) == 5 and int(dut.ring_count.value) == 5
     assert await b.read_ok(ctrl) == good
     assert await b.read_ok(thr) == 77 and int(dut.threshold.value) == 77
     assert await b.read_ok(ien) == 2
     assert int(dut.mode_orb.value) == 0 and int(dut.enable.value) == 1
     assert b.mon.soft_resets == [], "a refused CTRL write pulsed soft_reset"
     assert b.mon.releases == [], "a refused BANK_RELEASE write pulsed release_valid"
+    assert b.mon.ring_releases == [], "a refused RING_RELEASE write pulsed ring_release_valid"
 
 
 @cocotb.test()
@@ -403,7 +438,8 @@ async def slverr_addresses(dut) -> None:
     known = {r.offset for r in regs.REGISTERS}
     rng = np.random.default_rng(5)
     unknown = sorted(
-        {0x3C, 0x40, 0x58, regs.MEM_BASE - 4} | {int(a) * 4 for a in rng.integers(0, regs.MEM_BASE // 4, 8)}
+        {0x3C, 0x40, 0x58, max(known) + 4, max(known) + 8, regs.MEM_BASE - 4}
+        | {int(a) * 4 for a in rng.integers(0, regs.MEM_BASE // 4, 8)}
     )
     unknown = [a for a in unknown if a not in known]
     for a in unknown:
@@ -428,7 +464,7 @@ async def slverr_addresses(dut) -> None:
     for reg in regs.REGISTERS:
         if reg.access != "wo":
             assert (await b.read(reg.offset))[1] == b.reset_value(reg), f"{reg.name} changed by refused writes"
-    assert b.mon.soft_resets == [] and b.mon.releases == []
+    assert b.mon.soft_resets == [] and b.mon.releases == [] and b.mon.ring_releases == []
 
 
 @cocotb.test()
@@ -536,6 +572,84 @@ async def soft_reset_and_bank_release(dut) -> None:
     assert got == banks, f"release_bank sequence {got}, expected {banks}"
     edges = [n for n, _ in b.mon.releases]
     assert all(y - x > 1 for x, y in itertools.pairwise(edges)), f"release_valid longer than one clock: {edges}"
+    assert b.mon.ring_releases == [], "BANK_RELEASE pulsed ring_release_valid"
+
+
+@cocotb.test()
+async def ring_registers(dut) -> None:
+    """The DDR ring's registers (docs/feature-dma.md): RING_BASE and RING_STRIDE round trips (any 32-bit value,
+    byte strobes merged) on ring_base and ring_stride; RING_COUNT 0 .. 16 on ring_count, 17 .. 31 refused
+    (also when a byte-lane merge makes it); RING_RELEASE pulses ring_release_valid for one clock with every
+    index, reads SLVERR, acts only with byte 0 strobed, and never pulses release_valid (nor BANK_RELEASE
+    ring_release_valid); RING_STATUS, RING_INFO and DMA_* show their inputs live, CFG_DDR the generics."""
+    b = Bench(dut)
+    await b.start(pause_prob=0.3, seed=14)
+    rng = np.random.default_rng(14)
+    base, stride, count = regs.RING_BASE, regs.RING_STRIDE, regs.RING_COUNT
+    for _ in range(8):
+        vb, vs = int(rng.integers(0, 1 << 32)), int(rng.integers(0, 1 << 32)) & ~63
+        assert await b.write(base.offset, vb) == OKAY and await b.write(stride.offset, vs) == OKAY
+        assert (await b.read_ok(base), await b.read_ok(stride)) == (vb, vs)
+        assert b.ring_outputs()["RING_BASE"] == vb and b.ring_outputs()["RING_STRIDE"] == vs
+    assert await b.raw_write(base.offset, 0xA5A5_C3A5, 0x2) == OKAY  # byte 1 only
+    vb = (vb & ~0xFF00) | 0xC300
+    assert await b.read_ok(base) == vb and int(dut.ring_base.value) == vb
+    top = count.field("count").max
+    assert top == 16 == len(dut.ring_ready) == 1 << len(dut.ring_release_index)
+    for n in [*range(top + 1), 0, top]:
+        assert await b.write(count.offset, n) == OKAY, f"RING_COUNT {n} refused"
+        assert await b.read_ok(count) == n and int(dut.ring_count.value) == n
+    for n in range(top + 1, 32):
+        assert await b.write(count.offset, n) == SLVERR, f"RING_COUNT {n} accepted"
+    assert await b.raw_write(count.offset, 0xFFFF_FF00 | (top + 1), 0x1) == SLVERR
+    assert await b.raw_write(count.offset, 0x0000_0100, 0x2) == SLVERR, "a reserved bit of byte 1 accepted"
+    assert await b.raw_write(count.offset, 0xFFFF_FF03, 0x1) == OKAY  # garbage in the unstrobed lanes
+    assert await b.read_ok(count) == 3 and int(dut.ring_count.value) == 3
+    # RING_RELEASE: every index, in random order, then a few back to back
+    rel = regs.RING_RELEASE
+    order = [int(i) for i in rng.permutation(16)] + [5, 5, 0, 15]
+    for i in order:
+        assert await b.write(rel.offset, i) == OKAY
+    assert await b.raw_write(rel.offset, 0x0000_0007, 0x0) == OKAY  # no strobe: no pulse
+    assert await b.raw_write(rel.offset, 0x0000_0009, 0xE) == OKAY  # byte 0 not strobed: no pulse
+    assert await b.raw_write(rel.offset, 0xFFFF_FF0C, 0x1) == OKAY
+    order.append(12)
+    assert (await b.read(rel.offset))[0] == SLVERR, "RING_RELEASE readable"
+    await ClockCycles(dut.clk, 3)
+    got = [i for _, i in b.mon.ring_releases]
+    assert got == order, f"ring_release_index sequence {got}, expected {order}"
+    edges = [n for n, _ in b.mon.ring_releases]
+    assert all(y - x > 1 for x, y in itertools.pairwise(edges)), f"ring_release_valid longer than a clock: {edges}"
+    assert b.mon.releases == [], "RING_RELEASE pulsed release_valid"
+    assert await b.write(regs.BANK_RELEASE.offset, 1) == OKAY
+    await ClockCycles(dut.clk, 3)
+    assert len(b.mon.ring_releases) == len(order) and [k for _, k in b.mon.releases] == [1]
+    assert (await b.read_ok(base), await b.read_ok(stride), await b.read_ok(count)) == (vb, vs, 3)
+    # the live inputs, changed under the bus: each read shows the present values
+    status, info = regs.RING_STATUS, regs.RING_INFO
+    for k in range(12):
+        b.drive_status(rng)
+        if k % 3 == 0:  # the edges of the fields
+            for port in ("ring_ready", "ring_last", "ring_error", "ring_busy", "dma_beats"):
+                b.ports[port] = (1 << STATUS_PORTS[port]) - 1 if k % 2 else 0
+                getattr(dut, port).value = b.ports[port]
+        await ClockCycles(dut.clk, 1)
+        st = await b.read_ok(status)
+        assert [status.field(f).get(st) for f in ("ready", "last", "error", "busy")] == [
+            b.ports[p] for p in ("ring_ready", "ring_last", "ring_error", "ring_busy")
+        ], f"RING_STATUS {st:#010x}, inputs {b.ports}"
+        assert st & ~status.mask == 0, f"RING_STATUS {st:#010x}: a reserved bit set"
+        word = await b.read_ok(info)
+        assert (info.field("count").get(word), info.field("frame").get(word)) == (
+            b.ports["ring_last_count"], b.ports["ring_last_frame"]), f"RING_INFO {word:#010x}"  # fmt: skip
+        for reg, port in ((regs.DMA_DROPPED, "dma_dropped"), (regs.DMA_BUS_ERRORS, "dma_bus_errors"),
+                          (regs.DMA_BEATS, "dma_beats")):  # fmt: skip
+            assert await b.read_ok(reg) == b.ports[port], f"{reg.name} is not input {port}"
+    # CFG_DDR: the generics
+    cfg = await b.read_ok(regs.CFG_DDR)
+    got_g = {f.generic: f.get(cfg) for f in regs.CFG_DDR.fields}
+    assert got_g == {k: b.g[k] for k in ("MEM_DDR_g", "WIN_BASE_MB_g", "WIN_SIZE_MB_g")}, f"CFG_DDR {cfg:#010x}"
+    assert cfg & ~regs.CFG_DDR.mask == 0
 
 
 @cocotb.test()
@@ -676,6 +790,8 @@ async def random_mix(dut) -> None:
             model.values["IRQ_STATUS"] |= regs.IRQ_STATUS.field("frame_done").mask
     await ClockCycles(dut.clk, 3)
     assert [bank for _, bank in b.mon.releases] == model.releases
+    assert [i for _, i in b.mon.ring_releases] == model.ring_releases
+    assert b.ring_outputs() == {reg: model.values[reg] for _, reg, _ in RING_OUTPUTS}
     assert len(b.mon.soft_resets) == model.soft_resets
     ctrl = model.values["CTRL"]
     assert int(dut.enable.value) == regs.CTRL.field("enable").get(ctrl)
@@ -690,10 +806,11 @@ async def random_mix(dut) -> None:
     irq = bool(model.values["IRQ_STATUS"] & model.values["IRQ_ENABLE"])
     assert int(dut.irq.value) == irq
     dut._log.info(
-        "random mix: %d handshakes AW, %d AR, %d releases, %d soft resets",
+        "random mix: %d handshakes AW, %d AR, %d releases, %d ring releases, %d soft resets",
         len(b.mon.hs["aw"]),
         len(b.mon.hs["ar"]),
         len(model.releases),
+        len(model.ring_releases),
         model.soft_resets,
     )
 
@@ -777,6 +894,9 @@ def fuzz_write_data(rng: np.random.Generator, addr: int) -> tuple[int, int]:
             data = regs.SELECT.field("cols").put(int(rng.integers(1, 16)), data)
             data = regs.SELECT.field("rows").put(int(rng.integers(1, 16)), data)
             data = regs.SELECT.field("budget").put(int(rng.integers(0, 64)), data)
+        if r.name == "RING_COUNT":  # 0 .. 16 mostly, at and above the maximum sometimes
+            top = regs.RING_COUNT.field("count").max
+            data = int(rng.integers(0, top + 1)) if rng.random() < 0.7 else int(rng.integers(top, 32))
     elif k < 0.8:
         data = int(rng.integers(0, 4))
     strb = 0xF if rng.random() < 0.6 else int(rng.integers(0, 16))
@@ -795,9 +915,11 @@ async def axil_fuzz(dut) -> None:
     valid, several writes queued, reads beside writes, random BREADY and RREADY pauses in phases.
     Checked: every response (OKAY or SLVERR as the map says), every read's data (SLVERR reads 0),
     exactly one response per request in order, no BVALID or RVALID without a request, the pulses
-    (BANK_RELEASE, CTRL.soft_reset) and the control outputs. A read of a register a write can change
-    is issued once every earlier write has its response, and a later write waits for that read's
-    address handshake, so the model's order is the bus's; the other reads overlap the writes."""
+    (BANK_RELEASE, RING_RELEASE, CTRL.soft_reset) and the control and ring outputs. The status inputs
+    (the DDR ring's included) change to new random values while the bus is drained. A read of a
+    register a write can change is issued once every earlier write has its response, and a later
+    write waits for that read's address handshake, so the model's order is the bus's; the other
+    reads overlap the writes."""
     b = Bench(dut)
     await b.start(pause_prob=0.0, seed=21, master=False)
     seed = 21 + b.latency
@@ -818,6 +940,7 @@ async def axil_fuzz(dut) -> None:
     ready_p = {"b": 1.0, "r": 1.0}
     quiet = 0  # clocks without new transactions (after a frame-done or error pulse)
     pulses = 0
+    status_changes = 0
     drain = False
     edge = 0
     sig = {n: getattr(dut, f"s_axil_{n}") for n in ("awvalid", "awready", "wvalid", "wready", "bvalid", "bready",
@@ -886,6 +1009,9 @@ async def axil_fuzz(dut) -> None:
             model.values["IRQ_STATUS"] |= bit.mask
             quiet = 3
             pulses += 1
+            if rng.random() < 0.5:  # and the status inputs change (the model shares b.ports)
+                b.drive_status(rng)
+                status_changes += 1
         elif not drain and issued < FUZZ_TRANSACTIONS and len(b_due) + len(r_due) < 4:
             if pending is None:
                 pending = generate()
@@ -933,6 +1059,8 @@ async def axil_fuzz(dut) -> None:
         assert not int(sig["bvalid"].value) and not int(sig["rvalid"].value), "a response without a request"
     assert (aw.done, w.done, ar.done) == (writes, writes, reads)
     assert [bank for _, bank in b.mon.releases] == model.releases
+    assert [i for _, i in b.mon.ring_releases] == model.ring_releases
+    assert b.ring_outputs() == {reg: model.values[reg] for _, reg, _ in RING_OUTPUTS}
     assert len(b.mon.soft_resets) == model.soft_resets
     ctrl, thr, sel = model.values["CTRL"], model.values["THRESHOLD"], model.values["SELECT"]
     assert int(dut.enable.value) == regs.CTRL.field("enable").get(ctrl)
@@ -947,15 +1075,18 @@ async def axil_fuzz(dut) -> None:
     # every ordering, both back-pressures, OKAY and SLVERR to reads and writes, and the pulses happened
     kinds = [answers[op, resp] for op in ("write", "read") for resp in (OKAY, SLVERR)]
     assert min(order.values()) >= 100 and min(stalls.values()) >= 100 and min(kinds) >= 100, (order, stalls, answers)
-    assert len(model.releases) >= 10 and model.soft_resets >= 10 and pulses >= 10
+    assert len(model.releases) >= 10 and len(model.ring_releases) >= 10 and model.soft_resets >= 10
+    assert pulses >= 10 and status_changes >= 5
     dut._log.info("fuzz (seed %d): %d transactions (%d writes, %d reads) in %d clocks; writes OKAY %d, SLVERR %d; "
-                  "reads OKAY %d, SLVERR %d; AW/W %s; B stalled %d clocks, R %d; %d releases, %d soft resets, "
-                  "%d interrupt pulses", seed, issued, writes, reads, edge, *kinds, order, stalls["b"], stalls["r"],
-                  len(model.releases), model.soft_resets, pulses)  # fmt: skip
+                  "reads OKAY %d, SLVERR %d; AW/W %s; B stalled %d clocks, R %d; %d releases, %d ring releases, "
+                  "%d soft resets, %d interrupt pulses, %d status changes", seed, issued, writes, reads, edge, *kinds,
+                  order, stalls["b"], stalls["r"], len(model.releases), len(model.ring_releases), model.soft_resets,
+                  pulses, status_changes)  # fmt: skip
 
 
 # ------------------------------------------------------------------------------------------------
-# pytest runners: two generic sets (memory latency 1 and 2, both address widths' extremes)
+# pytest runners: three generic sets (memory latency 1, 2 and 5, both address widths' extremes; CFG_DDR's
+# generics at their defaults (the block RAM), at their extremes and in between (the DDR ring))
 
 GENERIC_SETS = {
     "lat1": {
@@ -968,6 +1099,9 @@ GENERIC_SETS = {
         "MEM_DEPTH_g": 4096,
         "MEM_LATENCY_g": 1,
         "ADDR_BITS_g": 18,
+        "MEM_DDR_g": 0,
+        "WIN_BASE_MB_g": 0,
+        "WIN_SIZE_MB_g": 4096,
     },
     "lat2": {
         "WIDTH_g": 1920,
@@ -979,6 +1113,9 @@ GENERIC_SETS = {
         "MEM_DEPTH_g": 12345,
         "MEM_LATENCY_g": 2,
         "ADDR_BITS_g": 20,
+        "MEM_DDR_g": 1,
+        "WIN_BASE_MB_g": 4095,
+        "WIN_SIZE_MB_g": 1,
     },
     "lat5": {
         "WIDTH_g": 64,
@@ -990,6 +1127,9 @@ GENERIC_SETS = {
         "MEM_DEPTH_g": 1,
         "MEM_LATENCY_g": 5,
         "ADDR_BITS_g": 19,
+        "MEM_DDR_g": 1,
+        "WIN_BASE_MB_g": 512,
+        "WIN_SIZE_MB_g": 1024,
     },
 }
 

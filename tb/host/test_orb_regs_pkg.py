@@ -199,9 +199,12 @@ def _ghdl(args: list[str], cwd: Path, check: bool = True) -> subprocess.Complete
     return proc
 
 
+EXTREMES = {"MEM_LATENCY_g": 1, "ADDR_BITS_g": 20, "SCALES_g": 4, "SECTORS_g": 64, "MEM_DEPTH_g": 16777215}
+
+
 @pytest.mark.parametrize(
     "generics",
-    [{}, {"MEM_LATENCY_g": 1, "ADDR_BITS_g": 20, "SCALES_g": 4, "SECTORS_g": 64, "MEM_DEPTH_g": 16777215}],
+    [{}, {**EXTREMES, "MEM_DDR_g": 1, "WIN_BASE_MB_g": 4095, "WIN_SIZE_MB_g": 4096}],
     ids=["defaults", "extremes"],
 )
 def test_ghdl_synth_of_the_register_bank(tmp_path: Path, generics: dict[str, int]) -> None:
@@ -335,6 +338,29 @@ def test_a_register_added_to_the_map_needs_no_decode_code(tmp_path: Path) -> Non
     proc = _ghdl(["--elab-run", "--std=08", "tb"], tmp_path, check=False)
     out = proc.stdout + proc.stderr
     assert proc.returncode == 0 and "added registers: passed" in out, out
+
+
+def test_ring_fields_fit_the_ring() -> None:
+    """The DDR ring's fields against orb_feat_dma's contract (docs/feature-dma.md): RING_COUNT 0 .. 16 and
+    one RING_STATUS.ready bit per buffer, RING_RELEASE.index reaching every buffer (its full 4 bits, no max),
+    RING_STATUS.last naming one, CFG_DDR's fields holding the generics' ranges (WIN_BASE_MB_g 0 .. 4095,
+    WIN_SIZE_MB_g 1 .. 4096), and the address and counter registers 32 bits wide; they came with map 3.2, a
+    compatible addition (the driver refuses another major version only)."""
+    count = regs.RING_COUNT.field("count")
+    assert count.max == 16 and count.reset == 0 and count.legal_value(16) and not count.legal_value(17)
+    assert regs.RING_STATUS.field("ready").width == count.max
+    index = regs.RING_RELEASE.field("index")
+    assert 1 << index.width == count.max and index.max is None and regs.RING_RELEASE.access == "wo"
+    assert 1 << regs.RING_STATUS.field("last").width == count.max
+    assert regs.RING_STATUS.field("error").width == 4 and regs.RING_STATUS.field("busy").width == 1
+    assert regs.CFG_DDR.field("ddr").width == 1
+    assert (1 << regs.CFG_DDR.field("win_base").width) - 1 == 4095
+    assert (1 << regs.CFG_DDR.field("win_size").width) - 1 >= 4096
+    assert [f.generic for f in regs.CFG_DDR.fields] == ["MEM_DDR_g", "WIN_BASE_MB_g", "WIN_SIZE_MB_g"]
+    for r in (regs.RING_BASE, regs.RING_STRIDE, regs.DMA_DROPPED, regs.DMA_BUS_ERRORS, regs.DMA_BEATS):
+        assert r.mask == 0xFFFFFFFF and len(r.fields) == 1, r.name
+    assert [f.port for f in regs.RING_INFO.fields] == ["ring_last_count", "ring_last_frame"]
+    assert regs.VERSION_MAJOR == 3 and regs.VERSION_MINOR >= 2
 
 
 def test_ctrl_mode_values_follow_the_model_modes() -> None:

@@ -23,12 +23,12 @@ def commands(jobs: int, sta: bool) -> list[list[str]]:
     """One synth.py run per group of configurations that share sectors, pyramid step, memory depth
     and overlay block (the generics synth.py applies to all its configurations)."""
     b = json.loads((ROOT / "vivado" / "board.json").read_text())
-    groups: dict[tuple[int, int, int, int, int], list[str]] = {}
+    groups: dict[tuple[int, int, int, int, int, str], list[str]] = {}
     for c in b["configs"].values():
-        key = (c["sectors"], c["step_num"], c["step_den"], c["mem_depth"], c["block_log2"])
+        key = (c["sectors"], c["step_num"], c["step_den"], c["mem_depth"], c["block_log2"], c.get("mem_kind", "bram"))
         groups.setdefault(key, []).append(f"{c['width']}x{c['height']}x{c['scales']}")
     out = []
-    for (sectors, num, den, mem_depth, block_log2), configs in groups.items():
+    for (sectors, num, den, mem_depth, block_log2, mem_kind), configs in groups.items():
         cmd = [sys.executable, "-m", "orb_flow.synth", "--top", b["accel"]["entity"]]
         for config in configs:
             cmd += ["--config", config]
@@ -39,6 +39,8 @@ def commands(jobs: int, sta: bool) -> list[list[str]]:
             cmd += ["--generic", f"STEP_NUM_g={num}", "--generic", f"STEP_DEN_g={den}"]
         if block_log2 != 3:  # orb_accel_zynq's default overlay block
             cmd += ["--generic", f"BLOCK_LOG2_g={block_log2}"]
+        if mem_kind != "bram":  # orb_accel_zynq's default MEM_KIND_g
+            cmd += ["--generic", f"MEM_KIND_g={mem_kind.upper()}"]
         cmd += ["--out", str(ROOT / "build" / "vivado" / "estimate"), "--jobs", str(jobs)]
         out.append(cmd + (["--sta"] if sta else []))
     return out

@@ -60,6 +60,8 @@ LAYOUT: dict[str, tuple[int, int, int, int, str]] = {
     "detect/merge/fifo": (895, 298, 130, 50, "per level"),
     "detect/rotate": (900, 420, 120, 55, "orbit rotation"),
     "mem": (1155, 420, 170, 55, "two banks of slots"),
+    "dma": (1155, 490, 170, 95, "or: a ring in DDR"),
+    "dma/fifo": (1165, 528, 150, 45, "burst FIFO"),
     "regs": (1155, 100, 170, 50, "registers, interrupt"),
     "overlay": (890, 600, 170, 55, "feature marks"),
 }
@@ -69,6 +71,7 @@ EXTERNAL: dict[str, tuple[int, int, int, int, str, str]] = {
     "video_in": (10, 100, 120, 50, "s_axis_video", "RGB, RBG or luma"),
     "cpu": (1355, 100, 135, 50, "s_axil: the CPU", "AXI4-Lite, irq"),
     "video_out": (1355, 600, 135, 55, "m_axis_video", "HDMI out"),
+    "ddr": (1355, 510, 135, 55, "m_axi_feat", "AXI4 to DDR"),
 }
 
 # arrows: (from, side, to, side, label, dashed, points between); sides r, l, t, b (+ offset px)
@@ -93,6 +96,8 @@ EDGES: tuple[tuple[str, str, str, str, str, bool, tuple[tuple[int, int], ...]], 
     ("detect/path/selection", "r", "detect/merge", "l", "", False, ()),
     ("detect/merge", "b", "detect/rotate", "t", "", False, ()),
     ("detect/rotate", "r", "mem", "l", "", False, ()),
+    ("detect/rotate", "r", "dma", "l", "", False, ((1140, 447.5), (1140, 537.5))),
+    ("dma", "r", "ddr", "l", "", False, ()),
     ("detect/rotate", "b", "overlay", "t", "", False, ()),
     ("video_in", "b", "overlay", "l", "the input video", False, ((70, 627.5),)),
     ("overlay", "r", "video_out", "l", "", False, ()),
