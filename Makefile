@@ -33,7 +33,7 @@ help:
 	@echo "             FAST=1: its synthesised netlist in Verilator; VIDEO=file: every frame of a video, fast; docs/fast-sim.md)"
 	@echo "make bench   model speed benchmark (scripts/bench/bench_model.py)"
 	@echo "make bench-sim  RTL simulation speed, one 640x480 frame (scripts/bench/bench_sim.py)"
-	@echo "make bench-driver  per-frame CPU cost of the driver and the ROS message, 1,000 and 5,000 features (docs/ros.md)"
+	@echo "make bench-driver  per-frame CPU cost of the driver (banks and DDR ring) and the ROS message, 1,000, 2,000 and 5,000 features (docs/ros.md)"
 	@echo "make bench-stream  per-frame cost of the feature stream (orb-accel serve): bytes, encode, decode, loopback (docs/stream.md)"
 	@echo "make bench-ros2  per-frame CPU cost of the ROS 2 message, 1,000 features and a bank's capacity (docs/ros2.md)"
 	@echo "make ros2-sim  the ROS 2 node on the simulated accelerator, publishing /orb_accel/features (IMAGE=; docs/ros2.md)"

@@ -11,6 +11,8 @@ import numpy as np
 
 CSV_COLUMNS = ("scale", "x", "y", "score", "sector", "descriptor", "x0", "y0", "angle_deg", "response", "low")
 NO_SECTOR = -1
+# the canonical order, most significant first: scale, then row, then column (Features.sorted)
+CANONICAL_ORDER = ("scale", "y", "x")
 
 
 def _empty_int() -> np.ndarray:
@@ -54,7 +56,7 @@ class Features:
 
     def sorted(self) -> Features:
         """Canonical order: scale, then y, then x (the order a raster scan meets them per scale)."""
-        order = np.lexsort((self.x, self.y, self.scale))
+        order = np.lexsort(tuple(getattr(self, name) for name in reversed(CANONICAL_ORDER)))
         return self.take(order)
 
     def take(self, index: np.ndarray) -> Features:

@@ -515,12 +515,16 @@ begin
           error_r <= '1';
         else
           ovf_cnt <= ovf_cnt + trunc;
-          ftag    <= ftag + 1;
           if resize(cur_buf, 5) + 1 >= eff_count then
             pos <= (others => '0');
           else
             pos <= cur_buf + 1;
           end if;
+        end if;
+        -- the next frame's slots get another tag, whatever became of this one's (an error response
+        -- to a slot of a dropped or aborted frame must not drop the next)
+        if store_nw = '1' then
+          ftag <= ftag + 1;
         end if;
         -- a buffer whose frame will not be published is free again (its queued slots still go there)
         for k in 0 to 15 loop

@@ -17,6 +17,15 @@ error response BusError; the driver stays usable after either, counts them in `a
 releases the banks nobody holds (a killed predecessor's at open, one it lost track of after a
 timeout or a bus error) so that the accelerator, which skips every frame whose bank is held,
 publishes again.
+
+DDR builds (CFG_DDR.ddr = 1, register map 3.2; docs/feature-dma.md, docs/driver.md "Features from
+DDR") write every frame into a ring of buffers in DDR instead of the two banks: OrbAccel(bus,
+memory=...) lays the ring out in that memory (orb_accel.ddr: u-dma-buf, pynq.allocate, an array),
+checks it (orb_accel.ring.plan_ring), writes RING_BASE, RING_STRIDE and RING_COUNT while the
+accelerator is stopped and soft-resets it; frames are then read from memory (two cache
+invalidations, one numpy decoding) with a handful of register accesses per frame. The API is the
+same: wait_frame() gives a ring buffer's index where it gave a bank, read_bank() and release()
+take it, Frame.bank is it.
 """
 
 from __future__ import annotations
@@ -51,6 +60,8 @@ from golden_model.frameparams import FrameParams
 from golden_model.select import best_per_level
 
 from .bus import Bus, BusError
+from .ddr import FrameMemory, MemoryFactory
+from .ring import MAX_BUFFERS, DdrWindow, RingLayout, plan_ring, read_record, read_slots, ring_error_text
 
 COUNTERS = ("FRAME_COUNT", "DROPPED", "PROTO_ERRORS", "OVERRUN", "OVERFLOW_COUNT", "DESC_LOST", "DISCARDED")
 IRQ_SOURCES = ("frame_done", "error")
@@ -60,6 +71,10 @@ NO_ANGLE = -1.0  # cv2.KeyPoint's angle when there is no orientation (fast mode)
 # the register map version (major, minor) from which the end-of-frame record carries the parameters
 # its frame was processed with (docs/feature-memory.md); an older map's records read 0 there
 PARAMS_VERSION = (3, 1)
+# the register map version from which CFG_DDR says where the features go (the banks or the DDR ring;
+# docs/feature-dma.md); an older map has neither CFG_DDR nor the ring (a read there answers SLVERR)
+DDR_VERSION = (3, 2)
+DMA_COUNTERS = ("DMA_DROPPED", "DMA_BUS_ERRORS", "DMA_BEATS")
 _T = TypeVar("_T")
 
 
@@ -122,8 +137,9 @@ class Selection:
 
 @dataclass(frozen=True)
 class Frame:
-    """One published frame: its bank, features (canonical order: scale, row, column), end-of-frame
-    record, the mode it was decoded in, the configuration, the counters read with it (the
+    """One published frame: its bank (on the DDR ring: its ring buffer's index), features
+    (canonical order: scale, row, column), end-of-frame record, the mode it was decoded in, the
+    configuration, the counters read with it (the
     cumulative registers of COUNTERS, lower-case names; empty when not read) and `params`, the
     parameters the frame was processed with as its record says (threshold, threshold_lo, mode,
     selection, budget, cols, rows: sampled by the accelerator at the frame's first pixel, whatever
@@ -236,9 +252,20 @@ class OrbAccel:
     release_stale (default True): at open, release the banks the accelerator shows READY whose
     frame-done interrupt was already taken: a previous process died holding them (recover(); the
     banks are in `released_at_open`, counted in faults.stale_banks). False for a program that only
-    looks (`orb-accel board info`) while another one may be reading frames."""
+    looks (`orb-accel board info`) while another one may be reading frames.
 
-    def __init__(self, bus: Bus, check_id: bool = True, bank_read: str = "bank", release_stale: bool = True) -> None:
+    memory, ring_count (DDR builds only, CFG_DDR.ddr = 1; ignored otherwise): the FrameMemory the
+    ring lies in (orb_accel.ddr), or a callable that opens one given the bytes a ring of
+    `ring_count` buffers (default 16) takes, called only for a DDR build; `ring_count` buffers,
+    default as many as the memory holds, at most 16. At open the ring is checked (ValueError
+    naming the broken rule: orb_accel.ring.plan_ring), written while the accelerator is stopped,
+    and the accelerator soft-reset (its frame numbers and counters restart; the buffers a dead
+    predecessor held are freed, in `released_at_open`); AccelError if RING_STATUS.error is then
+    not 0. A DDR build opened without memory can only be looked at (release_stale False), not
+    read: ValueError otherwise."""
+
+    def __init__(self, bus: Bus, check_id: bool = True, bank_read: str = "bank", release_stale: bool = True,
+                 memory: FrameMemory | MemoryFactory | None = None, ring_count: int | None = None) -> None:  # fmt: skip
         if bank_read not in BANK_READS:
             raise ValueError(f"bank_read {bank_read!r} not one of {BANK_READS}")
         self.bus = bus
@@ -247,11 +274,19 @@ class OrbAccel:
         self._held: set[int] = set()  # banks wait_frame handed out and release has not given back
         self._suspect = False  # a bus error cut an operation: the bank state is checked before the next wait
         self._stray_ok = False  # a recovery released a bank whose interrupt may still come
+        # the DDR ring (docs/feature-dma.md): CFG_DDR, the memory and the layout (None: the banks)
+        self.window: DdrWindow | None = None
+        self.memory: FrameMemory | None = None
+        self.ring: RingLayout | None = None
+        self._pending = 0  # ring buffers READY that wait_frame has not handed out yet (a bit each)
+        self._last = 0  # the ring buffer handed out last: the next is looked for from the one after it
+        self._unreleased: set[int] = set()  # ring buffers whose release was cut by a bus error
+        version = (regs.VERSION_MAJOR, regs.VERSION_MINOR)
         if check_id:
             ident = self.read(regs.ID)
             if ident != regs.ORB_ID:
                 raise AccelError(f"ID reads {ident:#010x}, not {regs.ORB_ID:#010x} ('ORB1'): not an ORB accelerator")
-            major, minor = self.version()
+            major, minor = version = self.version()
             if major != regs.VERSION_MAJOR:
                 raise AccelError(f"register map version {major}.{minor}: this driver reads version "
                                  f"{regs.VERSION_MAJOR}.x (docs/registers.md)")  # fmt: skip
@@ -259,6 +294,8 @@ class OrbAccel:
         else:
             self.records_params = True  # unchecked: taken to be this driver's map
         self.hw = self.read_config()
+        if version >= DDR_VERSION:
+            self.window = DdrWindow.from_register(self.read(regs.CFG_DDR))
         # the mode frames are decoded in: CTRL's (another program may have configured the device),
         # then whatever configure() sets; a frame keeps the mode that was set when it started
         ctrl = self.read(regs.CTRL)
@@ -273,7 +310,106 @@ class OrbAccel:
             cells=(regs.SELECT.field("cols").get(sel), regs.SELECT.field("rows").get(sel)),
             threshold_lo=regs.THRESHOLD.field("low").get(thr),
         )
-        self.released_at_open: list[int] = self.recover() if release_stale else []
+        self.released_at_open: list[int] = []
+        if self.ddr:
+            if memory is not None:
+                self.released_at_open = self.open_ring(memory, ring_count)
+            elif release_stale:
+                raise ValueError("this accelerator writes its features to a DDR ring (CFG_DDR.ddr = 1): open it "
+                                 "with memory= (orb_accel.ddr: UDmaBuf, PynqMemory, ArrayMemory; the command "
+                                 "line's --ddr-memory), docs/driver.md, Features from DDR")  # fmt: skip
+        elif release_stale:
+            self.released_at_open = self.recover()
+
+    # ---- the DDR ring --------------------------------------------------------------------------
+    @property
+    def ddr(self) -> bool:
+        """Whether the accelerator writes its features to the DDR ring (CFG_DDR.ddr)."""
+        return self.window is not None and self.window.ddr
+
+    def open_ring(self, memory: FrameMemory | MemoryFactory, count: int | None = None, offset: int | None = None,
+                  stride: int | None = None) -> list[int]:  # fmt: skip
+        """Lay the ring out in `memory` (or in what the callable opens for the bytes `count`
+        buffers take, default 16), check it (orb_accel.ring.plan_ring: ValueError naming the
+        broken rule, before anything is written), stop the accelerator, drop the CPU's cache lines
+        of the ring, write RING_BASE, RING_STRIDE and RING_COUNT, soft-reset, check RING_STATUS.error
+        (AccelError with its bits decoded) and restore CTRL.enable. Returns the buffers that were
+        READY before the reset (a dead predecessor's, freed by it; counted in faults.stale_banks)."""
+        if self.window is None or not self.window.ddr:
+            raise AccelError("this accelerator keeps its features in block-RAM banks (no DDR ring: CFG_DDR.ddr 0 "
+                             "or a register map before 3.2)")  # fmt: skip
+        depth = self.hw.mem_depth
+        if not isinstance(memory, FrameMemory):
+            memory = memory((count or MAX_BUFFERS) * depth * SLOT_BYTES + 64)
+        layout = plan_ring(memory, depth, self.window, count, offset, stride)
+        ctrl = self.read(regs.CTRL)
+        stopped = regs.CTRL.field("enable").put(0, ctrl)
+        self.write(regs.CTRL, stopped)
+        ready = regs.RING_STATUS.field("ready").get(self.read(regs.RING_STATUS))
+        # no line of the ring may be dirty in the CPU's caches once the device writes it (the CPU
+        # never writes it; this drops whatever an earlier user of the memory left)
+        memory.invalidate(layout.offset, layout.extent)
+        self.write(regs.RING_BASE, layout.base)
+        self.write(regs.RING_STRIDE, layout.stride)
+        self.write(regs.RING_COUNT, layout.count)
+        self.write(regs.CTRL, regs.CTRL.field("soft_reset").put(1, stopped))
+        status = self.read(regs.RING_STATUS)
+        error = regs.RING_STATUS.field("error").get(status)
+        if error:
+            raise AccelError(f"RING_STATUS.error = {error:#x} after writing RING_BASE {layout.base:#x}, RING_STRIDE "
+                             f"{layout.stride:#x}, RING_COUNT {layout.count} (the accelerator stays stopped): "
+                             f"{ring_error_text(error)}")  # fmt: skip
+        self.write(regs.CTRL, ctrl)
+        self.memory, self.ring = memory, layout
+        self._held.clear()
+        self._unreleased.clear()
+        self._ring_restarted()
+        stale = [i for i in range(MAX_BUFFERS) if ready >> i & 1]
+        self.faults.stale_banks += len(stale)
+        return stale
+
+    def _ring_restarted(self) -> None:
+        """After a soft reset: every buffer free, the next frame goes to buffer 0."""
+        self._pending = 0
+        self._last = self.ring.count - 1 if self.ring is not None else 0
+
+    def _ring_layout(self) -> RingLayout:
+        if self.ring is None:
+            raise AccelError("this accelerator writes its features to a DDR ring, and this driver was opened "
+                             "without memory (OrbAccel(bus, memory=...)): it can look, not read frames")  # fmt: skip
+        return self.ring
+
+    def _adopt(self, status: int) -> None:
+        """Take RING_STATUS's READY buffers that are neither handed out nor being recovered as
+        pending frames."""
+        ring = self._ring_layout()
+        ready = regs.RING_STATUS.field("ready").get(status) & ((1 << ring.count) - 1)
+        for i in self._held | self._unreleased:
+            ready &= ~(1 << i)
+        self._pending = ready
+
+    def _next_pending(self) -> int | None:
+        """The pending buffer that comes first in ring order after the one handed out last."""
+        n = self._ring_layout().count
+        for k in range(1, n + 1):
+            i = (self._last + k) % n
+            if self._pending >> i & 1:
+                self._pending &= ~(1 << i)
+                self._last = i
+                return i
+        return None
+
+    def dma_counters(self) -> dict[str, int]:
+        """The DDR path's counters (DMA_COUNTERS, lower-case names): frames dropped, write error
+        responses, W beats written."""
+        return {name.lower(): self.read(getattr(regs, name)) for name in DMA_COUNTERS}
+
+    def close(self) -> None:
+        """Close the ring's memory if it has a close() (an UDmaBuf's mapping); the bus stays the
+        caller's. The driver reads no frame after it."""
+        memory, self.memory, self.ring = self.memory, None, None
+        if memory is not None and hasattr(memory, "close"):
+            memory.close()
 
     # ---- the bus, bus errors counted -----------------------------------------------------------
     def _call(self, op: Callable[..., _T], *args: object) -> _T:
@@ -402,6 +538,8 @@ class OrbAccel:
         finished before (discarded), then reads and releases the next frame (returned, in the mode
         of its start); every later frame uses the new values."""
         old_mode = self._mode_before
+        if self.ddr:
+            return self._settle_ring(timeout_s, old_mode)
         # A frame that finished before this call is discarded with its interrupt: its bank must be
         # released too, or the accelerator, whose next frame waits for that bank, stops publishing
         # (the frames are skipped as overruns) while this waits for an interrupt that never comes.
@@ -425,18 +563,40 @@ class OrbAccel:
         self._mode_before = self.mode
         return frame
 
+    def _settle_ring(self, timeout_s: float, old_mode: str) -> Frame:
+        """settle() on the DDR ring: the frames already published are released unread."""
+        ring = self._ring_layout()
+        self.write(regs.IRQ_STATUS, 0xFFFFFFFF)
+        status = self.read(regs.RING_STATUS)
+        ready = regs.RING_STATUS.field("ready").get(status) & ((1 << ring.count) - 1)
+        for i in range(ring.count):
+            if ready >> i & 1 and i not in self._held:
+                self.release(i)
+        self._pending = 0
+        if ready:  # the newest of them: the next frame goes to the buffer after it
+            self._last = regs.RING_STATUS.field("last").get(status)
+        with self.holding(self.wait_frame(timeout_s)) as index:
+            frame = self.read_bank(index, mode=None if self.records_params else old_mode)
+        self._mode_before = self.mode
+        return frame
+
     def soft_reset(self) -> None:
-        """Restart the data path and the counters (the registers keep their values)."""
+        """Restart the data path and the counters (the registers keep their values; on the DDR
+        ring every buffer is freed and the next frame goes to buffer 0)."""
         ctrl = self.read(regs.CTRL)
         self.write(regs.CTRL, regs.CTRL.field("soft_reset").put(1, ctrl))
+        if self.ddr:
+            self._ring_restarted()
 
     def counters(self) -> dict[str, int]:
         return {name.lower(): self.read(getattr(regs, name)) for name in COUNTERS}
 
     def status_text(self) -> str:
         """The status registers as one line (for error messages)."""
-        parts = [f"{name} = {self.read(getattr(regs, name)):#x}" for name in ("STATUS", "IRQ_STATUS", "CTRL")]
-        return ", ".join(parts + [f"{k} = {v}" for k, v in self.counters().items()])
+        names = ("RING_STATUS", "IRQ_STATUS", "CTRL") if self.ddr else ("STATUS", "IRQ_STATUS", "CTRL")
+        parts = [f"{name} = {self.read(getattr(regs, name)):#x}" for name in names]
+        counters = self.counters() | (self.dma_counters() if self.ddr else {})
+        return ", ".join(parts + [f"{k} = {v}" for k, v in counters.items()])
 
     # ---- frames --------------------------------------------------------------------------------
     def wait_irq(self, timeout_s: float) -> int:
@@ -456,7 +616,13 @@ class OrbAccel:
         Recovery (docs/driver.md, "Faults and recovery"): after a bus error cut an operation, the
         banks are checked first (recover()); on a timeout the banks nobody holds are released
         before TimeoutError is raised (a bank left READY stops the accelerator for good: it skips
-        every frame whose bank is held), so that frames flow again when the video comes back."""
+        every frame whose bank is held), so that frames flow again when the video comes back.
+
+        On the DDR ring: the index of the next READY buffer in ring order (after the one handed
+        out last), with no bus access while buffers found READY by an earlier RING_STATUS read are
+        left; else the wait for the interrupt, its acknowledgement and one RING_STATUS read."""
+        if self.ddr:
+            return self._wait_ring(timeout_s)
         if self._suspect:
             self.recover()
         while True:
@@ -480,12 +646,42 @@ class OrbAccel:
         self._held.add(bank)
         return bank
 
+    def _wait_ring(self, timeout_s: float) -> int:
+        self._ring_layout()
+        if self._suspect:
+            self.recover()
+        while True:
+            index = self._next_pending()
+            if index is not None:
+                break
+            try:
+                irq = self.wait_irq(timeout_s)
+            except TimeoutError as exc:
+                released = self.recover()  # also takes READY buffers whose interrupt was lost
+                if self._pending:
+                    continue  # frames after all: a lost interrupt cost its wait, not the frames
+                if not released:
+                    raise
+                raise TimeoutError(f"{exc}; released ring buffer(s) {released} whose release had failed") from None
+            if regs.IRQ_STATUS.field("frame_done").get(irq):
+                # a frame published between the last acknowledgement and the last RING_STATUS read
+                # was taken then; its interrupt finds nothing new: wait on
+                self._adopt(self.read(regs.RING_STATUS))
+        self._held.add(index)
+        return index
+
     def recover(self) -> list[int]:
         """Release the banks the accelerator shows READY that this driver does not hold, except the
         newest one while its frame-done interrupt is pending (a frame still to be taken): a killed
         predecessor's (at open), or one this driver lost track of (a bus error between the
         interrupt and the release; an interrupt lost). Their frames are lost and counted in
-        faults.stale_banks. Returns the banks released (usually none)."""
+        faults.stale_banks. Returns the banks released (usually none).
+
+        On the DDR ring, whose frames carry their own numbers: release the buffers whose release a
+        bus error cut (counted in faults.stale_banks) and take every other READY buffer nobody
+        holds as a frame to read (none is lost to a lost interrupt). Returns those released."""
+        if self.ddr:
+            return self._recover_ring()
         pending = regs.IRQ_STATUS.field("frame_done").get(self.read(regs.IRQ_STATUS))
         status = self.read(regs.STATUS)
         ready = regs.STATUS.field("bank_ready").get(status)
@@ -499,13 +695,53 @@ class OrbAccel:
         self._suspect = False
         return stale
 
+    def _recover_ring(self) -> list[int]:
+        self._ring_layout()
+        status = self.read(regs.RING_STATUS)
+        ready = regs.RING_STATUS.field("ready").get(status)
+        stale = sorted(i for i in self._unreleased if ready >> i & 1)
+        for i in stale:
+            self.release(i)
+            self.faults.stale_banks += 1
+        self._unreleased.clear()  # those no longer READY were released after all
+        for i in stale:
+            status &= ~(1 << i)
+        self._adopt(status)
+        self._suspect = False
+        return stale
+
+    def _read_ring(self, index: int, mode: str | None, counters: bool) -> Frame:
+        """read_bank() on the DDR ring: buffer `index` from memory, no bus access but the counters."""
+        ring = self._ring_layout()
+        assert self.memory is not None
+        if index not in range(ring.count):
+            raise ValueError(f"ring buffer {index} outside 0..{ring.count - 1}")
+        try:
+            record = read_record(self.memory, ring, index)
+        except ValueError as exc:
+            raise AccelError(f"ring buffer {index}: slot 0 is {exc}") from None
+        if record.count > self.hw.capacity:
+            raise AccelError(f"ring buffer {index}: record count {record.count} above a buffer's {self.hw.capacity}")
+        words = read_slots(self.memory, ring, index, record.count)
+        return self._frame(index, words, record, mode, counters)
+
+    def _frame(self, bank: int, words: np.ndarray, record: EndOfFrame, mode: str | None, counters: bool) -> Frame:
+        params = record.params if self.records_params else None
+        if mode is None:
+            mode = params.mode if params is not None else self.mode
+        feats = decode_features(words, self.hw.sectors, descriptors=mode == "orb")
+        feats.step = self.hw.step
+        return Frame(bank, feats, record, mode, self.hw, self.counters() if counters else {}, params)
+
     def read_bank(self, bank: int, mode: str | None = None, counters: bool = True) -> Frame:
         """A ready bank's features and record (the bank stays held: see release), decoded in `mode`
         (default: the frame's own mode, from its record; from an accelerator whose records carry no
         parameters, the mode last configured), with the counters when `counters` (len(COUNTERS)
-        more reads)."""
+        more reads). On the DDR ring `bank` is a ring buffer's index (wait_frame's)."""
         if mode is not None and mode not in MODES:
             raise ValueError(f"mode {mode!r} not one of {MODES}")
+        if self.ddr:
+            return self._read_ring(bank, mode, counters)
         if bank not in range(regs.BANKS):
             raise ValueError(f"bank {bank} outside 0..{regs.BANKS - 1}")
         info = self.read(regs.BANK0_INFO if bank == 0 else regs.BANK1_INFO)
@@ -522,15 +758,20 @@ class OrbAccel:
             record = decode_record(self._call(self.bus.read_block, base + count * SLOT_BYTES, SLOT_RECORD_WORDS))
         if record.count != count:
             raise AccelError(f"bank {bank}: record count {record.count}, BANK{bank}_INFO count {count}")
-        params = record.params if self.records_params else None
-        if mode is None:
-            mode = params.mode if params is not None else self.mode
-        feats = decode_features(words, self.hw.sectors, descriptors=mode == "orb")
-        feats.step = self.hw.step
-        return Frame(bank, feats, record, mode, self.hw, self.counters() if counters else {}, params)
+        return self._frame(bank, words, record, mode, counters)
 
     def release(self, bank: int) -> None:
-        """Give a bank back to the accelerator (after reading it)."""
+        """Give a bank back to the accelerator (after reading it); on the DDR ring a ring buffer
+        (RING_RELEASE)."""
+        if self.ddr:
+            ring = self._ring_layout()
+            if bank not in range(ring.count):
+                raise ValueError(f"ring buffer {bank} outside 0..{ring.count - 1}")
+            self._held.discard(bank)
+            self._unreleased.add(bank)  # until the write is answered: a recovery then releases it
+            self.write(regs.RING_RELEASE, bank)
+            self._unreleased.discard(bank)
+            return
         if bank not in range(regs.BANKS):
             raise ValueError(f"bank {bank} outside 0..{regs.BANKS - 1}")
         self._held.discard(bank)  # given back even if the write fails: a recovery then finds it READY

@@ -27,6 +27,7 @@ import numpy as np
 
 from golden_model.frameparams import FrameParams
 from orb_accel.bus import Bus
+from orb_accel.ddr import FrameMemory, MemoryFactory
 from orb_accel.driver import Frame, OrbAccel
 
 from .loop import NODE_NAME, AccelSource, FrameLoop, Params, Report, Request, check_params, feature_arrays, frame_fields
@@ -176,9 +177,11 @@ def init_node(rospy: ModuleType, defaults: Params, argv: list[str] | None = None
 
 
 def run_node(rospy: ModuleType, msgs: ModuleType, srvs: ModuleType, bus: Bus, settings: Settings,
-             default_timeout_s: float, hardware_id: str) -> int:  # fmt: skip
-    """Run the initialised node on `bus` until it is shut down."""
-    accel = OrbAccel(bus)
+             default_timeout_s: float, hardware_id: str,
+             memory: FrameMemory | MemoryFactory | None = None) -> int:  # fmt: skip
+    """Run the initialised node on `bus` until it is shut down; `memory`: a DDR build's frame
+    memory (OrbAccel(memory=); orb_accel.ddr), unused by a build with block-RAM banks."""
+    accel = OrbAccel(bus, memory=memory)
     timeout_s = settings.timeout_s or default_timeout_s
     node = FeatureNode(rospy, msgs, srvs, accel, settings.params, settings.frame_id, timeout_s,
                        settings.diag_period_s, hardware_id, budget=settings.budget)  # fmt: skip

@@ -43,6 +43,7 @@ from golden_model import limits
 from golden_model.config import MODES
 from golden_model.frameparams import FrameParams
 from orb_accel.bus import BOARD_TIMEOUT_S, SIM_TIMEOUT_FRAMES
+from orb_accel.ddr import memory_factory
 from orb_accel.driver import Frame, OrbAccel
 from orb_ros.loop import (
     NODE_NAME,
@@ -229,7 +230,8 @@ class Ros2FeatureNode(FrameLoop):
 def open_source(args: argparse.Namespace) -> Iterator[tuple[NodeSource, str, float]]:
     """(frame source, what it is, the default frame timeout) of the command line: the driver on the
     board (--uio, the default; --devmem) or on a simulator's socket (--connect), or the frames of
-    an `orb-accel serve` on another machine (--remote)."""
+    an `orb-accel serve` on another machine (--remote). A DDR build's frame memory: --ddr-memory
+    (orb_accel.ddr.memory_factory; u-dma-buf's udmabuf0 on the board, an array on a simulator)."""
     with ExitStack() as stack:
         if args.remote:
             from orb_accel.remote import RemoteAccel
@@ -254,7 +256,8 @@ def open_source(args: argparse.Namespace) -> Iterator[tuple[NodeSource, str, flo
 
             name = args.uio or "orb-accel"
             bus, what, timeout = stack.enter_context(UioBus.open(name)), f"UIO device {name!r}", BOARD_TIMEOUT_S
-        yield AccelSource(OrbAccel(bus)), what, timeout
+        memory = memory_factory(args.ddr_memory, board=not args.connect)
+        yield AccelSource(OrbAccel(bus, memory=memory)), what, timeout
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -266,6 +269,9 @@ def _parser() -> argparse.ArgumentParser:
     g.add_argument("--remote", metavar="HOST:PORT", help="the frames of an orb-accel serve (its parameters)")
     p.add_argument("--threshold", type=int, default=20, help="start-up threshold (parameter threshold wins)")
     p.add_argument("--mode", default="orb", help="start-up mode (parameter mode wins)")
+    p.add_argument("--ddr-memory", metavar="SPEC",
+                   help="a DDR build's frame memory (CFG_DDR.ddr = 1 only): udmabuf[:NAME] (default on the board: "
+                        "udmabuf0), array[:PHYS] (default with --connect), pynq (docs/driver.md)")  # fmt: skip
     return p
 
 

@@ -10,6 +10,9 @@ one bus:
   command's lifetime;
 
 or `board stream --remote HOST:PORT`: the frames of an `orb-accel serve` on another machine.
+`--ddr-memory SPEC` says where a DDR build's ring of frames lies (docs/driver.md, "Features from
+DDR"; used only when the accelerator says CFG_DDR.ddr = 1): `udmabuf[:NAME]` (the default on the
+board: u-dma-buf's udmabuf0), `array[:PHYS]` (in-process; the default on a simulator), `pynq`.
 
 On the board these need numpy and Debian's packages only: OpenCV, cocotb and the simulator are
 imported only for --sim, sim-server and bag.
@@ -30,6 +33,7 @@ from golden_model.config import MODES, NAMES, named, parse_step
 from golden_model.frameparams import FrameParams
 from orb_accel.bus import BOARD_TIMEOUT_S, SIM_TIMEOUT_FRAMES, Bus
 from orb_accel.csvdir import CsvDir
+from orb_accel.ddr import MemoryFactory, memory_factory
 from orb_accel.driver import Frame, HwConfig, OrbAccel
 from orb_accel.serve import DEFAULT_MAX_CLIENTS, DEFAULT_QUEUE
 from orb_accel.stream import DEFAULT_PORT
@@ -70,6 +74,9 @@ def add_bus_options(p: argparse.ArgumentParser, remote: bool = False) -> None:
                         "buserr:OP:WHERE:FIRST[:EVERY[:RESP]] (docs/driver.md, Faults and recovery)")  # fmt: skip
     p.add_argument("--timeout", type=float, help=f"seconds to wait for a frame (board: {BOARD_TIMEOUT_S:g}; "
                    f"simulator: {SIM_TIMEOUT_FRAMES} frame periods of simulated time)")  # fmt: skip
+    p.add_argument("--ddr-memory", metavar="SPEC",
+                   help="a DDR build's frame memory (CFG_DDR.ddr = 1 only): udmabuf[:NAME] (default on the board: "
+                        "udmabuf0), array[:PHYS] (default on a simulator), pynq (docs/driver.md)")  # fmt: skip
 
 
 def add_parsers(sub: argparse._SubParsersAction) -> None:
@@ -257,6 +264,11 @@ def open_bus(args: argparse.Namespace) -> Iterator[tuple[Bus, str, float]]:
             yield bus, f"UIO device {name!r}", args.timeout or BOARD_TIMEOUT_S
 
 
+def ddr_memory(args: argparse.Namespace) -> MemoryFactory:
+    """--ddr-memory as OrbAccel(memory=) takes it: opened only for a DDR build (orb_accel.ddr)."""
+    return memory_factory(getattr(args, "ddr_memory", None), board=not (args.sim or args.connect))
+
+
 def _traceback_on_sigbus() -> None:
     """On the board an error response to a load is a SIGBUS that ends the process (docs/driver.md,
     "Faults and recovery"): leave the Python stack of the access on stderr."""
@@ -289,6 +301,13 @@ def cmd_info(args: argparse.Namespace) -> int:
         print(f"control: {'enabled' if accel.enabled else 'disabled'}, mode {accel.mode}, threshold {accel.threshold}, "
               f"{how}; STATUS {status:#x}, IRQ_STATUS {accel.read(regs.IRQ_STATUS):#x}")  # fmt: skip
         print(f"counters: {_counters_line(accel.counters())}")
+        if accel.ddr:
+            assert accel.window is not None
+            ring = {n.lower(): accel.read(getattr(regs, n)) for n in ("RING_BASE", "RING_STRIDE", "RING_COUNT",
+                                                                      "RING_STATUS")}  # fmt: skip
+            print(f"features to DDR: window {accel.window.text()}; "
+                  + ", ".join(f"{k} {v:#x}" for k, v in ring.items())
+                  + f"; {_counters_line(accel.dma_counters())}")  # fmt: skip
     return 0
 
 
@@ -310,7 +329,8 @@ def cmd_stream(args: argparse.Namespace) -> int:
         return _stream_remote(args)
     _frame_options(args)
     with open_bus(args) as (bus, what, timeout), ExitStack() as stack:
-        accel = OrbAccel(bus)
+        accel = OrbAccel(bus, memory=ddr_memory(args))
+        stack.callback(accel.close)
         grid = _configure(accel, args, timeout)
         csv = stack.enter_context(CsvDir(args.csv)) if args.csv is not None else None
         hw = accel.hw
@@ -398,7 +418,7 @@ def cmd_serve(args: argparse.Namespace) -> int:
         raise ValueError(f"--queue and --max-clients must be 1 or more, got {args.queue} and {args.max_clients}")
     signal.signal(signal.SIGTERM, _raise_interrupt)  # a clean stop: BYE to every client
     with open_bus(args) as (bus, what, timeout):
-        accel = OrbAccel(bus)
+        accel = OrbAccel(bus, memory=ddr_memory(args))
         grid = _configure(accel, args, timeout)
         # a client's wait for a frame in wall seconds: the simulator's can take minutes
         wait_s = bus.op_timeout_s if isinstance(bus, SocketBus) else max(2.0, 2 * timeout)
@@ -495,7 +515,7 @@ def cmd_ros(args: argparse.Namespace, ros_args: list[str]) -> int:
         # the tests stop nodes with SIGINT)
         signal.signal(signal.SIGINT, signal.default_int_handler)
         with open_bus(args) as (bus, what, timeout):
-            return run_node(rospy, msg_mod, srv_mod, bus, settings, timeout, what)
+            return run_node(rospy, msg_mod, srv_mod, bus, settings, timeout, what, memory=ddr_memory(args))
 
 
 def ros2_python(given: Path | None = None) -> tuple[Path, dict[str, str]]:
@@ -545,6 +565,8 @@ def cmd_ros2(args: argparse.Namespace, ros_args: list[str]) -> int:
             bus = ["--devmem", hex(args.devmem)]
         else:
             bus = ["--uio", args.uio or "orb-accel"]
+        if args.ddr_memory is not None and not args.remote:
+            bus += ["--ddr-memory", args.ddr_memory]
         proc = subprocess.Popen([str(python), "-m", "orb_ros2.node", *bus, *node_args, *ros_args], env=env)
         signal.signal(signal.SIGTERM, lambda *_: proc.send_signal(signal.SIGTERM))
         try:

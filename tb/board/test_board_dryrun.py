@@ -2,15 +2,19 @@
 """The Zybo Z7-20 build checked without Vivado (docs/board.md, "Checked without Vivado").
 
 - vivado/board.json's generated views are fresh; the device-tree overlays compile with dtc and
-  carry the address map and the interrupt (the PYNQ overlays: the address map only);
+  carry the address map and the interrupt, and for a DDR build the ring's u-dma-buf node (its size,
+  compatible, device name and sync mode); the PYNQ overlays: the address map only;
 - tclint passes over every TCL and XDC file with the Vivado command spec;
 - vivado/build.tcl runs in tclsh against the recording stubs for every configuration, with and
   without board files, and every check of sw/orb_flow/board/dryrun.py passes on the record (sources =
   hdl/manifest.txt, accelerator ports read from the VHDL, IP facts, nets, pins = Digilent's master
-  XDC, clocks, addresses, overlay, documented VLNVs); docs/board.md's table is this dry run;
+  XDC, clocks, addresses, the DDR path of the feature memory, overlay, documented VLNVs); docs/board.md's
+  table is this dry run;
 - the checks can fail: a wrong pin, a connection to a port the wrapper does not have, an
   overlapping address segment, an IP property value outside its choices, a switch Vivado does not
-  know and a bad argument each make the dry run or a check fail;
+  know and a bad argument each make the dry run or a check fail; so do an HP port at 32 bits, the
+  feature master wired to the HP port without the interconnect, the HP port on another clock and a
+  DDR segment that is not the window; a BRAM build has none of the DDR path and passes;
 - the build's TCL helpers: the kClkRange choice-list extension, the manifest reader;
 - make bitstream without Vivado stops at once with one line naming what is missing; its outputs lie
   side by side with one stem (.bit and .hwh from the TCL, .bit.bin and .dtbo from the packaging step),
@@ -39,6 +43,7 @@ ROOT = Path(__file__).resolve().parents[2]
 BOARD = json.loads((ROOT / "vivado" / "board.json").read_text())
 CONFIGS = list(BOARD["configs"])
 BOARD_PART = BOARD["vivado_boards"]["board_part"]
+DMA = BOARD["feat_dma"]
 
 
 def need(tool: str, package: str) -> str:
@@ -77,6 +82,33 @@ def test_overlay_compiles_with_address_and_interrupt(config: str, tmp_path: Path
     assert 'compatible = "generic-uio";' in back
     assert f'firmware-name = "{BOARD["design_name"]}_{config}.bit.bin";' in back
     assert acc["gic_spi"] == 29 + acc["irq_f2p"], "IRQ_F2P[n] is GIC SPI 29 + n (SPI IDs 61..68 - 32)"
+    # the ring's buffer (docs/board.md, "Features to DDR"): one u-dma-buf node of count x DEPTH_g x 64
+    # bytes, cached when opened without O_SYNC (sync-mode 1, no sync-always), synced from the device
+    cfg = BOARD["configs"][config]
+    nodes = re.findall(r"\n(\t+)orb-ring \{\n(.*?)\n\1\};", back, re.S)
+    if cfg["mem_kind"] != "ddr":
+        assert "u-dma-buf" not in back, back
+        return
+    assert len(nodes) == 1, back
+    body = nodes[0][1]
+    ring = DMA["ring_buffers"] * cfg["mem_depth"] * 64
+    assert 'compatible = "ikwzm,u-dma-buf";' in body
+    assert f"size = <0x{ring:02x}>;" in body, body
+    assert (
+        f'device-name = "{DMA["udmabuf_name"]}";' in body and f"minor-number = <0x{DMA['udmabuf_minor']:02x}>;" in body
+    )
+    assert f"sync-mode = <0x{DMA['udmabuf_sync_mode']:02x}>;" in body and DMA["udmabuf_sync_mode"] == 1
+    assert f"sync-direction = <0x{DMA['udmabuf_sync_direction']:02x}>;" in body and DMA["udmabuf_sync_direction"] == 2
+    assert "sync-always" not in body and "dma-coherent" not in body and "memory-region" not in body, body
+    if config == "1920x1080":
+        assert ring == 512 * 1024, "4 buffers x 2,048 slots x 64 bytes at 1080p"
+
+
+def test_udmabuf_name_is_the_drivers_default() -> None:
+    """The overlay's u-dma-buf device is the one orb_accel.ddr.UDmaBuf opens when given no name."""
+    from orb_accel import ddr
+
+    assert DMA["udmabuf_name"] == ddr.UDMABUF_NAME
 
 
 @pytest.mark.parametrize("config", CONFIGS)
@@ -93,6 +125,7 @@ def test_pynq_overlay_has_the_registers_only(config: str, tmp_path: Path) -> Non
     assert f"{acc['dt_name']}@{base:x} {{" in back and f"reg = <0x{base:x} 0x{size:x}>;" in back, back
     assert 'compatible = "generic-uio";' in back
     assert "interrupts" not in back and "firmware-name" not in back and "fpga_full" not in back, back
+    assert "u-dma-buf" not in back, "under PYNQ the ring comes from pynq.allocate (docs/pynq.md)"
 
 
 def test_board_json_rules(tmp_path: Path) -> None:
@@ -126,6 +159,30 @@ def test_board_json_rules(tmp_path: Path) -> None:
     (tmp_path / "b.json").write_text(json.dumps(bad))
     with pytest.raises(ValueError, match="640x480: 'config' must name a configuration"):
         gen.load(tmp_path / "b.json")
+
+
+@pytest.mark.parametrize(
+    ("change", "message"),
+    [
+        ({"win_base_mb": 512}, "window 512 \\+ 1024 MiB is not inside the DDR"),
+        ({"win_base_mb": 256, "win_size_mb": 512}, "must be a power of two at a multiple of itself"),
+        ({"win_size_mb": 768}, "must be a power of two at a multiple of itself"),
+        ({"hp_data_width": 32}, "m_axi_feat is 64 bits wide"),
+        ({"ring_buffers": 17}, "ring_buffers 17 is not 1 .. 16"),
+        ({"win_size_mb": 1, "ring_buffers": 16}, "1280x720: the ring \\(2097152 bytes\\) does not fit"),
+    ],
+)
+def test_board_json_feat_dma_rules(change: dict[str, int], message: str, tmp_path: Path) -> None:
+    """The DDR window lies in the board's DDR and is one address segment; every ring fits in it."""
+    bad = json.loads(json.dumps(BOARD))
+    bad["feat_dma"] |= change
+    (tmp_path / "b.json").write_text(json.dumps(bad))
+    with pytest.raises(ValueError, match=message):
+        gen_board.load(tmp_path / "b.json")
+    del bad["feat_dma"]
+    (tmp_path / "b.json").write_text(json.dumps(bad))
+    with pytest.raises(ValueError, match="mem_kind ddr but there is no feat_dma"):
+        gen_board.load(tmp_path / "b.json")
 
 
 # --- tclint -----------------------------------------------------------------------------------------
@@ -197,7 +254,12 @@ def test_entity_reader() -> None:
     assert {"aclk", "aresetn", "irq", "s_axi_ctrl_awaddr", "m_axis_video_tlast"} <= set(ent.ports)
     assert ent.ports["irq"] == "out" and ent.ports["s_axis_video_tdata"] == "in"
     assert {"WIDTH_g", "MEM_DEPTH_g", "C_S_AXI_CTRL_ADDR_WIDTH"} <= set(ent.generics)
-    assert sorted(dryrun.module_interfaces(ent.ports)) == ["m_axis_video", "s_axi_ctrl", "s_axis_video"]
+    assert {"MEM_KIND_g", "WIN_BASE_MB_g", "WIN_SIZE_MB_g"} <= set(ent.generics)
+    assert sorted(dryrun.module_interfaces(ent.ports)) == ["m_axi_feat", "m_axis_video", "s_axi_ctrl", "s_axis_video"]
+    feat = {p.removeprefix("m_axi_feat_") for p in dryrun.module_interfaces(ent.ports)["m_axi_feat"]}
+    need = {"awaddr", "awlen", "awsize", "awburst", "awcache", "awprot", "awvalid", "awready",
+            "wdata", "wstrb", "wlast", "wvalid", "wready", "bresp", "bvalid", "bready"}  # fmt: skip
+    assert need <= feat and feat - need <= {"awid", "bid"}, feat  # write channels only (an ID at most)
 
 
 # --- the checks can fail --------------------------------------------------------------------------------
@@ -291,6 +353,100 @@ def test_unknown_switch_and_bad_arguments_fail(tmp_path: Path) -> None:
         dryrun.run("1280x720", tmp_path / "c", extra_args=("--jobs", "0"))
     with pytest.raises(RuntimeError, match="is not Digilent's vivado-library"):
         dryrun.run("1280x720", tmp_path / "d", library=tmp_path)
+
+
+def test_feature_dma_recorded(tmp_path: Path) -> None:
+    """The dry run's record of the DDR path, spelled out: HP0 on at 64 bits, m_axi_feat -> feat_ic
+    (one SI, one MI) -> S_AXI_HP0, S_AXI_HP0_ACLK on the accelerator's clock, the HP0 DDR segment in
+    m_axi_feat's space exactly the window, the wrapper's generics from vivado/board.json."""
+    d = dryrun.run("1920x1080", tmp_path)
+    ps7, accel, ic = d.cells["ps7"].config, d.cells["orb_accel"].config, d.cells[DMA["interconnect"]]
+    assert (ps7["CONFIG.PCW_USE_S_AXI_HP0"], ps7["CONFIG.PCW_S_AXI_HP0_DATA_WIDTH"]) == ("1", "64")
+    assert (accel["CONFIG.MEM_KIND_g"], accel["CONFIG.WIN_BASE_MB_g"], accel["CONFIG.WIN_SIZE_MB_g"]) == (
+        "DDR",
+        "0",
+        "1024",
+    )
+    assert ic.vlnv == "xilinx.com:ip:axi_interconnect" and (ic.config["CONFIG.NUM_SI"], ic.config["CONFIG.NUM_MI"]) == (
+        "1",
+        "1",
+    )
+    assert ["orb_accel/m_axi_feat", "feat_ic/S00_AXI"] in d.intf_nets and [
+        "feat_ic/M00_AXI",
+        "ps7/S_AXI_HP0",
+    ] in d.intf_nets
+    clock = next(n for n in d.nets if "orb_accel/aclk" in n)
+    assert clock[0] == "core_clk/clk_out1" and "ps7/S_AXI_HP0_ACLK" in clock
+    seg = [a for a in d.addresses if a["space"] == "/orb_accel/m_axi_feat"]
+    assert [(a["segment"], a["offset"], a["range"]) for a in seg] == [
+        ("/ps7/S_AXI_HP0/HP0_DDR_LOWOCM", "0x00000000", "0x40000000")
+    ]
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "error"),
+    [
+        (
+            "PCW_[dict get $dma hp_port]_DATA_WIDTH [dict get $dma hp_data_width]",
+            "PCW_[dict get $dma hp_port]_DATA_WIDTH 32",
+            "ps7: CONFIG.PCW_S_AXI_HP0_DATA_WIDTH = '32', want '64'",
+        ),
+        (
+            "    orb_intf $accel/m_axi_feat $feat_ic/S00_AXI\n    orb_intf $feat_ic/M00_AXI ps7/$hp\n",
+            "    orb_intf $accel/m_axi_feat ps7/$hp\n",
+            "orb_accel/m_axi_feat must go to one axi_interconnect's slave interface, goes to ['ps7/S_AXI_HP0']",
+        ),
+        (
+            "lappend core_loads ps7/${hp}_ACLK ",
+            "lappend core_loads ",
+            "ps7/S_AXI_HP0_ACLK is not on the accelerator's clock net (['core_clk/clk_out1'])",
+        ),
+        (
+            "-range [orb_mb_hex [dict get $dma win_size_mb]]",
+            "-range 0x20000000",
+            "orb_accel/m_axi_feat: segments [('/ps7/S_AXI_HP0/HP0_DDR_LOWOCM', 0, 536870912)], want exactly "
+            "('/ps7/S_AXI_HP0/HP0_DDR_LOWOCM', 0, 1073741824) (the window WIN_BASE_MB_g, WIN_SIZE_MB_g)",
+        ),
+        (
+            "CONFIG.WIN_SIZE_MB_g [dict get $dma win_size_mb]",
+            "CONFIG.WIN_SIZE_MB_g 512",
+            "orb_accel: CONFIG.WIN_SIZE_MB_g = '512', vivado/board.json wants '1024'",
+        ),
+    ],
+    ids=["hp0-32-bit", "no-interconnect", "hp0-other-clock", "segment-not-window", "window-generic"],
+)
+def test_feature_dma_checks_fail(old: str, new: str, error: str, tmp_path: Path) -> None:
+    def edit(v: Path) -> None:
+        lib = "ps7.tcl" if "DATA_WIDTH" in old else "bd.tcl"
+        replace_in(v / "lib" / lib, old, new)
+
+    d = mutated_run(tmp_path, edit)
+    assert error in dryrun.check_feature_dma(d), dryrun.check_feature_dma(d)
+
+
+def test_bram_build_has_no_ddr_path(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """A configuration with mem_kind bram (a board.json the named configurations do not have, so its
+    views are written without gen_board.load's checks): no HP port, no feat_ic, m_axi_feat left
+    unconnected, no DDR segment, no u-dma-buf node, and every check passes."""
+    b = json.loads(json.dumps(BOARD))
+    b["configs"]["1280x720"]["mem_kind"] = "bram"
+    repo = tmp_path / "repo"
+    shutil.copytree(ROOT / "vivado", repo / "vivado")
+    os.symlink(ROOT / "hdl", repo / "hdl")
+    (repo / "vivado" / "board.json").write_text(json.dumps(b))
+    (repo / "vivado" / "gen" / "board.tcl").write_text(gen_board.render_tcl(b))
+    for name in b["configs"]:
+        (repo / "vivado" / "linux" / f"orb-accel-{name}.dtso").write_text(gen_board.render_dtso(b, name))
+    monkeypatch.setattr(dryrun, "BOARD", repo / "vivado" / "board.json")
+    monkeypatch.setattr(dryrun, "VIVADO", repo / "vivado")
+    d = dryrun.run("1280x720", tmp_path / "work", vivado_dir=repo / "vivado")
+    # (sources: the copy's hdl/ is a link, so its paths are not ROOT's; test_dry_run_checks covers them)
+    errors = {name: errs for name, errs in dryrun.check_all(d).items() if errs and name != "sources"}
+    assert not errors, json.dumps(errors, indent=1)
+    assert "feat_ic" not in d.cells and "CONFIG.PCW_USE_S_AXI_HP0" not in d.cells["ps7"].config
+    assert d.cells["orb_accel"].config["CONFIG.MEM_KIND_g"] == "BRAM"
+    assert [a["space"] for a in d.addresses] == ["/ps7/Data"]
+    assert "u-dma-buf" not in (repo / "vivado" / "linux" / "orb-accel-1280x720.dtso").read_text()
 
 
 def test_missing_hardware_handoff_copy_fails(tmp_path: Path) -> None:

@@ -8,13 +8,19 @@ What it holds, all from the dry run's record or the VHDL:
 - SYSTEMINFO: the block design's name and the part;
 - the processing_system7 cell with its recorded PCW_* settings, the PL clocks' divisors (from the
   requested frequencies and a 1,000 MHz IO PLL: Vivado's own choice may differ), the address map
-  (one MEMRANGE per assign_bd_address, through the PS's master interface), IRQ_F2P connected to what
-  the record connects it to;
+  (one MEMRANGE per assign_bd_address in the PS's address space ps7/Data, through the PS's master
+  interface), IRQ_F2P connected to what the record connects it to, and each slave port a fabric
+  master reaches (a DDR build: S_AXI_HP0) as a SLAVE bus interface;
 - each module reference (the accelerator) with Vivado's module-reference VLNV
   (xilinx.com:module_ref:<entity>:1.0), its CONFIG generics as parameters, every port of the
-  entity (read from the VHDL) and the interfaces Vivado infers from their names;
-- no other cell (the video IP, the interconnect, the resets): PYNQ reads cells through the PS's
-  address map and interrupt pins, and the accelerator is the only one either reaches.
+  entity (read from the VHDL), the interfaces Vivado infers from their names (m_axi_feat a MASTER
+  aximm interface) and, for a master with an address space, its MEMORYMAP: one MEMRANGE per
+  assign_bd_address in that space (a DDR build: HP0_DDR_LOWOCM of ps7 through S_AXI_HP0, MEMTYPE
+  MEMORY, as a public Vivado .hwh writes a DMA master's view of DDR: pynqmetadata's test design
+  resizer.hwh, an axi_dma on S_AXI_HP0 of a Zynq-7000);
+- no other cell (the video IP, the interconnects, the resets): PYNQ reads cells through the PS's
+  address map and interrupt pins, and the accelerator is the only one either reaches (its DDR
+  master's bus interface names a bus, feat_ic's, whose interconnect is not written).
 
 Standard library only (it runs in .venv-pynq too).
 """
@@ -85,6 +91,7 @@ def render(d: Design, entity: Entity | None = None) -> str:
     refs = [c for c in d.cells.values() if c.kind == "module"]
     written = {f"{ps.name}/IRQ_F2P"} | {f"{c.name}/{p}" for c in refs for p in ent.ports}
     masters = sorted({e.split("/")[1] for net in d.intf_nets for e in net if e.startswith(f"{ps.name}/M_AXI_")})
+    slaves = sorted({e.split("/")[1] for net in d.intf_nets for e in net if e.startswith(f"{ps.name}/S_AXI_")})
     if len(masters) != 1:
         raise ValueError(f"{ps.name}: expected one master interface in use, found {masters}")
     params = {k.removeprefix("CONFIG."): v for k, v in ps.config.items()}
@@ -98,6 +105,8 @@ def render(d: Design, entity: Entity | None = None) -> str:
     _params(mod, params)
     memmap = ET.SubElement(mod, "MEMORYMAP")
     for a in d.addresses:
+        if a["space"].strip("/") != f"{ps.name}/Data":
+            continue  # a fabric master's view (below, in its module)
         cell, intf, block = a["segment"].strip("/").split("/")
         base, size = int(a["offset"], 16), int(a["range"], 16)
         ET.SubElement(memmap, "MEMRANGE", ADDRESSBLOCK=block, BASENAME="C_BASEADDR", BASEVALUE=f"0x{base:08X}",
@@ -113,6 +122,13 @@ def render(d: Design, entity: Entity | None = None) -> str:
                         VLNV="xilinx.com:interface:aximm:1.0")  # fmt: skip
     maps = ET.SubElement(bus, "PORTMAPS")
     ET.SubElement(maps, "PORTMAP", LEFT="31", LOGICAL="ARADDR", PHYSICAL=f"{masters[0]}_ARADDR", RIGHT="0")
+    for slave in slaves:  # the bus is the interconnect's master interface on that net
+        peer = next(e for net in d.intf_nets if f"{ps.name}/{slave}" in net for e in net if e != f"{ps.name}/{slave}")
+        ET.SubElement(ports, "PORT", DIR="I", LEFT="31", NAME=f"{slave}_AWADDR", RIGHT="0", SIGIS="undef")
+        bus = ET.SubElement(intfs, "BUSINTERFACE", BUSNAME=peer.replace("/", "_"), NAME=slave, TYPE="SLAVE",
+                            VLNV="xilinx.com:interface:aximm:1.0")  # fmt: skip
+        maps = ET.SubElement(bus, "PORTMAPS")
+        ET.SubElement(maps, "PORTMAP", LEFT="31", LOGICAL="AWADDR", PHYSICAL=f"{slave}_AWADDR", RIGHT="0")
 
     for cell in refs:
         vlnv = f"xilinx.com:module_ref:{cell.reference}:1.0"
@@ -120,6 +136,17 @@ def render(d: Design, entity: Entity | None = None) -> str:
                             IPTYPE="PERIPHERAL", IS_ENABLE="1", MODCLASS="PERIPHERAL", MODTYPE=cell.reference,
                             VLNV=vlnv)  # fmt: skip
         _params(mod, {k.removeprefix("CONFIG."): v for k, v in cell.config.items()})
+        views = [a for a in d.addresses if a["space"].strip("/").startswith(f"{cell.name}/")]
+        if views:
+            memmap = ET.SubElement(mod, "MEMORYMAP")
+            for a in views:
+                target, intf, block = a["segment"].strip("/").split("/")
+                base, size = int(a["offset"], 16), int(a["range"], 16)
+                ET.SubElement(memmap, "MEMRANGE", ADDRESSBLOCK=block, BASENAME="C_BASEADDR",
+                              BASEVALUE=f"0x{base:08X}", HIGHNAME="C_HIGHADDR", HIGHVALUE=f"0x{base + size - 1:08X}",
+                              INSTANCE=target, IS_DATA="TRUE", IS_INSTRUCTION="TRUE",
+                              MASTERBUSINTERFACE=a["space"].strip("/").split("/")[1], MEMTYPE="MEMORY",
+                              SLAVEBUSINTERFACE=intf)  # fmt: skip
         ports = ET.SubElement(mod, "PORTS")
         for name, direction in ent.ports.items():
             port = ET.SubElement(ports, "PORT", DIR={"in": "I", "out": "O"}.get(direction, "IO"), NAME=name,
@@ -127,7 +154,7 @@ def render(d: Design, entity: Entity | None = None) -> str:
             _connections(port, _peers(d, f"{cell.name}/{name}", written))
         intfs = ET.SubElement(mod, "BUSINTERFACES")
         for intf, members in sorted(module_interfaces(ent.ports).items()):
-            kind = "aximm" if intf.startswith("s_axi_") else "axis"
+            kind = "aximm" if intf.startswith(("s_axi_", "m_axi_")) else "axis"
             bus = ET.SubElement(intfs, "BUSINTERFACE", BUSNAME=f"{cell.name}_{intf}", NAME=intf,
                                 TYPE="MASTER" if intf.startswith("m_") else "SLAVE",
                                 VLNV=f"xilinx.com:interface:{kind}:1.0")  # fmt: skip

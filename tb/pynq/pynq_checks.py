@@ -24,6 +24,9 @@ UIO device on interrupt 61, and a socket pair with a thread playing the kernel's
 - without a UIO device for the line: a warning, and the driver polls and still reads frames;
 - PYNQ takes the .dtbo beside the .bit and applies it; the firmware it would write into
   /lib/firmware equals make bitstream's .bit.bin;
+- the .hwh of a DDR build, as pynqmetadata reads it: the PS7 with S_AXI_HP0 on at 64 bits, the
+  accelerator's m_axi_feat a master whose address map is ps7's HP0_DDR_LOWOCM through S_AXI_HP0,
+  the whole window; ip_dict still the accelerator and the PS (the DDR master adds no IP);
 - pynq 4.0.0's Overlay.download stops at the PL clocks of a Zynq-7000 design (docs/pynq.md), the
   thing the community images' pynq 3.0.1 does not do;
 - orb_accel without orb_accel.pynq_driver imports no pynq.
@@ -45,6 +48,7 @@ import numpy as np
 import pynq
 import pytest
 from pynq.pl_server import embedded_device
+from pynqmetadata.frontends import Metadata
 
 import orb_accel.pynq_driver as pynq_driver
 from golden_model.config import Config
@@ -293,6 +297,26 @@ def test_dtbo_and_firmware_beside_the_bit(overlay: Path, board: Board) -> None:
     # what PYNQ writes to /lib/firmware/<stem>.bin before programming is make bitstream's .bit.bin
     firmware = embedded_device._get_bitstream_handler(str(overlay)).get_bin_data()
     assert firmware == overlay.with_suffix(".bit.bin").read_bytes() == bit2bin.bit_to_bin(overlay.read_bytes())
+
+
+def test_hwh_shows_the_ddr_master_on_hp0(overlay: Path, board: Board) -> None:
+    """What PYNQ reads of the DDR path (docs/pynq.md): the ring itself comes from pynq.allocate, so
+    the overlay needs only the HP port enabled and the master's view of DDR in the .hwh."""
+    dma = BOARD["feat_dma"]
+    assert BOARD["configs"][CONFIG]["mem_kind"] == "ddr", "the default configuration is a DDR build"
+    md = Metadata(str(overlay.with_suffix(".hwh")))
+    ps7 = md.blocks["ps7"]
+    assert ps7.parameters["PCW_USE_S_AXI_HP0"].value == "1" and ps7.parameters["PCW_S_AXI_HP0_DATA_WIDTH"].value == "64"
+    hp = ps7.ports[dma["hp_port"]]
+    feat = md.blocks[BOARD["accel"]["cell"]].ports["m_axi_feat"]
+    assert type(hp).__name__ == "SubordinatePort" and type(feat).__name__ == "ManagerPort"
+    assert list(feat.addrmap.values()) == [
+        {"block": dma["hp_segment"], "memtype": "memory", "subord_port": hp.ref,
+         "baseaddr": dma["win_base_mb"] << 20, "addr_range": dma["win_size_mb"] << 20}
+    ], feat.addrmap  # fmt: skip
+    ol = pynq.Overlay(str(overlay), device=board.device, download=False)
+    assert sorted(ol.ip_dict) == sorted([BOARD["accel"]["cell"], "ps7"]), list(ol.ip_dict)  # as without the master
+    assert ol.ip_dict["ps7"]["parameters"]["PCW_S_AXI_HP0_DATA_WIDTH"] == "64"
 
 
 def test_pynq_4_download_stops_at_the_zynq_7000_clocks(overlay: Path, board: Board) -> None:

@@ -19,6 +19,21 @@ namespace eval ::orb_board {
     dt_name orb-accel \
     input RBG \
   ]
+  variable feat_dma [dict create \
+    ddr_base 0x00000000 \
+    ddr_size_mb 1024 \
+    hp_port S_AXI_HP0 \
+    hp_data_width 64 \
+    hp_segment HP0_DDR_LOWOCM \
+    interconnect feat_ic \
+    win_base_mb 0 \
+    win_size_mb 1024 \
+    ring_buffers 4 \
+    udmabuf_name udmabuf0 \
+    udmabuf_minor 0 \
+    udmabuf_sync_mode 1 \
+    udmabuf_sync_direction 2 \
+  ]
   variable configs [dict create \
     640x480 [dict create \
       config board-vga \
@@ -30,6 +45,7 @@ namespace eval ::orb_board {
       sectors 32 \
       mem_depth 1024 \
       block_log2 4 \
+      mem_kind ddr \
       mode {640x480@60 (VESA DMT / CEA-861 VIC 1)} \
       pixel_mhz 25.175 \
       core_mhz 100 \
@@ -47,6 +63,7 @@ namespace eval ::orb_board {
       sectors 32 \
       mem_depth 2048 \
       block_log2 4 \
+      mem_kind ddr \
       mode {1280x720@60 (CEA-861 VIC 4)} \
       pixel_mhz 74.25 \
       core_mhz 100 \
@@ -62,8 +79,9 @@ namespace eval ::orb_board {
       step_num 5 \
       step_den 4 \
       sectors 32 \
-      mem_depth 1024 \
+      mem_depth 2048 \
       block_log2 4 \
+      mem_kind ddr \
       mode {1920x1080@60 (CEA-861 VIC 16)} \
       pixel_mhz 148.5 \
       core_mhz 150 \

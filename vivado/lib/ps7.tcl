@@ -7,7 +7,9 @@
 # the board's facts as Digilent's Vivado 2023.1 Zybo Z7-20 HDMI demo sets them (vivado/facts/ip/
 # xilinx.com_processing_system7.json names the source; tb/board checks each name and value there).
 # Then the design's own settings: FCLK0 100 MHz (core-clock reference), FCLK1 200 MHz (dvi2rgb
-# RefClk), M_AXI_GP0, one fabric interrupt IRQ_F2P.
+# RefClk), M_AXI_GP0, one fabric interrupt IRQ_F2P, and for a DDR build (mem_kind ddr) the slave port
+# the feature master writes the ring through: S_AXI_HP0, 64 bits (vivado/board.json feat_dma; in
+# 64-bit mode the HP port passes the PL's transactions to the PS as they are, UG585 5.3).
 
 proc orb_ps7_board_settings {} {
   return [dict create \
@@ -58,9 +60,10 @@ proc orb_ps7_board_settings {} {
   ]
 }
 
-# the design's settings, applied after the board preset or the explicit board settings
-proc orb_ps7_design_settings {} {
-  return [dict create \
+# the design's settings, applied after the board preset or the explicit board settings; cfg is the
+# configuration (vivado/gen/board.tcl)
+proc orb_ps7_design_settings {cfg} {
+  set settings [dict create \
     PCW_USE_M_AXI_GP0 {1} \
     PCW_FPGA_FCLK0_ENABLE {1} \
     PCW_FPGA0_PERIPHERAL_FREQMHZ $::orb_board::fclk0_mhz \
@@ -70,10 +73,16 @@ proc orb_ps7_design_settings {} {
     PCW_USE_FABRIC_INTERRUPT {1} \
     PCW_IRQ_F2P_INTR {1} \
   ]
+  if {[dict get $cfg mem_kind] eq "ddr"} {
+    set dma $::orb_board::feat_dma
+    dict set settings PCW_USE_[dict get $dma hp_port] 1
+    dict set settings PCW_[dict get $dma hp_port]_DATA_WIDTH [dict get $dma hp_data_width]
+  }
+  return $settings
 }
 
 # The board preset (board files) or the explicit settings; DDR and FIXED_IO made external either way.
-proc orb_config_ps7 {cell board_part} {
+proc orb_config_ps7 {cell board_part cfg} {
   if {$board_part ne ""} {
     apply_bd_automation -rule xilinx.com:bd_rule:processing_system7 \
       -config {make_external "FIXED_IO, DDR" apply_board_preset "1" Master "Disable" Slave "Disable"} $cell
@@ -87,6 +96,6 @@ proc orb_config_ps7 {cell board_part} {
     connect_bd_intf_net [get_bd_intf_ports FIXED_IO] [get_bd_intf_pins $cell/FIXED_IO]
   }
   set props {}
-  dict for {k v} [orb_ps7_design_settings] { lappend props CONFIG.$k $v }
+  dict for {k v} [orb_ps7_design_settings $cfg] { lappend props CONFIG.$k $v }
   set_property -dict $props $cell
 }

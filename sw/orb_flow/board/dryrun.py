@@ -12,7 +12,9 @@ not come from the TCL:
   guides; each fact names its source);
 - the board's package pins and I/O standards, from vivado/facts/zybo_z7_master_xdc.json
   (Digilent's Zybo Z7 master XDC);
-- the address map and the device-tree overlays, from vivado/board.json and vivado/linux/;
+- the address map, the DDR path of the feature memory (m_axi_feat through one interconnect to the
+  PS7's HP port, its clock, its address segment = the window) and the device-tree overlays (the
+  ring's u-dma-buf node among them), from vivado/board.json and vivado/linux/;
 - the list of IP in docs/board.md, and the HDL manifest.
 
 Usage: python3 -m orb_flow.board.dryrun [--config NAME ...] [--board-files] [--table]
@@ -53,6 +55,11 @@ PS_PORTS = ("DDR", "FIXED_IO")
 # Digilent's tmds_rtl interface (vivado-library if/tmds_v1_0; the portMaps of dvi2rgb's and rgb2dvi's
 # component.xml): logical ports CLK_P, CLK_N and the 3-bit DATA_P, DATA_N
 TMDS_MEMBERS = (("clk_p", 0), ("clk_n", 0), ("data_p", 3), ("data_n", 3))
+# orb_accel_zynq's AXI4 write master of the DDR feature memory (docs/feature-dma.md), idle and
+# unconnected in a BRAM build (MEM_KIND_g "BRAM", the wrapper's default)
+FEAT_MASTER = "m_axi_feat"
+PS_DATA_SPACE = "ps7/Data"  # the CPU's address space (M_AXI_GP0)
+UDMABUF_COMPATIBLE = "ikwzm,u-dma-buf"
 
 
 def master_name(port: str) -> str:
@@ -265,10 +272,10 @@ def read_entity(path: Path = ZYNQ_VHDL) -> Entity:
 
 def module_interfaces(ports: dict[str, str]) -> dict[str, list[str]]:
     """The interfaces Vivado infers on a module reference from Xilinx-style port names (UG994):
-    AXI4-Lite s_axi_<name>_*, AXI4-Stream s_axis_/m_axis_<name>_*."""
+    AXI4-Lite s_axi_<name>_*, AXI4 m_axi_<name>_*, AXI4-Stream s_axis_/m_axis_<name>_*."""
     out: dict[str, list[str]] = {}
     for p in ports:
-        m = re.fullmatch(r"((?:s_axi|s_axis|m_axis)_[a-z0-9]+)_(\w+)", p)
+        m = re.fullmatch(r"((?:s_axi|m_axi|s_axis|m_axis)_[a-z0-9]+)_(\w+)", p)
         if m:
             out.setdefault(m.group(1), []).append(p)
     return out
@@ -357,6 +364,8 @@ def check_accel(d: Design, entity: Entity | None = None) -> list[str]:
         if c is cell and name not in ent.ports:
             errs.append(f"property on {pin}: orb_accel_zynq has no port {name}")
     covered = used_pins | {p for i in used_intf for p in intfs.get(i, [])}
+    if cell.config.get("CONFIG.MEM_KIND_g", "BRAM").upper() == "BRAM":
+        covered |= set(intfs.get(FEAT_MASTER, []))  # the DDR master is idle in a BRAM build
     for p in sorted(set(ent.ports) - covered):
         errs.append(f"{cell.name}/{p} ({ent.ports[p]}) is not connected")
     return errs
@@ -498,23 +507,30 @@ def check_clocks(d: Design) -> list[str]:
     return errs
 
 
-def _segments(d: Design) -> list[tuple[int, int, str]]:
-    return [(int(a["offset"], 16), int(a["range"], 16), a["segment"]) for a in d.addresses]
+def _segments(d: Design, space: str | None = PS_DATA_SPACE) -> list[tuple[int, int, str]]:
+    """(base, range, segment) of the segments assigned in one address space (None: every space)."""
+    return [(int(a["offset"], 16), int(a["range"], 16), a["segment"]) for a in d.addresses
+            if space is None or a["space"].strip("/") == space]  # fmt: skip
 
 
 def check_addresses(d: Design) -> list[str]:
+    """In each address space no two segments overlap and each is a power of two at a multiple of
+    itself; the CPU's (ps7/Data) lie in M_AXI_GP0's window and hold the accelerator at board.json's
+    address. (The DDR master's space: check_feature_dma.)"""
     errs = []
-    segs = sorted(_segments(d))
-    for (b0, r0, s0), (b1, _, s1) in itertools.pairwise(segs):
-        if b0 + r0 > b1:
-            errs.append(f"address segments overlap: {s0} at 0x{b0:08X}+0x{r0:X} and {s1} at 0x{b1:08X}")
-    for base, size, seg in segs:
-        if size & (size - 1) or base % size:
-            errs.append(f"{seg}: range 0x{size:X} is not a power of two aligned at its base 0x{base:08X}")
+    for space in sorted({a["space"].strip("/") for a in d.addresses}):
+        segs = sorted(_segments(d, space))
+        for (b0, r0, s0), (b1, _, s1) in itertools.pairwise(segs):
+            if b0 + r0 > b1:
+                errs.append(f"address segments overlap: {s0} at 0x{b0:08X}+0x{r0:X} and {s1} at 0x{b1:08X}")
+        for base, size, seg in segs:
+            if size & (size - 1) or base % size:
+                errs.append(f"{seg}: range 0x{size:X} is not a power of two aligned at its base 0x{base:08X}")
+    for base, size, seg in sorted(_segments(d)):
         if not (0x40000000 <= base and base + size <= 0x80000000):
             errs.append(f"{seg}: 0x{base:08X} is outside M_AXI_GP0's 0x40000000..0x7FFFFFFF")
     acc = board()["accel"]
-    mine = [s for s in segs if s[2].startswith(f"/{acc['cell']}/")]
+    mine = [s for s in sorted(_segments(d)) if s[2].startswith(f"/{acc['cell']}/")]
     if mine != [(int(acc["base"], 16), int(acc["range"], 16), f"/{acc['cell']}/s_axi_ctrl/reg0")]:
         errs.append(f"the accelerator's segment {mine} is not vivado/board.json's {acc['base']}+{acc['range']}")
     return errs
@@ -536,11 +552,123 @@ def check_dtso(d: Design) -> list[str]:
     if re.search(r"^\s*(interrupts|firmware-name)\b|&fpga_full", pynq, re.M):
         errs.append(f"orb-accel-{d.config}-pynq.dtso must have neither an interrupt nor an fpga-region")
     text = (VIVADO / "linux" / f"orb-accel-{d.config}.dtso").read_text()
+    errs += check_udmabuf_node(d.config, text, pynq)
     irq = re.search(r"interrupts = <0 (\d+) 4>;", text)
     accel_irq = [n for n in d.nets if f"{acc['cell']}/irq" in n]
     f2p = "ps7/IRQ_F2P"
     if irq is None or int(irq.group(1)) != 29 + acc["irq_f2p"] or not accel_irq or f2p not in accel_irq[0]:
         errs.append("the overlay's interrupt must be GIC SPI 29 + n for the accelerator's irq on IRQ_F2P[n]")
+    return errs
+
+
+def udmabuf_nodes(text: str) -> list[dict[str, str]]:
+    """The u-dma-buf nodes of an overlay's source: property name -> value text, per node."""
+    nodes = []
+    for body in re.findall(r"\{([^{}]*)\}", text):
+        props = dict(re.findall(r"^\s*([\w,-]+)\s*=\s*(.+?);", body, re.M))
+        if props.get("compatible") == f'"{UDMABUF_COMPATIBLE}"':
+            nodes.append(props)
+    return nodes
+
+
+def check_udmabuf_node(config: str, plain: str, pynq: str) -> list[str]:
+    """A DDR build's plain overlay has one u-dma-buf node for the ring: ring_buffers x mem_depth x 64
+    bytes, board.json's device name, minor number, sync mode and direction (docs/board.md, "Features to
+    DDR"); PYNQ's overlay has none (PYNQ allocates with pynq.allocate); a BRAM build's has none."""
+    b = board()
+    cfg, dma = b["configs"][config], b.get("feat_dma", {})
+    nodes, errs = udmabuf_nodes(plain), []
+    if udmabuf_nodes(pynq):
+        errs.append(f"orb-accel-{config}-pynq.dtso must have no u-dma-buf node (PYNQ allocates the ring itself)")
+    if str(cfg.get("mem_kind", "bram")).lower() != "ddr":
+        return errs + ([f"orb-accel-{config}.dtso: a u-dma-buf node in a BRAM build"] if nodes else [])
+    if len(nodes) != 1:
+        return [*errs, f"orb-accel-{config}.dtso: {len(nodes)} u-dma-buf nodes, want one for the ring"]
+    want = {
+        "size": f"<0x{dma['ring_buffers'] * cfg['mem_depth'] * 64:08x}>",
+        "device-name": f'"{dma["udmabuf_name"]}"',
+        "minor-number": f"<{dma['udmabuf_minor']}>",
+        "sync-mode": f"<{dma['udmabuf_sync_mode']}>",
+        "sync-direction": f"<{dma['udmabuf_sync_direction']}>",
+    }
+    errs += [f"orb-accel-{config}.dtso: u-dma-buf {k} = {nodes[0].get(k)}, want {v}"
+             for k, v in want.items() if nodes[0].get(k) != v]  # fmt: skip
+    return errs
+
+
+def _net_of(pin: str, nets: list[list[str]]) -> list[str]:
+    return next((n for n in nets if pin in n), [])
+
+
+def check_feature_dma(d: Design) -> list[str]:
+    """The DDR path of the feature memory (docs/board.md, "Features to DDR"). A DDR build: the
+    accelerator's MEM_KIND_g, WIN_BASE_MB_g and WIN_SIZE_MB_g are vivado/board.json's; the PS7's HP port
+    is enabled at 64 bits; m_axi_feat reaches it through one axi_interconnect with one slave and one
+    master interface; the HP port's clock, the interconnect's clocks and the accelerator's aclk are one
+    net, the interconnect's resets the core reset's; m_axi_feat's address space holds one segment, the
+    HP port's DDR segment, exactly the window, and the window lies in the board's DDR. A BRAM build:
+    MEM_KIND_g BRAM, no HP port, m_axi_feat unconnected, no segment in its space."""
+    b = board()
+    cfg, dma, acc = b["configs"][d.config], b["feat_dma"], b["accel"]["cell"]
+    hp, cell = dma["hp_port"], d.cells.get(b["accel"]["cell"])
+    ps7 = next((c for c in d.cells.values() if c.vlnv.endswith(":processing_system7")), None)
+    if cell is None or ps7 is None:
+        return ["no accelerator or no processing_system7 cell"]
+    ddr = str(cfg["mem_kind"]).lower() == "ddr"
+    errs = []
+    want = {"MEM_KIND_g": "DDR" if ddr else "BRAM", "WIN_BASE_MB_g": str(dma["win_base_mb"]),
+            "WIN_SIZE_MB_g": str(dma["win_size_mb"])}  # fmt: skip
+    for k, v in want.items():
+        if cell.config.get(f"CONFIG.{k}") != v:
+            errs.append(f"{acc}: CONFIG.{k} = {cell.config.get(f'CONFIG.{k}')!r}, vivado/board.json wants {v!r}")
+    space = f"{acc}/{FEAT_MASTER}"
+    segs = [a for a in d.addresses if a["space"].strip("/") == space]
+    master_net = _net_of(space, d.intf_nets)
+    if not ddr:
+        if ps7.config.get(f"CONFIG.PCW_USE_{hp}") == "1":
+            errs.append(f"ps7: {hp} enabled in a BRAM build")
+        if master_net or segs:
+            errs.append(f"{space} is connected or has an address segment in a BRAM build")
+        return errs
+    # the HP port, 64 bits
+    if ps7.config.get(f"CONFIG.PCW_USE_{hp}") != "1":
+        errs.append(f"ps7: CONFIG.PCW_USE_{hp} = {ps7.config.get(f'CONFIG.PCW_USE_{hp}')!r}, want '1'")
+    width = ps7.config.get(f"CONFIG.PCW_{hp}_DATA_WIDTH")
+    if width != str(dma["hp_data_width"]):
+        errs.append(f"ps7: CONFIG.PCW_{hp}_DATA_WIDTH = {width!r}, want {str(dma['hp_data_width'])!r}")
+    # m_axi_feat -> one axi_interconnect (1 SI, 1 MI) -> ps7/<hp>
+    others = [e for e in master_net if e != space]
+    ic = d.cells.get(others[0].partition("/")[0]) if len(others) == 1 else None
+    if ic is None or not ic.vlnv.endswith(":axi_interconnect"):
+        return [*errs, f"{space} must go to one axi_interconnect's slave interface, goes to {others}"]
+    if (ic.config.get("CONFIG.NUM_SI"), ic.config.get("CONFIG.NUM_MI")) != ("1", "1"):
+        errs.append(f"{ic.name}: NUM_SI {ic.config.get('CONFIG.NUM_SI')}, NUM_MI {ic.config.get('CONFIG.NUM_MI')}; "
+                    "want one of each (one master, one slave, no crossbar)")  # fmt: skip
+    if others[0] != f"{ic.name}/S00_AXI":
+        errs.append(f"{space} goes to {others[0]}, want {ic.name}/S00_AXI")
+    if f"ps7/{hp}" not in _net_of(f"{ic.name}/M00_AXI", d.intf_nets):
+        errs.append(f"{ic.name}/M00_AXI does not reach ps7/{hp}")
+    # one clock: the accelerator's
+    clock = _net_of(f"{acc}/aclk", d.nets)
+    for pin in (f"ps7/{hp}_ACLK", f"{ic.name}/ACLK", f"{ic.name}/S00_ACLK", f"{ic.name}/M00_ACLK"):
+        if pin not in clock:
+            errs.append(f"{pin} is not on the accelerator's clock net ({clock[:1]})")
+    resets = _net_of(f"{acc}/aresetn", d.nets)
+    for pin in (f"{ic.name}/S00_ARESETN", f"{ic.name}/M00_ARESETN"):
+        if pin not in resets:
+            errs.append(f"{pin} is not on the accelerator's reset net")
+    ic_reset = _net_of(f"{ic.name}/ARESETN", d.nets)
+    if not any(e.endswith("/interconnect_aresetn") for e in ic_reset):
+        errs.append(f"{ic.name}/ARESETN is not driven by a proc_sys_reset's interconnect_aresetn")
+    # the address segment: the HP port's DDR segment, exactly the window, inside the board's DDR
+    lo, size = dma["win_base_mb"] << 20, dma["win_size_mb"] << 20
+    ddr_lo = int(dma["ddr_base"], 16)
+    want_seg = (f"/ps7/{hp}/{dma['hp_segment']}", lo, size)
+    got = [(a["segment"], int(a["offset"], 16), int(a["range"], 16)) for a in segs]
+    if got != [want_seg]:
+        errs.append(f"{space}: segments {got}, want exactly {want_seg} (the window WIN_BASE_MB_g, WIN_SIZE_MB_g)")
+    if not (ddr_lo <= lo and lo + size <= ddr_lo + (dma["ddr_size_mb"] << 20)):
+        errs.append(f"the window 0x{lo:08X}+0x{size:X} is not inside the DDR at {dma['ddr_base']}")
     return errs
 
 
@@ -574,6 +702,7 @@ def check_vlnvs(d: Design) -> list[str]:
 PS7_DESIGN_KEYS = {
     "PCW_USE_M_AXI_GP0", "PCW_FPGA_FCLK0_ENABLE", "PCW_FPGA0_PERIPHERAL_FREQMHZ", "PCW_EN_CLK1_PORT",
     "PCW_FPGA_FCLK1_ENABLE", "PCW_FPGA1_PERIPHERAL_FREQMHZ", "PCW_USE_FABRIC_INTERRUPT", "PCW_IRQ_F2P_INTR",
+    "PCW_USE_S_AXI_HP0", "PCW_S_AXI_HP0_DATA_WIDTH",  # DDR builds: the feature master's port
 }  # fmt: skip
 
 
@@ -604,6 +733,7 @@ CHECKS = {
     "xdc": check_xdc,
     "clocks": check_clocks,
     "addresses": check_addresses,
+    "feature_dma": check_feature_dma,
     "overlay": check_dtso,
     "outputs": check_outputs,
     "vlnv": check_vlnvs,
@@ -621,7 +751,7 @@ def _settings(c: Cell) -> str:
     """A cell's CONFIG settings for the table (the PS7's design settings only)."""
     items = [(k.removeprefix("CONFIG."), v) for k, v in c.config.items()]
     if c.vlnv.endswith("processing_system7"):
-        keys = ("FPGA", "GP0", "IRQ", "FABRIC", "CLK1")
+        keys = ("FPGA", "GP0", "HP0", "IRQ", "FABRIC", "CLK1")
         items = [(k, v) for k, v in items if any(s in k for s in keys)]
         return ", ".join(f"{k}={v}" for k, v in items) + " (and the board's DDR/MIO settings)"
     return ", ".join(f"{k}={v}" for k, v in items)
@@ -638,8 +768,8 @@ def table(d: Design) -> str:
     for net in d.nets:
         if net[0].endswith(("FCLK_CLK0", "FCLK_CLK1", "clk_out1", "PixelClk")):
             lines.append(f"| {net[0]} | {', '.join(net[1:])} |")
-    lines += ["", "| address segment | base | range |", "|---|---|---|"]
-    lines += [f"| {a['segment']} | {a['offset']} | {a['range']} |" for a in d.addresses]
+    lines += ["", "| address space | address segment | base | range |", "|---|---|---|---|"]
+    lines += [f"| {a['space']} | {a['segment']} | {a['offset']} | {a['range']} |" for a in d.addresses]
     lines += ["", "| external port | direction | package pin |", "|---|---|---|"]
     for name, direction in d.wrapper_ports().items():
         lines.append(f"| {name} | {direction} | {d.xdc.get(name, {}).get('PACKAGE_PIN', '')} |")

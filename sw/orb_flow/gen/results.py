@@ -216,8 +216,12 @@ def bench_driver_table(records: Records) -> list[str]:
     rows, notes = [], []
     for frame in d["runs"]:
         for r in frame["reads"]:
-            default = " (default)" if r["block_mode"] == "copy" and r["bank_read"] == "bank" else ""
-            rows.append([f"{frame['features']:,}", r["block_mode"], r["bank_read"] + default,
+            if r.get("path") == "ddr":
+                mode, how = "-", "DDR ring (u-dma-buf, 2 invalidations)"
+            else:
+                default = " (default)" if r["block_mode"] == "copy" and r["bank_read"] == "bank" else ""
+                mode, how = r["block_mode"], r["bank_read"] + default
+            rows.append([f"{frame['features']:,}", mode, how,
                          f"{r['read_decode_ms']:.2f} ms", f"{r['bus_reads']:,}", f"{r['host_total_ms']:.2f} ms",
                          f"{r['a9_estimate_ms']:.1f} ms"])  # fmt: skip
         notes.append(f"{frame['features']:,} features: message build and serialisation "
@@ -227,9 +231,33 @@ def bench_driver_table(records: Records) -> list[str]:
     head = ["features", "UioBus block mode", "bank read", "read + decode", "32-bit bus reads", "+ message",
             "Cortex-A9 estimate"]  # fmt: skip
     assume = (f"Cortex-A9 estimate (not measured): this machine's time x {d['a9_slowdown']:g} plus "
-              f"{d['a9_axi_read_us']} us per bus read.")  # fmt: skip
-    return [*_table(head, rows), "", *notes, assume, "",
-            f"Measured by {_source(run)} ({run['tools']}; median of {d['repeat']})."]  # fmt: skip
+              f"{d['a9_axi_read_us']} us per bus access")  # fmt: skip
+    if "a9_sync_call_us" in d:
+        assume += (f"; the DDR ring also {d['a9_sync_call_us']:g} us per sync_for_cpu call, "
+                   f"{d['a9_invalidate_line_ns']:g} ns per 32-byte line invalidated and "
+                   f"{d['a9_ddr_read_ns_per_byte']:g} ns per byte read from DDR")  # fmt: skip
+    out = [*_table(head, rows), "", *notes, assume + ".", ""]
+    frames = [(f["features"], x, f["decode_ms"]) for f in d["runs"] for x in f.get("frames", [])]
+    if frames:
+        by = {(n, x["path"]): x for n, x, _ in frames}
+        frows = []
+        for n, x, _ in frames:
+            ratio = ["", ""]
+            if x["path"] == "ddr":
+                b = by[(n, "bank")]
+                ratio = [f"{b[k] / x[k]:.1f}x" for k in ("a9_frame_ms", "a9_transfer_ms")]
+            frows.append([f"{n:,}", "DDR ring" if x["path"] == "ddr" else "bank (default)",
+                          f"{x['frame_reads']:,} + {x['frame_writes']}", f"{x['frame_ms']:.3f} ms",
+                          f"{x['a9_frame_ms']:.2f} ms", f"{x['a9_transfer_ms']:.2f} ms", *ratio])  # fmt: skip
+        fhead = ["features", "feature memory", "32-bit reads + writes per frame", "`next_frame` here",
+                 "Cortex-A9 estimate", "without the decoding", "bank / DDR", "bank / DDR, without the decoding",
+                 ]  # fmt: skip
+        decodes = ", ".join(f"{n:,} features {decode:.3f} ms" for n, x, decode in frames if x["path"] == "bank")
+        out += ["A whole frame (`next_frame`: the interrupt, the status, the read, the decoding, the counters, the "
+                "release), the default bank read against the DDR ring:", "", *_table(fhead, frows), "",
+                f"The decoding alone (the same code on both paths), here: {decodes}; \"without the decoding\" is "
+                f"the estimate less {d['a9_slowdown']:g} times it.", ""]  # fmt: skip
+    return [*out, f"Measured by {_source(run)} ({run['tools']}; median of {d['repeat']})."]
 
 
 GIGABIT_BYTES_S = 125e6  # 1 Gb/s (the Zybo Z7-20's Ethernet) in bytes per second, before framing overheads
