@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass
+from functools import cached_property
 
 
 @dataclass(frozen=True)
@@ -75,13 +76,19 @@ class Register:
     fields: tuple[RegField, ...]
     description: str
 
-    @property
+    @cached_property
     def mask(self) -> int:
         """The defined bits (reserved bits read 0; setting one in a rw or wo write answers SLVERR)."""
         m = 0
         for f in self.fields:
             m |= f.mask
         return m
+
+    @cached_property
+    def bounded_fields(self) -> tuple[RegField, ...]:
+        """The fields whose legal values are not simply every value of their width: a minimum, a
+        maximum or a generic's (legal() checks these; any value of another field is legal)."""
+        return tuple(f for f in self.fields if f.min or f.max is not None or f.max_generic is not None)
 
     def field(self, name: str) -> RegField:
         for f in self.fields:
@@ -108,7 +115,8 @@ class Register:
         minimum and maximum; generics: NAME_g values for the max_generic fields)."""
         if word & ~self.mask & 0xFFFFFFFF:
             return False
-        return all(f.legal_value(f.get(word), generics) for f in self.fields)
+        bounded = self.bounded_fields
+        return not bounded or all(f.legal_value(f.get(word), generics) for f in bounded)
 
 
 @dataclass(frozen=True)

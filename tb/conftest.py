@@ -26,6 +26,7 @@ LONG_FIRST = (
     "tb/describe/test_orb_desc_path.py",
     "tb/tools/test_core_job.py",
     "tb/fast/test_fast_sim.py",
+    "tb/fast/test_fast_ddr.py",
 )
 
 

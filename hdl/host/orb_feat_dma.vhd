@@ -13,7 +13,7 @@
 -- arrives, if none of its bursts was answered with an error; error responses are counted. The CPU
 -- releases a buffer with release_valid and release_index. ring_error checks the ring registers
 -- (alignment, overlap, the DDR window of WIN_BASE_MB_g and WIN_SIZE_MB_g MiB, count 0) 5 clocks
--- after they change; a frame that starts while it is not 0, or within 6 clocks of a change of the
+-- after they change; a frame that starts while it is not 0, or within 5 clocks of a change of the
 -- registers, is dropped and nothing is written. The
 -- master writes with a copy of the ring loaded at a frame's first beat when nothing is queued or in
 -- flight, so every address it issues lies in a buffer of a checked ring. rst (soft reset) resets
@@ -103,16 +103,16 @@ architecture rtl of orb_feat_dma is
   constant BUF_BYTES_c : natural  := DEPTH_g * 64;  -- one buffer
   constant BEATS_c     : positive := 8;             -- 64-bit beats a 64-byte slot
   constant DATA_BITS_c : positive := SLOT_DATA_BITS_c;
-  constant TAG_BITS_c  : positive := 2;             -- frame tags of the queued slots
   constant OUT_BITS_c  : positive := clog2(OUTSTANDING_g + 1);
   constant FIFO_BITS_c : positive := clog2(FIFO_DEPTH_g);
-  constant SETTLE_c    : positive := 4;             -- clocks from cfg_* to ring_err
-  -- a FIFO entry: the slot's data, its slot number in the buffer, the buffer, record flag, tag
+  constant SETTLE_c    : positive := 4;             -- edges from cfg_* to ring_err
+  -- a FIFO entry: the slot's data, its slot number in the buffer, the buffer, the record flag and
+  -- the first flag (the frame's first slot: the write responses of a frame begin with it)
   constant E_SLOT_LO_c  : natural  := DATA_BITS_c;
   constant E_INDEX_LO_c : natural  := E_SLOT_LO_c + SLOT_BITS_c;
   constant E_REC_BIT_c  : natural  := E_INDEX_LO_c + 4;
-  constant E_TAG_LO_c   : natural  := E_REC_BIT_c + 1;
-  constant ENTRY_BITS_c : positive := E_TAG_LO_c + TAG_BITS_c;
+  constant E_FIRST_c    : natural  := E_REC_BIT_c + 1;
+  constant ENTRY_BITS_c : positive := E_FIRST_c + 1;
   -- the window, in bytes, 37 bits (no wrap at 2^32)
   constant WIN_LO_c : unsigned(36 downto 0) := shift_left(to_unsigned(WIN_BASE_MB_g, 37), 20);
   constant WIN_HI_c : unsigned(36 downto 0) := shift_left(to_unsigned(WIN_BASE_MB_g + WIN_SIZE_MB_g, 37), 20);
@@ -122,7 +122,7 @@ architecture rtl of orb_feat_dma is
   -- what the frame side needs of a burst when its response comes
   type meta_t is record
     rec   : std_logic;                        -- the burst is a frame's record
-    tag   : unsigned(TAG_BITS_c - 1 downto 0);
+    first : std_logic;                        -- ... its frame's first
     index : unsigned(3 downto 0);             -- its buffer
     count : unsigned(SLOT_BITS_c - 1 downto 0);
     frame : std_logic_vector(15 downto 0);
@@ -131,7 +131,7 @@ architecture rtl of orb_feat_dma is
   constant META_ZERO_c : meta_t :=
   (
     rec   => '0',
-    tag   => (others => '0'),
+    first => '0',
     index => (others => '0'),
     count => (others => '0'),
     frame => (others => '0')
@@ -172,24 +172,25 @@ architecture rtl of orb_feat_dma is
   signal phys     : unsigned(SLOT_BITS_c - 1 downto 0);
 
   -- the ring registers (registered), their checks and the active ring
-  signal cfg_base   : unsigned(31 downto 0) := (others => '0');
-  signal cfg_stride : unsigned(31 downto 0) := (others => '0');
-  signal cfg_count  : unsigned(4 downto 0) := (others => '0');
-  signal settle     : unsigned(2 downto 0) := to_unsigned(SETTLE_c, 3);  -- clocks until ring_err is theirs
-  signal chk_lo     : unsigned(35 downto 0) := (others => '0');  -- (count - 1) * stride, bits 1..0
-  signal chk_hi     : unsigned(35 downto 0) := (others => '0');  -- ... bits 3..2
-  signal chk_end    : unsigned(36 downto 0) := (others => '0');  -- base + one buffer
-  signal chk_below  : std_logic := '0';                          -- base below the window
-  signal chk_prod   : unsigned(36 downto 0) := (others => '0');
-  signal chk_top    : unsigned(36 downto 0) := (others => '0');  -- the ring's end
-  signal chk_err1   : std_logic_vector(3 downto 0) := "1000";    -- unaligned, overlap, outside, off
-  signal chk_err2   : std_logic_vector(3 downto 0) := "1000";
-  signal ring_err   : std_logic_vector(3 downto 0) := "1000";
-  signal ring_ok    : std_logic := '0';                          -- checked and no error (registered)
-  signal act_base   : unsigned(31 downto 0) := (others => '0');
-  signal act_stride : unsigned(31 downto 0) := (others => '0');
-  signal act_count  : unsigned(4 downto 0) := (others => '0');
-  signal act_same   : std_logic := '0';                          -- the active ring is cfg_* (a clock ago)
+  signal cfg_base    : unsigned(31 downto 0) := (others => '0');
+  signal cfg_stride  : unsigned(31 downto 0) := (others => '0');
+  signal cfg_count   : unsigned(4 downto 0) := (others => '0');
+  signal settle      : unsigned(2 downto 0) := to_unsigned(SETTLE_c, 3);  -- clocks until ring_err is theirs
+  signal chk_lo      : unsigned(35 downto 0) := (others => '0');  -- (count - 1) * stride, bits 1..0
+  signal chk_hi      : unsigned(35 downto 0) := (others => '0');  -- ... bits 3..2
+  signal chk_end     : unsigned(36 downto 0) := (others => '0');  -- base + one buffer
+  signal chk_below   : std_logic := '0';                          -- base below the window
+  signal chk_prod    : unsigned(36 downto 0) := (others => '0');
+  signal chk_top     : unsigned(36 downto 0) := (others => '0');  -- the ring's end
+  signal chk_err1    : std_logic_vector(3 downto 0) := "1000";    -- unaligned, overlap, outside, off
+  signal chk_err2    : std_logic_vector(3 downto 0) := "1000";
+  signal ring_err    : std_logic_vector(3 downto 0) := "1000";
+  signal ring_ok     : std_logic := '0';                          -- checked and no error (registered)
+  signal ring_ok_now : std_logic;                                -- ... and the registers unchanged since
+  signal act_base    : unsigned(31 downto 0) := (others => '0');
+  signal act_stride  : unsigned(31 downto 0) := (others => '0');
+  signal act_count   : unsigned(4 downto 0) := (others => '0');
+  signal act_same    : std_logic := '0';                          -- the active ring is cfg_* (a clock ago)
 
   -- the frames (input side)
   signal pos      : unsigned(3 downto 0) := (others => '0');  -- the ring position
@@ -199,7 +200,7 @@ architecture rtl of orb_feat_dma is
   signal lost     : std_logic := '0';  -- ... is dropped: the FIFO was full for one of its slots
   signal abort_f  : std_logic := '0';
   signal wbuf     : unsigned(3 downto 0) := (others => '0');
-  signal ftag     : unsigned(TAG_BITS_c - 1 downto 0) := (others => '0');
+  signal queued   : std_logic := '0';  -- a slot of the frame has entered the FIFO
   signal cnt      : unsigned(SLOT_BITS_c - 1 downto 0) := (others => '0');
   signal trunc    : unsigned(31 downto 0) := (others => '0');
   signal ready    : std_logic_vector(15 downto 0) := (others => '0');
@@ -209,8 +210,7 @@ architecture rtl of orb_feat_dma is
   signal lframe_r : std_logic_vector(15 downto 0) := (others => '0');
   signal done_r   : std_logic := '0';
   signal error_r  : std_logic := '0';
-  signal err_f    : std_logic := '0';  -- an error response came for the frame tagged err_tag
-  signal err_tag  : unsigned(TAG_BITS_c - 1 downto 0) := (others => '0');
+  signal err_f    : std_logic := '0';  -- an error response came for a burst of the frame answered now
   signal ovr_cnt  : unsigned(31 downto 0) := (others => '0');
   signal ovf_cnt  : unsigned(31 downto 0) := (others => '0');
   signal abt_cnt  : unsigned(31 downto 0) := (others => '0');
@@ -294,7 +294,7 @@ begin
       in_reli  <= unsigned(release_index);
       map_q    <= smap(to_integer(unsigned(s_axis_feat_tdata(FEAT_SEL_SLOT_LO_c + MAP_BITS_c - 1 downto
                                                              FEAT_SEL_SLOT_LO_c))));
-      if rst = '1' then
+      if rst = '1' or bus_rst = '1' then
         in_beat  <= '0';
         in_abort <= '0';
         in_rel   <= '0';
@@ -326,8 +326,9 @@ begin
 
   -- The ring registers' checks: registered, then four stages (one adder each) to ring_err and a
   -- fifth to ring_ok; settle counts the clocks until ring_ok belongs to the registered values
-  -- (ring_err is theirs 4 edges after they were registered, ring_ok one later: SETTLE_c 5 keeps a
-  -- clock to spare).
+  -- (ring_err is theirs 4 edges after they were registered, ring_ok one later, when settle has
+  -- been 0 for a clock: a frame whose first beat is registered by the edge that registers a change
+  -- or by one of the 4 after it is refused, one registered by the 5th edge uses the new ring).
   checks : process (clk) is
     variable last_v : unsigned(3 downto 0);
   begin
@@ -377,11 +378,14 @@ begin
   end process checks;
 
 
+  ring_ok_now <= '1' when ring_ok = '1' and settle = 0 else
+                 '0';
+
   -- A frame's first beat chooses its buffer: the ring position, or 0 when the active ring is
   -- (re)loaded with other values; the active ring is loaded only when nothing is queued, in the
   -- master or unanswered.
   first_q  <= in_beat and not in_frame;
-  load_act <= first_q and idle_r and ring_ok;
+  load_act <= first_q and idle_r and ring_ok_now;
   restart  <= load_act and not act_same;
   wsel     <= (others => '0') when restart = '1' else
               pos;
@@ -396,8 +400,8 @@ begin
       refuse_nw <= refused;
       cur_buf   <= wbuf;
     else
-      store_nw  <= '1' when ring_ok = '1' and free_v else '0';
-      refuse_nw <= not ring_ok;
+      store_nw  <= '1' when ring_ok_now = '1' and free_v else '0';
+      refuse_nw <= not ring_ok_now;
       cur_buf   <= wsel;
     end if;
   end process decide;
@@ -414,7 +418,7 @@ begin
           '0';
 
   -- the FIFO entry: the slot's data, its slot (the record in slot 0, feature k in slot k + 1),
-  -- the buffer, the record flag, the frame's tag
+  -- the buffer, the record flag, whether it is the first slot its frame queued
   entry : process (clk) is
     variable e_v : std_logic_vector(ENTRY_BITS_c - 1 downto 0);
   begin
@@ -426,9 +430,9 @@ begin
       end if;
       e_v(E_INDEX_LO_c + 3 downto E_INDEX_LO_c)          := std_logic_vector(cur_buf);
       e_v(E_REC_BIT_c)                                   := in_last;
-      e_v(E_TAG_LO_c + TAG_BITS_c - 1 downto E_TAG_LO_c) := std_logic_vector(ftag);
+      e_v(E_FIRST_c)                                     := not queued;
       fifo_din                                           <= e_v;
-      fifo_wr                                            <= push and room and not rst;
+      fifo_wr                                            <= push and room and not (rst or bus_rst);
     end if;
   end process entry;
 
@@ -439,7 +443,7 @@ begin
     )
     port map (
       clk      => clk,
-      rst      => rst,
+      rst      => rst or bus_rst,
       wr_en    => fifo_wr,
       wr_data  => fifo_din,
       rd_en    => fifo_rd,
@@ -472,6 +476,9 @@ begin
       end if;
       if push = '1' and room = '0' then
         lost <= '1';
+      end if;
+      if push = '1' and room = '1' and in_last = '0' then
+        queued <= '1';
       end if;
       if first_q = '1' then
         wbuf    <= cur_buf;
@@ -521,11 +528,7 @@ begin
             pos <= cur_buf + 1;
           end if;
         end if;
-        -- the next frame's slots get another tag, whatever became of this one's (an error response
-        -- to a slot of a dropped or aborted frame must not drop the next)
-        if store_nw = '1' then
-          ftag <= ftag + 1;
-        end if;
+        queued <= '0';
         -- a buffer whose frame will not be published is free again (its queued slots still go there)
         for k in 0 to 15 loop
           if cur_buf = k and store_nw = '1' and (abort_nw = '1' or lost = '1' or room = '0') then
@@ -538,16 +541,14 @@ begin
         err_cnt <= err_cnt + 1;
         error_r <= '1';
       end if;
+      -- The responses come in the order of the bursts, and a frame's bursts follow one another,
+      -- the first flagged: err_f is whether one of the frame answered now had an error (a frame
+      -- with no record, aborted or dropped, leaves no trace for the next).
       if b_take = '1' then
-        if b_err = '1' and b_info.rec = '0' then
-          err_f   <= '1';
-          err_tag <= b_info.tag;
-        end if;
+        err_f <= b_err or (err_f and not b_info.first);
         if b_info.rec = '1' then
-          if err_f = '1' and err_tag = b_info.tag then
-            err_f <= '0';
-          end if;
-          if b_err = '1' or (err_f = '1' and err_tag = b_info.tag) then
+          err_f <= '0';
+          if b_err = '1' or (err_f = '1' and b_info.first = '0') then
             drp_cnt <= drp_cnt + 1;
           else
             last_r   <= b_info.index;
@@ -558,21 +559,21 @@ begin
           for k in 0 to 15 loop
             if b_info.index = k then
               claimed(k) <= '0';
-              if b_err = '0' and not (err_f = '1' and err_tag = b_info.tag) then
+              if b_err = '0' and not (err_f = '1' and b_info.first = '0') then
                 ready(k) <= '1';
               end if;
             end if;
           end loop;
         end if;
       end if;
-      if rst = '1' then
+      if rst = '1' or bus_rst = '1' then
         pos      <= (others => '0');
         in_frame <= '0';
         storing  <= '0';
         refused  <= '0';
         lost     <= '0';
         abort_f  <= '0';
-        ftag     <= (others => '0');
+        queued   <= '0';
         cnt      <= (others => '0');
         trunc    <= (others => '0');
         ready    <= (others => '0');
@@ -642,7 +643,7 @@ begin
           b_data       <= fifo_dout(DATA_BITS_c - 1 downto 0);
           b_slot       <= unsigned(fifo_dout(E_INDEX_LO_c - 1 downto E_SLOT_LO_c));
           b_meta.rec   <= fifo_dout(E_REC_BIT_c);
-          b_meta.tag   <= unsigned(fifo_dout(E_TAG_LO_c + TAG_BITS_c - 1 downto E_TAG_LO_c));
+          b_meta.first <= fifo_dout(E_FIRST_c);
           b_meta.index <= unsigned(fifo_dout(E_INDEX_LO_c + 3 downto E_INDEX_LO_c));
           b_meta.count <= unsigned(fifo_dout(REC_COUNT_LO_c + SLOT_BITS_c - 1 downto REC_COUNT_LO_c));
           b_meta.frame <= fifo_dout(REC_FRAME_LO_c + 15 downto REC_FRAME_LO_c);

@@ -41,7 +41,7 @@ from timing import median_ms  # scripts/bench/timing.py
 
 from golden_model import regs
 from golden_model.featcodec import encode_eof, encode_feature, feature_slot, record_slot
-from golden_model.featmem import SLOT_BYTES, SLOT_WORDS_USED, decode_features
+from golden_model.featmem import SLOT_BYTES, decode_features
 from golden_model.frameparams import FrameParams
 from golden_model.limits import BUDGET_MAX
 from orb_accel import OrbAccel, UioBus
@@ -204,7 +204,7 @@ def measure(n: int, repeat: int, rospy, numpy_msg, msg_mod) -> dict:
         if n <= DDR_MAX_FEATURES and depth <= DDR_MAX_FEATURES + 1:
             rows.append(measure_ddr(Path(tmp), n, depth, repeat, frames))
         slots, _ = feature_slots(n)
-        words = np.array([s[:SLOT_WORDS_USED] for s in slots], dtype=np.uint32)
+        words = np.array(slots, dtype=np.uint32)  # whole 64-byte slots, as both paths give them to the decoder
         t_decode = median_ms(lambda: decode_features(words, SECTORS, descriptors=True), repeat * FRAME_REPEAT)
     np_cls, plain_cls = numpy_msg(msg_mod.Features), msg_mod.Features
 

@@ -195,17 +195,24 @@ class UDmaBuf:
         return offset << 32 | length | _DMA_FROM_DEVICE << 2 | 1
 
     def invalidate(self, offset: int, length: int) -> None:
-        offset, length = check_range(offset, length, self.size)
+        if type(offset) is not int or type(length) is not int:
+            offset, length = operator.index(offset), operator.index(length)
+        if offset < 0 or length < 0 or offset + length > self.size:
+            check_range(offset, length, self.size)  # raises
         if length == 0:
             return
         if self._sync_fd is None:
             raise ValueError(f"u-dma-buf {self.name} is closed")
-        start, n = line_range(offset, length, self.size)
-        os.pwrite(self._sync_fd, b"0x%016X\n" % self.command(start, n), 0)
+        if offset % CACHE_LINE or length % CACHE_LINE:  # the driver's ranges are whole slots: whole lines
+            offset, length = line_range(offset, length, self.size)
+        os.pwrite(self._sync_fd, b"0x%016X\n" % self.command(offset, length), 0)
         self.syncs += 1
 
     def view(self, offset: int, length: int) -> np.ndarray:
-        offset, length = check_range(offset, length, self.size)
+        if type(offset) is not int or type(length) is not int:
+            offset, length = operator.index(offset), operator.index(length)
+        if offset < 0 or length < 0 or offset + length > self.size:
+            check_range(offset, length, self.size)  # raises
         if self._bytes is None:
             raise ValueError(f"u-dma-buf {self.name} is closed")
         return self._bytes[offset : offset + length]
@@ -264,12 +271,17 @@ class PynqMemory:
 MEMORY_SPECS = ("udmabuf[:NAME]", "array[:PHYS]", "pynq")
 
 
-def memory_factory(spec: str | None, board: bool = True) -> MemoryFactory:
+def memory_factory(spec: str | None, board: bool = True, bus: object | None = None) -> MemoryFactory:
     """What OrbAccel(memory=) takes for a command line's `--ddr-memory SPEC` (None: the default,
-    `udmabuf` on the board, `array` on a simulator): `udmabuf[:NAME]` the u-dma-buf buffer NAME
-    (default udmabuf0), `array[:PHYS]` an in-process array at bus address PHYS (default 0: the
-    simulator's), `pynq` a pynq.allocate buffer. The factory opens its memory only when called:
-    only for an accelerator that writes its features to DDR."""
+    `udmabuf` on the board; on a simulator the simulated DDR of `bus` when it has one (a
+    SocketBus whose server reports a DDR region: orb_accel.socket_bus.SocketMemory), else `array`):
+    `udmabuf[:NAME]` the u-dma-buf buffer NAME (default udmabuf0), `array[:PHYS]` an in-process
+    array at bus address PHYS (default 0), `pynq` a pynq.allocate buffer. The factory opens its
+    memory only when called: only for an accelerator that writes its features to DDR."""
+    if spec is None and not board and getattr(bus, "memory_region", None) is not None:
+        from .socket_bus import SocketMemory  # the simulator's DDR, read over the socket
+
+        return lambda _size: SocketMemory(bus)  # type: ignore[arg-type]
     if spec is None:
         spec = "udmabuf" if board else "array"
     kind, _, arg = spec.partition(":")

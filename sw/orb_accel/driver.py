@@ -61,7 +61,7 @@ from golden_model.select import best_per_level
 
 from .bus import Bus, BusError
 from .ddr import FrameMemory, MemoryFactory
-from .ring import MAX_BUFFERS, DdrWindow, RingLayout, plan_ring, read_record, read_slots, ring_error_text
+from .ring import MAX_BUFFERS, DdrWindow, RingLayout, plan_ring, read_record, ring_error_text, slot_view
 
 COUNTERS = ("FRAME_COUNT", "DROPPED", "PROTO_ERRORS", "OVERRUN", "OVERFLOW_COUNT", "DESC_LOST", "DISCARDED")
 IRQ_SOURCES = ("frame_done", "error")
@@ -75,6 +75,10 @@ PARAMS_VERSION = (3, 1)
 # docs/feature-dma.md); an older map has neither CFG_DDR nor the ring (a read there answers SLVERR)
 DDR_VERSION = (3, 2)
 DMA_COUNTERS = ("DMA_DROPPED", "DMA_BUS_ERRORS", "DMA_BEATS")
+# looked up once: counters() and the frame path read these every frame
+_COUNTER_REGS = tuple((name.lower(), getattr(regs, name)) for name in COUNTERS)
+_FRAME_DONE = regs.IRQ_STATUS.field("frame_done")
+_RING_READY = regs.RING_STATUS.field("ready")
 _T = TypeVar("_T")
 
 
@@ -383,8 +387,10 @@ class OrbAccel:
         """Take RING_STATUS's READY buffers that are neither handed out nor being recovered as
         pending frames."""
         ring = self._ring_layout()
-        ready = regs.RING_STATUS.field("ready").get(status) & ((1 << ring.count) - 1)
-        for i in self._held | self._unreleased:
+        ready = _RING_READY.get(status) & ((1 << ring.count) - 1)
+        for i in self._held:
+            ready &= ~(1 << i)
+        for i in self._unreleased:
             ready &= ~(1 << i)
         self._pending = ready
 
@@ -424,7 +430,12 @@ class OrbAccel:
     def read(self, reg: regs.Register) -> int:
         if reg.access == "wo":
             raise ValueError(f"{reg.name} is write-only")
-        return self._call(self.bus.read32, reg.offset)
+        try:  # _call, inline: every frame reads registers
+            return self.bus.read32(reg.offset)
+        except BusError:
+            self.faults.bus_errors += 1
+            self._suspect = True
+            raise
 
     def write(self, reg: regs.Register, value: int) -> None:
         """Write a register; a write the register bank would refuse (SLVERR: a read-only register,
@@ -434,13 +445,19 @@ class OrbAccel:
             raise ValueError(f"{reg.name} is read-only")
         if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not 0 <= value <= 0xFFFFFFFF:
             raise ValueError(f"{reg.name}: {value!r} is not a 32-bit value")
-        generics = {"MEM_DEPTH_g": self.hw.mem_depth} if hasattr(self, "hw") else None
-        if reg.access != "w1c" and not reg.legal(int(value), generics):
-            allowed = ", ".join(f"{f.name} {f.min or 0}..{self._field_max(f)}" for f in reg.fields)
-            raise ValueError(
-                f"{reg.name}: {int(value):#x} sets a reserved bit or a field above its maximum ({allowed})"
-            )
-        self._call(self.bus.write32, reg.offset, int(value))
+        if reg.access != "w1c":
+            generics = {"MEM_DEPTH_g": self.hw.mem_depth} if hasattr(self, "hw") else None
+            if not reg.legal(int(value), generics):
+                allowed = ", ".join(f"{f.name} {f.min or 0}..{self._field_max(f)}" for f in reg.fields)
+                raise ValueError(
+                    f"{reg.name}: {int(value):#x} sets a reserved bit or a field above its maximum ({allowed})"
+                )
+        try:  # _call, inline
+            self.bus.write32(reg.offset, int(value))
+        except BusError:
+            self.faults.bus_errors += 1
+            self._suspect = True
+            raise
 
     def _field_max(self, f: regs.Field) -> int:
         top = (1 << f.width) - 1 if f.max is None else f.max
@@ -589,7 +606,7 @@ class OrbAccel:
             self._ring_restarted()
 
     def counters(self) -> dict[str, int]:
-        return {name.lower(): self.read(getattr(regs, name)) for name in COUNTERS}
+        return {name: self.read(reg) for name, reg in _COUNTER_REGS}
 
     def status_text(self) -> str:
         """The status registers as one line (for error messages)."""
@@ -663,7 +680,7 @@ class OrbAccel:
                 if not released:
                     raise
                 raise TimeoutError(f"{exc}; released ring buffer(s) {released} whose release had failed") from None
-            if regs.IRQ_STATUS.field("frame_done").get(irq):
+            if _FRAME_DONE.get(irq):
                 # a frame published between the last acknowledgement and the last RING_STATUS read
                 # was taken then; its interrupt finds nothing new: wait on
                 self._adopt(self.read(regs.RING_STATUS))
@@ -722,8 +739,8 @@ class OrbAccel:
             raise AccelError(f"ring buffer {index}: slot 0 is {exc}") from None
         if record.count > self.hw.capacity:
             raise AccelError(f"ring buffer {index}: record count {record.count} above a buffer's {self.hw.capacity}")
-        words = read_slots(self.memory, ring, index, record.count)
-        return self._frame(index, words, record, mode, counters)
+        # decoded in place from the memory (new arrays: the buffer may be written again once released)
+        return self._frame(index, slot_view(self.memory, ring, index, record.count), record, mode, counters)
 
     def _frame(self, bank: int, words: np.ndarray, record: EndOfFrame, mode: str | None, counters: bool) -> Frame:
         params = record.params if self.records_params else None
@@ -749,7 +766,7 @@ class OrbAccel:
         base = regs.MEM_BASE + bank * self.hw.mem_depth * SLOT_BYTES
         if self.bank_read == "bank":
             block = self._call(self.bus.read_block, base, (count + 1) * SLOT_WORDS).reshape(count + 1, SLOT_WORDS)
-            words = np.ascontiguousarray(block[:count, :SLOT_WORDS_USED])
+            words = block[:count]  # whole slots: the decoder reads the words it needs
             record = decode_record(block[count, :SLOT_RECORD_WORDS])
         else:
             words = np.empty((count, SLOT_WORDS_USED), dtype=np.uint32)
@@ -784,13 +801,17 @@ class OrbAccel:
         try:
             yield bank
         except BaseException as exc:
-            try:
-                self.release(bank)
-            except Exception as release_exc:  # e.g. the connection went with the block's error
-                if hasattr(exc, "add_note"):  # Python 3.11+
-                    exc.add_note(f"bank {bank} could not be released: {release_exc}")
+            self._release_after(bank, exc)
             raise
         self.release(bank)
+
+    def _release_after(self, bank: int, exc: BaseException) -> None:
+        """Release `bank` after `exc` cut the work on it (a failed release is noted on `exc`)."""
+        try:
+            self.release(bank)
+        except Exception as release_exc:  # e.g. the connection went with the block's error
+            if hasattr(exc, "add_note"):  # Python 3.11+
+                exc.add_note(f"bank {bank} could not be released: {release_exc}")
 
     @contextmanager
     def frame(self, timeout_s: float) -> Iterator[Frame]:
@@ -800,8 +821,15 @@ class OrbAccel:
 
     def next_frame(self, timeout_s: float) -> Frame:
         """The next published frame, read and released."""
-        with self.frame(timeout_s) as f:
-            return f
+        # `with self.frame(timeout_s) as f: return f`, without its two generators (every frame)
+        bank = self.wait_frame(timeout_s)
+        try:
+            frame = self.read_bank(bank)
+        except BaseException as exc:
+            self._release_after(bank, exc)
+            raise
+        self.release(bank)
+        return frame
 
     def frames(self, count: int | None, timeout_s: float) -> Iterator[Frame]:
         """`count` frames (None: forever), each read and released before it is yielded."""

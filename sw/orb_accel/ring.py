@@ -7,8 +7,8 @@ of one published buffer from memory.
 Buffer i (0 .. count - 1) starts at bus address base + i * stride and holds `depth` 64-byte
 slots: slot 0 the frame's end-of-frame record, slots 1 .. count its features. A buffer is read
 with two cache invalidations and no bus access: the record's 64 bytes, then count * 64 bytes of
-features, decoded in one numpy pass (golden_model.featmem.decode_features, the bank path's
-decoder). numpy only.
+features, decoded in place in one numpy pass (golden_model.featmem.decode_features, the bank
+path's decoder, on a view of the memory: slot_view). numpy only.
 """
 
 from __future__ import annotations
@@ -151,13 +151,20 @@ def read_record(memory: FrameMemory, layout: RingLayout, index: int) -> EndOfFra
     return decode_record(words[:SLOT_RECORD_WORDS])
 
 
-def read_slots(memory: FrameMemory, layout: RingLayout, index: int, count: int) -> np.ndarray:
-    """Buffer `index`'s `count` feature slots (slots 1 .. count) as an (count, SLOT_WORDS_USED)
-    uint32 array (a copy: the buffer may be written again once it is released), after invalidating
-    their count * 64 bytes."""
+def slot_view(memory: FrameMemory, layout: RingLayout, index: int, count: int) -> np.ndarray:
+    """Buffer `index`'s `count` feature slots (slots 1 .. count), whole, as a read-only (count,
+    SLOT_WORDS) uint32 view of the memory (no copy), after invalidating their count * 64 bytes. The
+    view is the buffer's memory: decode it before the buffer is released (the device may then write
+    it again); golden_model.featmem.decode_features reads it in place into new arrays."""
     at = layout.buffer_offset(index) + SLOT_BYTES
     n = count * SLOT_BYTES
     if n:
         memory.invalidate(at, n)
-    block = np.frombuffer(memory.view(at, n), dtype="<u4").reshape(count, SLOT_WORDS)
-    return np.array(block[:, :SLOT_WORDS_USED], dtype=np.uint32)
+    return np.frombuffer(memory.view(at, n), dtype="<u4").reshape(count, SLOT_WORDS)
+
+
+def read_slots(memory: FrameMemory, layout: RingLayout, index: int, count: int) -> np.ndarray:
+    """Buffer `index`'s `count` feature slots (slots 1 .. count) as an (count, SLOT_WORDS_USED)
+    uint32 array (a copy: the buffer may be written again once it is released), after invalidating
+    their count * 64 bytes."""
+    return np.array(slot_view(memory, layout, index, count)[:, :SLOT_WORDS_USED], dtype=np.uint32)

@@ -11,11 +11,20 @@ over one TCP connection, little-endian:
 
 - request: REQUEST (op u8, addr u32, arg u64). Ops: READ (arg unused), WRITE (arg = value),
   BLOCK (arg = word count), WAIT_IRQ (arg = timeout in nanoseconds of simulated time), HELLO
-  (server information), SHUTDOWN (ends the simulation).
+  (server information), SHUTDOWN (ends the simulation), MEM_READ (addr = a bus address of the
+  simulated DDR, arg = byte count, 1 .. MAX_MEM_BYTES: a DDR build's memory, protocol 2).
 - response: RESPONSE (status u8, length u32) and `length` payload bytes. Status OK: READ gives 4
   bytes, BLOCK 4 x count, WAIT_IRQ one byte (1: the interrupt line is high, 0: timeout), HELLO a
-  UTF-8 JSON object, WRITE and SHUTDOWN nothing. BUS_ERROR: one byte, the AXI response (2 SLVERR,
-  3 DECERR), raised here as orb_accel.bus.BusError. BAD_REQUEST: a UTF-8 message.
+  UTF-8 JSON object, MEM_READ the bytes, WRITE and SHUTDOWN nothing. BUS_ERROR: one byte, the AXI
+  response (2 SLVERR, 3 DECERR), raised here as orb_accel.bus.BusError. BAD_REQUEST: a UTF-8
+  message (a MEM_READ outside the DDR region, or to a simulator without one, is refused so).
+
+HELLO's `ddr`: {"base", "size"} of the simulated DDR region a DDR build (MEM_KIND_g "DDR",
+docs/feature-dma.md) writes its frames into, the emulated reserved region of the board's DDR; null
+for a BRAM build. SocketMemory is the driver's FrameMemory (orb_accel.ddr) over it:
+
+    with SocketBus(address) as bus:
+        accel = OrbAccel(bus, memory=SocketMemory(bus))    # bus.memory_region is not None
 
 Time: the simulation advances only inside bus operations, so `wait_irq(timeout_s)` counts
 simulated seconds (as in orb_accel.bus.Bus); the wall-clock limit of one operation is
@@ -36,13 +45,14 @@ import numpy as np
 
 from .bus import BusError
 
-PROTOCOL = 1
+PROTOCOL = 2  # 2: MEM_READ and HELLO's ddr
 MAGIC = "orb-accel-sim"
 REQUEST = struct.Struct("<BIQ")
 RESPONSE = struct.Struct("<BI")
-READ, WRITE, BLOCK, WAIT_IRQ, HELLO, SHUTDOWN = 1, 2, 3, 4, 5, 6
+READ, WRITE, BLOCK, WAIT_IRQ, HELLO, SHUTDOWN, MEM_READ = 1, 2, 3, 4, 5, 6, 7
 OK, BUS_ERROR, BAD_REQUEST = 0, 1, 2
 MAX_BLOCK_WORDS = 1 << 20
+MAX_MEM_BYTES = 1 << 24  # one MEM_READ's bytes at most
 SLICE_S = 0.2  # the longest a client's recv sleeps before Python runs again (signals, Ctrl-C)
 
 
@@ -85,6 +95,7 @@ class SocketBus:
         self.address = address
         host, port = parse_address(address)
         self.reads = self.writes = 0
+        self.mem_reads = 0  # MEM_READ requests
         self._broken = False
         try:
             self._sock = socket.create_connection((host, port), timeout=connect_timeout_s)
@@ -147,6 +158,28 @@ class SocketBus:
     def wait_irq(self, timeout_s: float) -> bool:
         return self._call(WAIT_IRQ, 0, max(0, round(timeout_s * 1e9)))[0] == 1
 
+    @property
+    def memory_region(self) -> tuple[int, int] | None:
+        """(base, size) of the simulated DDR region (HELLO's ddr); None for a BRAM build."""
+        ddr = self.info.get("ddr")
+        return None if not ddr else (int(ddr["base"]), int(ddr["size"]))
+
+    def read_mem(self, addr: int, nbytes: int) -> bytes:
+        """`nbytes` bytes of the simulated DDR at bus address `addr` (no simulated time passes).
+        ValueError, before anything is sent, for a range outside the region or a simulator
+        without one."""
+        region = self.memory_region
+        if region is None:
+            raise ValueError(f"the simulator at {self.address} has no DDR memory (a BRAM build: MEM_KIND_g BRAM)")
+        base, size = region
+        if not 0 < nbytes <= MAX_MEM_BYTES:
+            raise ValueError(f"DDR read of {nbytes} bytes outside 1..{MAX_MEM_BYTES}")
+        if addr < base or addr + nbytes > base + size:
+            raise ValueError(f"DDR read of {nbytes} bytes at {addr:#x} outside the simulated DDR region "
+                             f"[{base:#x}, {base + size:#x})")  # fmt: skip
+        self.mem_reads += 1
+        return self._call(MEM_READ, addr, nbytes)
+
     def frame_period_s(self) -> float:
         """One frame of the simulated video (its pixels and blanking), in the bus's (simulated) seconds."""
         g = self.info["generics"]
@@ -165,3 +198,48 @@ class SocketBus:
 
     def __exit__(self, kind: type[BaseException] | None, exc: BaseException | None, tb: TracebackType | None) -> None:
         self.close()
+
+
+class SocketMemory:
+    """orb_accel.ddr's FrameMemory over a SocketBus's simulated DDR (HELLO's ddr region): what
+    OrbAccel(bus, memory=SocketMemory(bus)) reads a DDR build's frames from in another process.
+
+    A local copy stands for the CPU's cached view: invalidate(offset, length) fetches the range
+    from the simulator (MEM_READ, in requests of MAX_MEM_BYTES at most), view(offset, length)
+    returns the copy, read-only. So, as on the board, a reader that does not invalidate what the
+    accelerator wrote reads stale bytes (zeros at first). `invalidations` and `fetched_bytes`
+    count the work."""
+
+    def __init__(self, bus: SocketBus) -> None:
+        region = bus.memory_region
+        if region is None:
+            raise ValueError(f"the simulator at {bus.address} has no DDR memory (a BRAM build: MEM_KIND_g BRAM)")
+        self.bus = bus
+        self.phys_addr, self.size = region
+        self._copy = np.zeros(self.size, dtype=np.uint8)
+        self.invalidations = 0
+        self.fetched_bytes = 0
+
+    def _check(self, offset: int, length: int) -> None:
+        if offset < 0 or length < 0 or offset + length > self.size:
+            raise ValueError(f"bytes {offset:#x} .. {offset + length:#x} outside the memory of {self.size:#x} bytes")
+
+    def invalidate(self, offset: int, length: int) -> None:
+        self._check(offset, length)
+        self.invalidations += 1
+        end = offset + length
+        while offset < end:
+            n = min(end - offset, MAX_MEM_BYTES)
+            data = self.bus.read_mem(self.phys_addr + offset, n)
+            self._copy[offset : offset + n] = np.frombuffer(data, dtype=np.uint8)
+            self.fetched_bytes += n
+            offset += n
+
+    def view(self, offset: int, length: int) -> np.ndarray:
+        self._check(offset, length)
+        v = self._copy[offset : offset + length].view()
+        v.flags.writeable = False
+        return v
+
+    def close(self) -> None:
+        pass

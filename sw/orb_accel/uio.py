@@ -55,6 +55,7 @@ SYSFS_UIO = Path("/sys/class/uio")
 PROC_INTERRUPTS = Path("/proc/interrupts")
 BLOCK_MODES = ("copy", "words")
 _U32 = struct.Struct("=I")  # the UIO interrupt protocol's words are native-endian 32-bit integers
+_ENABLE = _U32.pack(1)  # the word that re-enables the interrupt
 _HINT = ("check that the device-tree overlay (vivado/linux/orb-accel-*.dtso) is loaded and that the kernel "
          "command line has uio_pdrv_genirq.of_id=generic-uio (docs/uio.md)")  # fmt: skip
 
@@ -152,6 +153,7 @@ class UioInterrupt:
         self.owns_fd = owns_fd
         self.count: int | None = None
         self.missed = 0
+        self._poller: select.poll | None = None
 
     @classmethod
     def open(cls, path: str | os.PathLike) -> UioInterrupt:
@@ -175,12 +177,14 @@ class UioInterrupt:
             raise ValueError(f"the interrupt of {self.path} is closed")
         fd = self.fd
         try:
-            os.write(fd, _U32.pack(1))
+            os.write(fd, _ENABLE)
         except OSError as exc:
             raise OSError(exc.errno, f"cannot enable the interrupt of {self.path} ({exc.strerror}); does the "
                           "device-tree node have an interrupts property? (docs/uio.md)") from None  # fmt: skip
-        poller = select.poll()
-        poller.register(fd, select.POLLIN)
+        poller = self._poller
+        if poller is None:  # one poll object for the descriptor, made at the first wait
+            poller = self._poller = select.poll()
+            poller.register(fd, select.POLLIN)
         deadline = time.monotonic() + max(timeout_s, 0.0)
         while True:
             # Python retries poll() after EINTR itself (PEP 475); the loop also covers a signal
@@ -206,7 +210,7 @@ class UioInterrupt:
 
     def close(self) -> None:
         """Close the descriptor if it is ours; calling it again does nothing."""
-        fd, self.fd = self.fd, None
+        fd, self.fd, self._poller = self.fd, None, None
         if fd is not None and self.owns_fd:
             os.close(fd)
 
@@ -263,15 +267,26 @@ class MappedWindow:
 
     # ---- the bus -------------------------------------------------------------------------------
     def read32(self, addr: int) -> int:
-        view = self._words()
-        i = self._index(addr)
+        view = self._view
+        if view is None:
+            view = self._words()  # raises: closed
+        if type(addr) is int and not addr & 3 and 0 <= addr <= self.size - 4:  # the checks of word_index
+            i = addr >> 2
+        else:
+            i = self._index(addr)  # another integer type, or raises naming what is wrong
         self.reads += 1
         return int(view[i])
 
     def write32(self, addr: int, value: int) -> None:
-        view = self._words()
-        i = self._index(addr)
-        value = check_value(addr, value)
+        view = self._view
+        if view is None:
+            view = self._words()  # raises: closed
+        if type(addr) is int and not addr & 3 and 0 <= addr <= self.size - 4:
+            i = addr >> 2
+        else:
+            i = self._index(addr)
+        if type(value) is not int or not 0 <= value <= 0xFFFFFFFF:
+            value = check_value(addr, value)
         self.writes += 1
         view[i] = np.uint32(value)
 

@@ -256,7 +256,7 @@ def open_source(args: argparse.Namespace) -> Iterator[tuple[NodeSource, str, flo
 
             name = args.uio or "orb-accel"
             bus, what, timeout = stack.enter_context(UioBus.open(name)), f"UIO device {name!r}", BOARD_TIMEOUT_S
-        memory = memory_factory(args.ddr_memory, board=not args.connect)
+        memory = memory_factory(args.ddr_memory, board=not args.connect, bus=bus)
         yield AccelSource(OrbAccel(bus, memory=memory)), what, timeout
 
 

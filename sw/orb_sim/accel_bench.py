@@ -3,7 +3,14 @@
 the shipped driver (orb_accel.OrbAccel on orb_sim.cocotb_bus.CocotbBus over AXI4-Lite), the
 colour video source and an overlay-output capture. Used by the top-level tests and the jobs.
 Generics come from the environment (ORB_WIDTH, ORB_HEIGHT,
-ORB_SCALES, ORB_SECTORS, ORB_MEM_DEPTH, ORB_INPUT; ORB_STEP_NUM, ORB_STEP_DEN default 2:1).
+ORB_SCALES, ORB_SECTORS, ORB_MEM_DEPTH, ORB_INPUT; ORB_STEP_NUM, ORB_STEP_DEN default 2:1;
+ORB_MEM_KIND, default BRAM).
+
+A DDR build (MEM_KIND_g "DDR", docs/feature-dma.md) gets its DDR: orb_sim.ddr_ram.RegionRam on
+m_axi_feat, an emulated reserved region (`ddr_region`, default ORB_DDR_BASE / ORB_DDR_SIZE or
+orb_sim.ddr_ram's DDR_BASE, DDR_SIZE), with random stalls on AW, W and B (start's `ddr_pause`), and
+the driver reads its frames from there (OrbAccel(memory=ram.memory()), a ring of ORB_RING_COUNT
+buffers, default as many as the region holds).
 """
 
 from __future__ import annotations
@@ -28,6 +35,7 @@ from orb_accel.driver import IRQ_SOURCES, HwConfig, OrbAccel
 
 from .cocotb_bus import OKAY, PERIOD_NS, SLVERR, CocotbBus, set_axil_pauses
 from .core_inputs import selection_text
+from .ddr_ram import RegionRam, mem_kind, region_from_env
 from .video import Gaps, VideoSource
 
 __all__ = ["OKAY", "SLVERR", "AccelBench"]
@@ -42,7 +50,7 @@ class AccelBench:
     "s_axi_ctrl")`)."""
 
     def __init__(self, dut, clk: str = "clk", reset: str = "rst", reset_active_low: bool = False,
-                 axil_prefix: str = "s_axil") -> None:  # fmt: skip
+                 axil_prefix: str = "s_axil", ddr_region: tuple[int, int] | None = None) -> None:  # fmt: skip
         self.dut = dut
         self.clk = getattr(dut, clk)
         self.reset = getattr(dut, reset)
@@ -56,12 +64,17 @@ class AccelBench:
         self.depth = int(os.environ["ORB_MEM_DEPTH"])
         self.block_log2 = int(os.environ.get("ORB_BLOCK_LOG2", "3"))  # the overlay's (orb_accel_top's default 3)
         self.input = os.environ.get("ORB_INPUT", "RGB")
+        self.ddr = mem_kind() == "DDR"  # the features go to the DDR ring through m_axi_feat
+        self.ddr_region = region_from_env() if ddr_region is None else ddr_region
+        self.ram: RegionRam | None = None
         self.video = VideoSource(dut, self.clk)
         self.captured: list[np.ndarray] = []
         self._capturing = False
         self.frame_timeout_clocks = 40 * self.width * self.height  # a frame plus any legal back-pressure
 
-    async def start(self, pause_prob: float = 0.0, seed: int = 1) -> None:
+    async def start(self, pause_prob: float = 0.0, seed: int = 1, ddr_pause: float | None = None) -> None:
+        """Clock, reset, the AXI4-Lite master with random pauses (`pause_prob` on its five
+        channels), a DDR build's RAM (stalls `ddr_pause` on AW, W, B; default pause_prob), the driver."""
         dut = self.dut
         self.reset.value = self.reset_active
         self.video.idle()
@@ -71,12 +84,17 @@ class AccelBench:
         bus = AxiLiteBus.from_prefix(dut, self.axil_prefix)
         self.axil = AxiLiteMaster(bus, self.clk, self.reset, reset_active_level=bool(self.reset_active))
         set_axil_pauses(self.axil, pause_prob, seed)
-        self.bus = CocotbBus(self.axil, self.clk, dut.irq)
+        if self.ddr:
+            self.ram = RegionRam(dut, self.clk, self.reset, bool(self.reset_active), *self.ddr_region)
+            self.ram.set_pauses(pause_prob if ddr_pause is None else ddr_pause, seed)
+        self.bus = CocotbBus(self.axil, self.clk, dut.irq, ram=self.ram)
         await ClockCycles(self.clk, 4)
         self.reset.value = 1 - self.reset_active
         await RisingEdge(self.clk)
         # checks the ID, reads the configuration; reads only the used words of a slot (each read costs clocks)
-        self.accel = await self.cpu(OrbAccel, self.bus, True, "slot")
+        ring_count = int(os.environ["ORB_RING_COUNT"]) if os.environ.get("ORB_RING_COUNT") else None
+        memory = self.ram.memory() if self.ram is not None else None
+        self.accel = await self.cpu(OrbAccel, self.bus, True, "slot", memory=memory, ring_count=ring_count)
         assert self.accel.hw == HwConfig(self.width, self.height, self.scales, self.sectors, self.depth, *self.step), (
             f"configuration read back {self.accel.hw}"
         )
@@ -146,6 +164,12 @@ class AccelBench:
 
     async def release(self, bank: int) -> None:
         await self.cpu(self.accel.release, bank)
+
+    async def open_ring(self, count: int | None = None) -> list[int]:
+        """A DDR build: lay the ring out again in the RAM (`count` buffers, default as many as it
+        holds) and soft-reset (after a hard reset cleared RING_*, or to test another ring)."""
+        assert self.ram is not None, "open_ring on a BRAM build"
+        return await self.cpu(self.accel.open_ring, self.ram.memory(), count)
 
     async def read_newest(self) -> tuple[Features, EndOfFrame]:
         """The next frame through the driver: wait for its interrupt, acknowledge it, read the

@@ -8,6 +8,11 @@ goes into the simulation through CocotbBus (`cocotb.task.resume`). Simulated tim
 inside an operation, so the simulation waits, frozen, while no client asks for anything: what a
 client sees is the same whether it is fast or slow. One client at a time; the next connection is
 accepted when the present one closes. The protocol is orb_accel.socket_bus's.
+
+A DDR build's memory (MEM_READ): the bus's `read_mem(addr, nbytes)` (CocotbBus over the job's
+orb_sim.ddr_ram.RegionRam, FastBus over the harness's memory), within the region the HELLO answer
+gives (`ddr`, server_info's): a read outside it, or to a server without one, is refused with a
+message (BAD_REQUEST) before it reaches the bus.
 """
 
 from __future__ import annotations
@@ -24,6 +29,8 @@ from orb_accel.socket_bus import (
     HELLO,
     MAGIC,
     MAX_BLOCK_WORDS,
+    MAX_MEM_BYTES,
+    MEM_READ,
     OK,
     PROTOCOL,
     READ,
@@ -56,9 +63,31 @@ def handle(bus: Bus, info: dict, op: int, addr: int, arg: int) -> tuple[int, byt
             return OK, json.dumps(info).encode()
         if op == SHUTDOWN:
             return OK, b""
+        if op == MEM_READ:
+            refused = check_mem_read(info.get("ddr"), addr, arg)
+            if refused:
+                return BAD_REQUEST, refused.encode()
+            return OK, bytes(bus.read_mem(addr, arg))  # type: ignore[attr-defined]
     except BusError as exc:
         return BUS_ERROR, bytes([exc.resp])
+    except (ValueError, AttributeError) as exc:  # a memory the bus does not have after all
+        if op != MEM_READ:
+            raise
+        return BAD_REQUEST, f"DDR read refused: {exc}".encode()
     return BAD_REQUEST, f"unknown operation {op}".encode()
+
+
+def check_mem_read(ddr: dict | None, addr: int, nbytes: int) -> str | None:
+    """Why a MEM_READ of `nbytes` at `addr` is refused (None: it is not), for the region `ddr`
+    ({"base", "size"}, or None: no DDR memory)."""
+    if not ddr:
+        return "this simulator has no DDR memory (a BRAM build: MEM_KIND_g BRAM)"
+    if not 0 < nbytes <= MAX_MEM_BYTES:
+        return f"DDR read of {nbytes} bytes outside 1..{MAX_MEM_BYTES}"
+    base, size = int(ddr["base"]), int(ddr["size"])
+    if addr < base or addr + nbytes > base + size:
+        return f"DDR read of {nbytes} bytes at {addr:#x} outside the simulated DDR region [{base:#x}, {base + size:#x})"
+    return None
 
 
 def serve(listener: socket.socket, bus: Bus, info: dict) -> None:
@@ -92,8 +121,11 @@ def listen(job: Path, host: str, port: int) -> socket.socket:
     return listener
 
 
-def server_info(cfg: dict, frames: int, period_ns: int, engine: str) -> dict:
-    """The HELLO answer: the protocol and the simulated configuration (SimServer's config.json)."""
+def server_info(cfg: dict, frames: int, period_ns: int, engine: str,
+                ddr: tuple[int, int] | None = None) -> dict:  # fmt: skip
+    """The HELLO answer: the protocol and the simulated configuration (SimServer's config.json);
+    `ddr` the (base, size) of a DDR build's memory region (None: a BRAM build)."""
     return {"magic": MAGIC, "protocol": PROTOCOL, "toplevel": cfg["toplevel"], "generics": cfg["generics"],
             "period_ns": period_ns, "frames": frames, "h_blank": cfg["h_blank"], "v_blank": cfg["v_blank"],
-            "engine": engine, "faults": cfg.get("faults", [])}  # fmt: skip
+            "engine": engine, "faults": cfg.get("faults", []),
+            "ddr": None if ddr is None else {"base": int(ddr[0]), "size": int(ddr[1])}}  # fmt: skip

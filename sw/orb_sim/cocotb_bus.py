@@ -12,6 +12,10 @@ drives the RTL:
 
 Times are simulated time. No AXI4-Lite transaction may take longer than OP_TIMEOUT_CLOCKS: a hung
 bus fails the simulation instead of hanging it.
+
+A DDR build's memory (orb_sim.ddr_ram.RegionRam on m_axi_feat, `ram`): `read_mem(addr, n)` and
+`memory_region` serve the socket bus's memory operation (orb_sim.bus_server), as
+orb_sim.fast.sim.FastBus does for the fast engine; the in-process driver takes `ram.memory()`.
 """
 
 from __future__ import annotations
@@ -50,9 +54,22 @@ class CocotbBus:
     """Bus operations of the driver as AXI4-Lite transactions of `axil` (an AxiLiteMaster);
     `irq` is the level interrupt output. Call only from a `bridge`d function."""
 
-    def __init__(self, axil, clk, irq, period_ns: int = PERIOD_NS) -> None:
+    def __init__(self, axil, clk, irq, period_ns: int = PERIOD_NS, ram=None) -> None:
         self.axil, self.clk, self.irq, self.period_ns = axil, clk, irq, period_ns
+        self.ram = ram  # a DDR build's RegionRam (orb_sim.ddr_ram), else None
         self.reads = self.writes = 0  # single 32-bit accesses, for reports
+
+    @property
+    def memory_region(self) -> tuple[int, int] | None:
+        """(base, size) of the simulated DDR region; None without one (a BRAM build)."""
+        return None if self.ram is None else self.ram.region
+
+    def read_mem(self, addr: int, nbytes: int) -> bytes:
+        """`nbytes` bytes of the simulated DDR at bus address `addr` (no simulated time passes);
+        BusError outside the region, ValueError without one."""
+        if self.ram is None:
+            raise ValueError("this simulation has no DDR memory (MEM_KIND_g is not DDR)")
+        return self.ram.read_mem(addr, nbytes)
 
     async def _read(self, addr: int, count: int) -> tuple[int, bytes]:
         resp = await with_timeout(self.axil.read(addr, 4 * count), OP_TIMEOUT_CLOCKS * count * self.period_ns, "ns")

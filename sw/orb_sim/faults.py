@@ -13,16 +13,34 @@ recovery"). Each fault is a line of text, given to orb_sim.sim_server.SimServer(
   `decerr`) instead of being done, as the register bank answers an illegal access (no state
   change); with EVERY > 0 also every EVERY-th such operation after it. Counted from the server's
   start, over every client.
+
+The interconnect of a DDR build (MEM_KIND_g "DDR": the frames written through m_axi_feat into the
+fast engine's memory model, docs/feature-dma.md, docs/fast-sim.md "The DDR model"); fast engine only
+(apply_axi_faults sets them on the FastSim):
+
+- `axistall:EVERY:CLOCKS[:WHAT]`: every EVERY clocks (from the server's start) the interconnect
+  stops for CLOCKS clocks: WHAT `aww` (the default: AWREADY and WREADY low), `aw`, `w`, `b` (no
+  write response) or `all`. Long enough (more than the burst FIFO's slots times 9 clocks) it drops
+  the frames whose features find the FIFO full (DMA_DROPPED);
+- `axierr:FIRST[:EVERY[:RESP]]`: the FIRST-th burst of m_axi_feat (from 1) is answered RESP
+  (`slverr`, the default, or `decerr`) and not stored, with EVERY > 0 every EVERY-th after it too:
+  the frame it belongs to is dropped (DMA_DROPPED, DMA_BUS_ERRORS);
+- `axislow:READY:DELAY`: AWREADY and WREADY each high with probability READY (0 < READY <= 1) a
+  clock, every write response DELAY clocks after the burst's last beat.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from golden_model import regs
 from orb_accel.bus import Bus, BusError
+
+if TYPE_CHECKING:
+    from .fast.sim import FastSim
 
 OPS = ("read", "write", "block")
 RESPONSES = {"slverr": 2, "decerr": 3}
@@ -64,7 +82,43 @@ class BusFault:
         return n == self.first or (self.every > 0 and n > self.first and (n - self.first) % self.every == 0)
 
 
-Fault = Cut | BusFault
+@dataclass(frozen=True)
+class AxiStall:
+    every: int  # clocks from one stall's start to the next
+    clocks: int  # its length
+    what: str = "aww"
+
+    @property
+    def text(self) -> str:
+        return f"axistall:{self.every}:{self.clocks}:{self.what}"
+
+
+@dataclass(frozen=True)
+class AxiError:
+    first: int  # the burst (from 1)
+    every: int = 0
+    resp: int = 2
+
+    @property
+    def text(self) -> str:
+        name = {v: k for k, v in RESPONSES.items()}[self.resp]
+        return f"axierr:{self.first}:{self.every}:{name}"
+
+
+@dataclass(frozen=True)
+class AxiSlow:
+    ready: float  # AWREADY and WREADY: the probability a clock
+    delay: int  # clocks from a burst's last beat to its response
+
+    @property
+    def text(self) -> str:
+        return f"axislow:{self.ready}:{self.delay}"
+
+
+STALL_HOLDS = {"aww": (True, True, False), "aw": (True, False, False), "w": (False, True, False),
+               "b": (False, False, True), "all": (True, True, True)}  # fmt: skip
+AxiFault = AxiStall | AxiError | AxiSlow
+Fault = Cut | BusFault | AxiStall | AxiError | AxiSlow
 
 
 def _int(text: str, what: str, spec: str, low: int) -> int:
@@ -93,7 +147,50 @@ def parse(spec: str) -> Fault:
         if resp not in RESPONSES:
             raise ValueError(f"fault {spec!r}: RESP must be slverr or decerr")
         return BusFault(op, where, _int(parts[2], "FIRST", spec, 1), every, RESPONSES[resp])
-    raise ValueError(f"fault {spec!r} is not cut:EVERY:PERIODS or buserr:OP:WHERE:FIRST[:EVERY[:RESP]]")
+    if kind == "axistall" and 2 <= len(parts) <= 3:
+        every, clocks = _int(parts[0], "EVERY", spec, 2), _int(parts[1], "CLOCKS", spec, 1)
+        what = parts[2] if len(parts) > 2 else "aww"
+        if what not in STALL_HOLDS:
+            raise ValueError(f"fault {spec!r}: WHAT must be one of {', '.join(STALL_HOLDS)}")
+        if clocks >= every:
+            raise ValueError(f"fault {spec!r}: CLOCKS must be below EVERY (the interconnect must move at times)")
+        return AxiStall(every, clocks, what)
+    if kind == "axierr" and 1 <= len(parts) <= 3:
+        every = _int(parts[1], "EVERY", spec, 0) if len(parts) > 1 else 0
+        resp = parts[2] if len(parts) > 2 else "slverr"
+        if resp not in RESPONSES:
+            raise ValueError(f"fault {spec!r}: RESP must be slverr or decerr")
+        return AxiError(_int(parts[0], "FIRST", spec, 1), every, RESPONSES[resp])
+    if kind == "axislow" and len(parts) == 2:
+        try:
+            ready = float(parts[0])
+        except ValueError:
+            raise ValueError(f"fault {spec!r}: READY {parts[0]!r} is not a number") from None
+        if not 0 < ready <= 1:
+            raise ValueError(f"fault {spec!r}: READY must be in (0, 1], got {ready}")
+        return AxiSlow(ready, _int(parts[1], "DELAY", spec, 0))
+    raise ValueError(f"fault {spec!r} is not cut:EVERY:PERIODS, buserr:OP:WHERE:FIRST[:EVERY[:RESP]], "
+                     "axistall:EVERY:CLOCKS[:WHAT], axierr:FIRST[:EVERY[:RESP]] or axislow:READY:DELAY")  # fmt: skip
+
+
+def apply_axi_faults(sim: FastSim, faults: list[Fault]) -> list[AxiFault]:
+    """Set the interconnect faults (AxiStall, AxiError, AxiSlow) on the fast engine's model of a DDR
+    build's interconnect (orb_sim.fast.sim.FastSim); returns those set. Stalls count clocks from the
+    model's start, errors the bursts since it."""
+    names = {v: k for k, v in RESPONSES.items()}
+    done: list[AxiFault] = []
+    for f in faults:
+        if isinstance(f, AxiStall):
+            aw, w, b = STALL_HOLDS[f.what]
+            sim.axi_stall_every(f.every, f.clocks, 0, aw=aw, w=w, b=b)
+        elif isinstance(f, AxiError):
+            sim.axi_error_every(f.first - 1, f.every, names[f.resp])
+        elif isinstance(f, AxiSlow):
+            sim.set_axi_timing(aw_ready=f.ready, w_ready=f.ready, b_delay=f.delay)
+        else:
+            continue
+        done.append(f)
+    return done
 
 
 class FaultyBus:
@@ -130,6 +227,14 @@ class FaultyBus:
 
     def wait_irq(self, timeout_s: float) -> bool:
         return self.bus.wait_irq(timeout_s)
+
+    # a DDR build's memory (the socket bus's MEM_READ), passed through: no fault is injected there
+    @property
+    def memory_region(self) -> tuple[int, int] | None:
+        return getattr(self.bus, "memory_region", None)
+
+    def read_mem(self, addr: int, nbytes: int) -> bytes:
+        return self.bus.read_mem(addr, nbytes)  # type: ignore[attr-defined]
 
 
 def cut_program(words: np.ndarray, h_blank: int, v_blank: int, periods: int) -> tuple[np.ndarray, ...]:

@@ -36,6 +36,7 @@ class RtlUnavailable(RuntimeError):
 
 # feature slots per bank of the simulated orb_accel_top when not told: the recommended configuration's
 ACCEL_MEM_DEPTH = named(RECOMMENDED_NAME).mem_depth
+MEM_KINDS = ("bram", "ddr")  # golden_model's mem_kind: MEM_KIND_g "BRAM" (the tops' default), "DDR"
 
 
 def _simulate(toplevel: str, module: str, generics: dict, env: dict[str, str], log: Path) -> None:
@@ -52,12 +53,17 @@ def _simulate(toplevel: str, module: str, generics: dict, env: dict[str, str], l
 
 
 def run_accel_job(img: np.ndarray, cfg: Config, job: Path, log: Path, overlay: bool,
-                  mem_depth: int = ACCEL_MEM_DEPTH, block_log2: int | None = None) -> dict:  # fmt: skip
+                  mem_depth: int = ACCEL_MEM_DEPTH, block_log2: int | None = None,
+                  mem_kind: str = "bram") -> dict:  # fmt: skip
     """orb_accel_top driven as a CPU drives it (orb_sim.jobs.accel_job): the frame (H, W) luma or
     (H, W, 3) RGB streams in, the features are read back into job/features.csv; with `overlay`, a
     second pass captures job/overlay.npy. Returns job.json (frame_cycles, pixels, cycles_per_pixel,
     latency_cycles, dropped_merge, truncated, desc_lost, proto_errors, frame_sim_wall_s, features).
-    The overlay's block is 2^block_log2 pixels (default: golden_model.overlay.marker_block_log2)."""
+    The overlay's block is 2^block_log2 pixels (default: golden_model.overlay.marker_block_log2).
+    mem_kind "ddr": the DDR build (MEM_KIND_g "DDR"), the frame written through m_axi_feat into the
+    bench's emulated DDR and read by the driver from there (job.json's `mem_kind`, `ddr`)."""
+    if mem_kind not in MEM_KINDS:
+        raise ValueError(f"mem_kind {mem_kind!r} not one of {MEM_KINDS}")
     job.mkdir(parents=True, exist_ok=True)
     block = marker_block_log2(cfg.scales) if block_log2 is None else block_log2
     np.save(job / "input.npy", np.ascontiguousarray(img, dtype=np.uint8))
@@ -65,6 +71,8 @@ def run_accel_job(img: np.ndarray, cfg: Config, job: Path, log: Path, overlay: b
                 "STEP_NUM_g": cfg.step_num, "STEP_DEN_g": cfg.step_den,
                 "SECTORS_g": cfg.sectors, "MEM_DEPTH_g": mem_depth, "BLOCK_LOG2_g": block,
                 "INPUT_g": "LUMA" if img.ndim == 2 else "RGB"}  # fmt: skip
+    if mem_kind == "ddr":  # left out for "bram": the BRAM build keeps its build directory
+        generics["MEM_KIND_g"] = "DDR"
     env = {"ORB_JOB_DIR": str(job), "ORB_JOB_THRESHOLD": str(cfg.threshold), "ORB_JOB_MODE": cfg.mode,
            "ORB_JOB_OVERLAY": "1" if overlay else "0", "ORB_JOB_SELECTION": cfg.selection,
            "ORB_JOB_BUDGET": str(cfg.budget), "ORB_JOB_CELLS": f"{cfg.cols}x{cfg.rows}",

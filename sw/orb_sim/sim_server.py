@@ -16,6 +16,14 @@ frame). `python -m orb_sim.sim_server JOB` is the child process: engine "ghdl" r
 through orb_sim.runner, engine "fast" serves the synthesised netlist in Verilator (orb_sim.fast;
 orb_accel_top only; no frames.log). `faults` (orb_sim.faults: cable cuts, error responses) are
 injected by the server, for the CPU side's fault tests (docs/driver.md, "Faults and recovery").
+
+`mem_kind` (default: the configuration's; the board builds' is "ddr"): "ddr" builds the DDR
+feature memory (MEM_KIND_g "DDR", docs/feature-dma.md), whose frames go into a simulated DDR
+region (`ddr_region`, default DDR_REGION, orb_sim.ddr_ram's): the HELLO answer gives it
+(SocketBus.memory_region) and the client reads it with orb_accel.socket_bus.SocketMemory:
+
+    with SimServer(frames, "board-vga") as server, SocketBus(server.address) as bus:
+        accel = OrbAccel(bus, memory=SocketMemory(bus))
 """
 
 from __future__ import annotations
@@ -37,13 +45,17 @@ from golden_model import limits
 from golden_model.config import Config, named
 from golden_model.overlay import marker_block_log2
 
-from .faults import Cut, parse
+from .faults import AxiFault, Cut, parse
 from .hdl import MANIFEST
 from .runner import run
 
 TOPLEVELS = ("orb_accel_top", "orb_accel_zynq")
 ENGINES = ("ghdl", "fast")
 DEFAULT_CONFIG = "sim-qvga"  # the simulated bitstream of sim-server, ros --sim, board --sim
+MEM_KINDS = ("bram", "ddr")  # golden_model's mem_kind: MEM_KIND_g "BRAM", "DDR"
+# a DDR build's emulated reserved region (base, size): orb_sim.ddr_ram's DDR_BASE, DDR_SIZE (and the
+# fast harness's), written out here: this module is pure Python at import (the board's CLI imports it)
+DDR_REGION = (0x1000_0000, 4 << 20)
 
 
 class SimServerError(RuntimeError):
@@ -54,8 +66,12 @@ class SimServer:
     def __init__(self, frames: np.ndarray, config: str = DEFAULT_CONFIG, *, scales: int | None = None,
                  sectors: int | None = None, mem_depth: int | None = None, step: tuple[int, int] | None = None,
                  toplevel: str = "orb_accel_top", port: int = 0, h_blank: int = 16, v_blank_lines: int = 20,
-                 job_dir: Path | None = None, engine: str = "ghdl", faults: Sequence[str] = ()) -> None:  # fmt: skip
+                 job_dir: Path | None = None, engine: str = "ghdl", faults: Sequence[str] = (),
+                 mem_kind: str | None = None, ddr_region: tuple[int, int] = DDR_REGION) -> None:  # fmt: skip
         nc = named(config)
+        mem_kind = nc.mem_kind if mem_kind is None else mem_kind
+        if mem_kind not in MEM_KINDS:
+            raise ValueError(f"mem_kind {mem_kind!r} not one of {MEM_KINDS}")
         # the overlay's block: the configuration's, or the smallest that fits replaced scales
         block_log2 = nc.block_log2 if scales is None else marker_block_log2(scales)
         scales = nc.scales if scales is None else scales
@@ -82,6 +98,8 @@ class SimServer:
         parsed = [parse(f) for f in faults]
         if engine != "fast" and any(isinstance(f, Cut) for f in parsed):
             raise ValueError("a cable cut (fault cut:...) is played by the fast engine only (engine='fast')")
+        if engine != "fast" and any(isinstance(f, AxiFault) for f in parsed):
+            raise ValueError("an interconnect fault (axistall, axierr, axislow) is the fast engine's (engine='fast')")
         if toplevel == "orb_accel_zynq" and frames.ndim != 4:
             raise ValueError("orb_accel_zynq takes colour frames (N, H, W, 3)")
         self.frames = frames
@@ -91,11 +109,16 @@ class SimServer:
             "MEM_DEPTH_g": mem_depth,
             "INPUT_g": ("RBG" if toplevel == "orb_accel_zynq" else "RGB") if frames.ndim == 4 else "LUMA",
         }  # fmt: skip
+        if mem_kind == "ddr":  # left out for "bram" (the tops' default): the BRAM build keeps its build directory
+            self.generics["MEM_KIND_g"] = "DDR"
+        self.mem_kind = mem_kind
         self.toplevel = toplevel
+        ddr = {"base": int(ddr_region[0]), "size": int(ddr_region[1])} if mem_kind == "ddr" else None
         self.config = {"toplevel": toplevel, "generics": self.generics, "host": "127.0.0.1", "port": port,
                        "engine": engine, "h_blank": h_blank,
                        "v_blank": v_blank_lines * (int(width) + h_blank),
-                       "faults": [f.text for f in parsed]}  # fmt: skip
+                       "faults": [f.text for f in parsed],
+                       "ddr": ddr}  # fmt: skip
         self._tmp: tempfile.TemporaryDirectory | None = None
         self.job = None if job_dir is None else Path(job_dir).resolve()
         self.address = ""
@@ -188,18 +211,22 @@ def _serve_fast(job: Path, cfg: dict) -> int:
     from .fast.build import build_fast
     from .fast.jobs import pack
     from .fast.sim import PERIOD_NS, FastBus, FastSim
-    from .faults import FaultyBus, video_schedule
+    from .faults import FaultyBus, apply_axi_faults, video_schedule
 
     frames = np.load(job / "frames.npy")
     faults = [parse(f) for f in cfg.get("faults", [])]
     sim = FastSim(build_fast(cfg["generics"]))
+    ddr = cfg.get("ddr")
+    if ddr:
+        sim.set_mem_region(int(ddr["base"]), int(ddr["size"]))
     sim.reset()
+    apply_axi_faults(sim, faults)  # the DDR interconnect's stalls, slowness and error responses
     # as orb_sim.video.Gaps("blanking"), with the cuts of the faults
     for program in video_schedule([pack(img) for img in frames], faults, cfg["h_blank"], cfg["v_blank"]):
         sim.push(*program)
     sim.set_loop(True)
     listener = listen(job, cfg["host"], cfg["port"])
-    info = server_info(cfg, len(frames), PERIOD_NS, "fast")
+    info = server_info(cfg, len(frames), PERIOD_NS, "fast", sim.memory_region if ddr else None)
     try:
         serve(listener, FaultyBus(FastBus(sim), faults), info)
     finally:

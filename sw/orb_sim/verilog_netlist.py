@@ -8,6 +8,9 @@ Repairs, each recorded in the returned record's "workarounds":
   - `abs` printed as VHDL (`x <= std_logic_vector(abs $signed(y));`) -> `assign x = ($signed(y) <
     0) ? -y : y;`;
   - zero-width nets printed as `""` / `0'b...` -> dropped from the concatenations that use them;
+  - a constant of more than 32 bits printed in VHDL's quotes (`n237_o = n235_o + "00...010000000000";`,
+    which Verilog reads as an ASCII string: 8 bits a character) -> the sized binary literal
+    `37'b00...010000000000` (orb_feat_dma's 37-bit window and buffer constants);
   - a signal named like an instance's port wire (signal `mem_frame_done` beside port `frame_done`
     of instance `mem`) declared twice with `assign x = x;` -> one declaration, no self-assignment
     (the two are the same net; Verilator refuses the duplicate, yosys merged it silently);
@@ -31,6 +34,7 @@ class VerilogError(RuntimeError):
 
 
 ABS_RE = re.compile(r"^(\s*)(\w+) <= std_logic_vector\(abs \$signed\((\w+)\)\);", re.M)
+QUOTED_BITS_RE = re.compile(r'"([01]+)"')  # a bit-string constant in VHDL's quotes: not Verilog
 RAM_NOTE_RE = re.compile(r"^(\S+?):(\d+):\d+:note: found (RAM|ROM) \"([\w.]+)\", width: (\d+) bits, depth: (\d+)", re.M)
 
 
@@ -72,6 +76,12 @@ def repair(verilog: str, workarounds: list[str]) -> str:
     verilog, n_abs = ABS_RE.subn(r"\1assign \2 = ($signed(\3) < 0) ? -\3 : \3;  // was VHDL 'abs'", verilog)
     if n_abs:
         workarounds.append(f"GHDL 2.0 Verilog writer emitted VHDL 'abs' in {n_abs} lines; rewritten as Verilog")
+    verilog, n_quoted = QUOTED_BITS_RE.subn(lambda m: f"{len(m[1])}'b{m[1]}", verilog)
+    if n_quoted:
+        workarounds.append(
+            f"GHDL 2.0 Verilog writer printed {n_quoted} constants in VHDL's quotes (a string in Verilog); "
+            "rewritten as sized binary literals"
+        )
     verilog, n_zero = drop_zero_width(verilog)
     if n_zero:
         workarounds.append(

@@ -264,9 +264,10 @@ def open_bus(args: argparse.Namespace) -> Iterator[tuple[Bus, str, float]]:
             yield bus, f"UIO device {name!r}", args.timeout or BOARD_TIMEOUT_S
 
 
-def ddr_memory(args: argparse.Namespace) -> MemoryFactory:
-    """--ddr-memory as OrbAccel(memory=) takes it: opened only for a DDR build (orb_accel.ddr)."""
-    return memory_factory(getattr(args, "ddr_memory", None), board=not (args.sim or args.connect))
+def ddr_memory(args: argparse.Namespace, bus: object | None = None) -> MemoryFactory:
+    """--ddr-memory as OrbAccel(memory=) takes it: opened only for a DDR build (orb_accel.ddr); on a
+    simulator by default its simulated DDR, read over the socket (`bus`)."""
+    return memory_factory(getattr(args, "ddr_memory", None), board=not (args.sim or args.connect), bus=bus)
 
 
 def _traceback_on_sigbus() -> None:
@@ -329,7 +330,7 @@ def cmd_stream(args: argparse.Namespace) -> int:
         return _stream_remote(args)
     _frame_options(args)
     with open_bus(args) as (bus, what, timeout), ExitStack() as stack:
-        accel = OrbAccel(bus, memory=ddr_memory(args))
+        accel = OrbAccel(bus, memory=ddr_memory(args, bus))
         stack.callback(accel.close)
         grid = _configure(accel, args, timeout)
         csv = stack.enter_context(CsvDir(args.csv)) if args.csv is not None else None
@@ -418,7 +419,7 @@ def cmd_serve(args: argparse.Namespace) -> int:
         raise ValueError(f"--queue and --max-clients must be 1 or more, got {args.queue} and {args.max_clients}")
     signal.signal(signal.SIGTERM, _raise_interrupt)  # a clean stop: BYE to every client
     with open_bus(args) as (bus, what, timeout):
-        accel = OrbAccel(bus, memory=ddr_memory(args))
+        accel = OrbAccel(bus, memory=ddr_memory(args, bus))
         grid = _configure(accel, args, timeout)
         # a client's wait for a frame in wall seconds: the simulator's can take minutes
         wait_s = bus.op_timeout_s if isinstance(bus, SocketBus) else max(2.0, 2 * timeout)
@@ -515,7 +516,7 @@ def cmd_ros(args: argparse.Namespace, ros_args: list[str]) -> int:
         # the tests stop nodes with SIGINT)
         signal.signal(signal.SIGINT, signal.default_int_handler)
         with open_bus(args) as (bus, what, timeout):
-            return run_node(rospy, msg_mod, srv_mod, bus, settings, timeout, what, memory=ddr_memory(args))
+            return run_node(rospy, msg_mod, srv_mod, bus, settings, timeout, what, memory=ddr_memory(args, bus))
 
 
 def ros2_python(given: Path | None = None) -> tuple[Path, dict[str, str]]:

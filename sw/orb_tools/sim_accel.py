@@ -5,6 +5,10 @@ drives it: registers written and the features read back over AXI4-Lite from the 
 (orb_sim.fast, docs/fast-sim.md), with the same outputs. `--video FILE` (`make sim VIDEO=...`):
 every frame of a video (at most --max-frames) back to back through the netlist, the driver reading
 and releasing the banks as on the board; each frame checked against the model (report.json).
+A configuration whose mem_kind is "ddr" (the board builds; `--mem-kind` to choose) writes its
+frames through the AXI4 master into a DDR model, and the driver reads them from that memory
+(docs/feature-dma.md): in GHDL cocotbext-axi's AXI4 RAM (orb_sim.ddr_ram), with `--fast` the
+harness's (docs/fast-sim.md); report.json says which (`mem_kind`) and has its figures (`ddr`).
 
 The image (default: the bundled 640x480 photograph) streams in as 24-bit RGB at one pixel per
 clock; the CPU model reads the frame's bank; the image is streamed a second time with the
@@ -156,6 +160,9 @@ def build_parser() -> argparse.ArgumentParser:
     ap.add_argument("--out-dir", type=Path, default=Path("build") / "sim")
     ap.add_argument("--fast", action="store_true", help="the netlist in Verilator instead of the RTL in GHDL")
     ap.add_argument("--seed", type=int, default=0, help="--fast: random initial state from this seed (0: zeros)")
+    ap.add_argument("--mem-kind", choices=("bram", "ddr"),
+                    help="the feature memory, block-RAM banks or the DDR ring (default: the named "
+                         "configuration's mem_kind)")  # fmt: skip
     ap.add_argument("--video", type=Path, help="a video file: all its frames through the netlist (implies --fast)")
     ap.add_argument("--max-frames", type=int, default=300, help="--video: at most this many frames (300)")
     return ap
@@ -186,7 +193,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     shutil.rmtree(job, ignore_errors=True)
     job.mkdir(parents=True)
     log = out / "sim.log"
+    mem_kind = args.mem_kind or nc.mem_kind
     engine = "its netlist in Verilator" if args.fast else f"GHDL (log: {log})"
+    if mem_kind == "ddr":
+        engine += ", the features written to its DDR model"
     print(f"make sim: {path.name} {w}x{h}, {nc.name}: {cfg.scales} scale(s) of {cfg.step_num}:{cfg.step_den}, "
           f"{cfg.sectors} sectors, "
           f"threshold {cfg.threshold}, {describe_selection(cfg)}: orb_accel_top in {engine}", flush=True)  # fmt: skip
@@ -199,10 +209,12 @@ def main(argv: Sequence[str] | None = None) -> int:
             from orb_sim.fast.jobs import run_accel_fast
 
             result = run_accel_fast(
-                rgb, cfg, job, overlay=True, seed=args.seed, mem_depth=mem_depth, block_log2=block_log2
-            )
+                rgb, cfg, job, overlay=True, seed=args.seed, mem_depth=mem_depth, block_log2=block_log2,
+                mem_kind=mem_kind,
+            )  # fmt: skip
         else:
-            result = run_accel_job(rgb, cfg, job, log, overlay=True, mem_depth=mem_depth, block_log2=block_log2)
+            result = run_accel_job(rgb, cfg, job, log, overlay=True, mem_depth=mem_depth, block_log2=block_log2,
+                                   mem_kind=mem_kind)  # fmt: skip
     except (RtlUnavailable, ToolMissing, FastSimError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 1
@@ -237,10 +249,13 @@ def main(argv: Sequence[str] | None = None) -> int:
         "frame_cycles": result["frame_cycles"], "sim_wall_s": round(sim_wall, 1),
         "frame_sim_wall_s": result["frame_sim_wall_s"], "proto_errors": result["proto_errors"],
         "engine": "verilator-netlist" if args.fast else "ghdl-rtl",
+        "mem_kind": mem_kind,  # the feature memory: "bram" (the banks, over AXI4-Lite) or "ddr" (the ring)
     }  # fmt: skip
     if args.fast:
         report["build_s"] = result["build_s"]
         report["seed"] = args.seed
+    if "ddr" in result:
+        report["ddr"] = result["ddr"]
     (out / "report.json").write_text(json.dumps(report, indent=2) + "\n")
     ok = report["bit_exact"] and overlay_exact and dropped == 0
     trunc = f"; {truncated} truncated by the full bank (selection all)" if truncated and cfg.selection == "all" else ""
@@ -287,7 +302,8 @@ def main_video(args: argparse.Namespace) -> int:
             print(f"  frame {i}: {len(frame)} features, bit-exact: {verdict}", flush=True)
 
     try:
-        _, run = run_video_fast(frames, cfg, seed=args.seed, mem_depth=mem_depth, on_frame=check, block_log2=block_log2)
+        _, run = run_video_fast(frames, cfg, seed=args.seed, mem_depth=mem_depth, on_frame=check, block_log2=block_log2,
+                                mem_kind=args.mem_kind or nc.mem_kind)  # fmt: skip
     except (ToolMissing, FastSimError, TimeoutError, OSError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 1
@@ -300,7 +316,7 @@ def main_video(args: argparse.Namespace) -> int:
               "frames_published": len(results),
               "bit_exact_frames": exact,
               "features": sum(r["features"] for r in results), "run": run, "per_frame": results,
-              "engine": "verilator-netlist"}  # fmt: skip
+              "engine": "verilator-netlist", "mem_kind": args.mem_kind or nc.mem_kind}  # fmt: skip
     (out / "report.json").write_text(json.dumps(report, indent=2) + "\n")
     print(f"{len(results)} of {n} frames published, {exact} bit-exact with the model, {report['features']} features; "
           f"{run['wall_s']} s ({run['clocks_per_s']:,} clocks/s) -> {out / 'report.json'}")  # fmt: skip

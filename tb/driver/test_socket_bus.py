@@ -16,6 +16,11 @@ test_cli_sim_zynq's (the board's wrapper).
 - the CLI (`orb-accel board info/stream --connect`), also with OpenCV, cocotb and the simulator
   packages unimportable (as on the board);
 - the protocol: a client that goes away mid-stream, a bad request, a second client afterwards.
+- the DDR memory operation (MEM_READ, HELLO's ddr): against a server of a fake bus (no simulator)
+  reads inside the region, SocketMemory's cached view (stale until invalidated), a read outside the
+  region or to a server without DDR refused with a message (client and server side), never a
+  hang; on the GHDL engine a DDR build (MEM_KIND_g "DDR", its frames in the job's AXI4 RAM) read by
+  the driver over the socket (SocketMemory), bit-exact.
 """
 
 from __future__ import annotations
@@ -41,7 +46,8 @@ from orb_accel import BusError, OrbAccel
 from orb_accel.csvdir import read_csv_dir
 from orb_accel.driver import HwConfig
 from orb_accel.opencv import to_cv2
-from orb_accel.socket_bus import REQUEST, RESPONSE, SocketBus, recv_exact
+from orb_accel.socket_bus import MAX_MEM_BYTES, MEM_READ, REQUEST, RESPONSE, SocketBus, SocketMemory, recv_exact
+from orb_sim.bus_server import handle, serve, server_info
 from orb_sim.sim_server import SimServer
 from orbtb.images import colour_photo
 from orbtb.scoreboard import expected_features
@@ -193,6 +199,13 @@ def test_protocol(server: SimServer) -> None:
         assert bus.read32(regs.ID.offset) == regs.ORB_ID
         with pytest.raises(ValueError, match=r"1\.\.1048576"):
             bus.read_block(regs.MEM_BASE, 0)
+        assert bus.memory_region is None  # a BRAM build
+        with pytest.raises(ValueError, match="no DDR memory"):
+            bus.read_mem(0x1000_0000, 64)
+    with socket.create_connection((host, int(port)), timeout=60) as s:  # the server refuses it too
+        s.sendall(REQUEST.pack(MEM_READ, 0x1000_0000, 64))
+        status, length = RESPONSE.unpack(recv_exact(s, RESPONSE.size))
+        assert status == 2 and b"no DDR memory" in recv_exact(s, length)
     with pytest.raises(ConnectionError, match="no simulator"):
         SocketBus("127.0.0.1:1")
     with pytest.raises(ValueError, match="HOST:PORT"):
@@ -281,6 +294,143 @@ def test_ghdl_server_frames_log(tmp_path: Path) -> None:
         assert diffs.count(None) == 1, f"frame {f.number} equals no photograph: {diffs}"
         ks.append(diffs.index(None))
     assert [(k - ks[0]) % 2 for k in ks] == [0, 1, 0], f"photographs {ks} out of stream order"
+
+
+class _MemBus:
+    """A fake bus with a DDR region: registers read their address, the memory a known pattern."""
+
+    BASE, SIZE = 0x1000_0000, 1 << 16
+
+    def __init__(self) -> None:
+        self.mem = bytearray((np.arange(self.SIZE) * 7 % 251).astype(np.uint8).tobytes())
+
+    def read32(self, addr: int) -> int:
+        return addr
+
+    def write32(self, addr: int, value: int) -> None:
+        pass
+
+    def read_block(self, addr: int, count: int) -> np.ndarray:
+        return np.arange(addr, addr + 4 * count, 4, dtype=np.uint32)
+
+    def wait_irq(self, timeout_s: float) -> bool:
+        return False
+
+    def read_mem(self, addr: int, nbytes: int) -> bytes:
+        off = addr - self.BASE
+        assert 0 <= off and off + nbytes <= self.SIZE, "the server let a read outside the region through"
+        return bytes(self.mem[off : off + nbytes])
+
+
+CFG = {"toplevel": "orb_accel_top", "generics": {"WIDTH_g": 64, "HEIGHT_g": 48}, "h_blank": 16, "v_blank": 1280}
+
+
+def test_mem_read_handle() -> None:
+    """The server's answer to MEM_READ, without a socket: inside the region the bytes, outside it,
+    of no length, too long, or with no region a message."""
+    from orb_sim.ddr_ram import DDR_BASE, DDR_SIZE
+    from orb_sim.sim_server import DDR_REGION
+
+    assert DDR_REGION == (DDR_BASE, DDR_SIZE), "SimServer's default region is not the DDR model's"
+    bus = _MemBus()
+    info = server_info(CFG, 1, 10, "fake", (bus.BASE, bus.SIZE))
+    assert info["ddr"] == {"base": bus.BASE, "size": bus.SIZE}
+    assert handle(bus, info, MEM_READ, bus.BASE + 64, 16) == (0, bytes(bus.mem[64:80]))  # type: ignore[arg-type]
+    for addr, n, text in ((bus.BASE - 64, 64, "outside the simulated DDR region [0x10000000, 0x10010000)"),
+                          (bus.BASE + bus.SIZE - 32, 64, "outside the simulated DDR region"),
+                          (bus.BASE, 0, f"outside 1..{MAX_MEM_BYTES}"),
+                          (bus.BASE, MAX_MEM_BYTES + 1, f"outside 1..{MAX_MEM_BYTES}")):  # fmt: skip
+        status, payload = handle(bus, info, MEM_READ, addr, n)  # type: ignore[arg-type]
+        assert status == 2 and text in payload.decode(), (addr, n, payload)
+    status, payload = handle(bus, server_info(CFG, 1, 10, "fake"), MEM_READ, bus.BASE, 64)  # type: ignore[arg-type]
+    assert status == 2 and b"no DDR memory" in payload
+
+
+def test_socket_memory() -> None:
+    """SocketMemory over a server of the fake bus: the region from HELLO, a stale (zero) view until
+    invalidate fetches the range, reads outside the region refused on the client's side (ValueError
+    before anything is sent) and on the server's (a raw request: an answer, not a hang)."""
+    import threading
+
+    bus = _MemBus()
+    listener = socket.create_server(("127.0.0.1", 0))
+    port = listener.getsockname()[1]
+    info = server_info(CFG, 1, 10, "fake", (bus.BASE, bus.SIZE))
+    thread = threading.Thread(target=serve, args=(listener, bus, info), daemon=True)
+    thread.start()
+    try:
+        with SocketBus(f"127.0.0.1:{port}", op_timeout_s=30) as client:
+            assert client.memory_region == (bus.BASE, bus.SIZE)
+            mem = SocketMemory(client)
+            assert (mem.phys_addr, mem.size) == (bus.BASE, bus.SIZE)
+            assert not np.any(mem.view(0, bus.SIZE)), "the view before any invalidate is not the stale (zero) copy"
+            mem.invalidate(128, 192)
+            np.testing.assert_array_equal(mem.view(128, 192), np.frombuffer(bytes(bus.mem[128:320]), np.uint8))
+            assert not np.any(mem.view(0, 128)) and not np.any(mem.view(320, 64)), "invalidate fetched beyond its range"
+            with pytest.raises(ValueError):
+                mem.view(0, 64).__setitem__(0, 1)  # read-only
+            bus.mem[128] ^= 0xFF  # the device writes: the CPU sees it only after an invalidate
+            assert mem.view(128, 1)[0] != bus.mem[128]
+            mem.invalidate(128, 64)
+            assert mem.view(128, 1)[0] == bus.mem[128] and mem.invalidations == 2 and mem.fetched_bytes == 256
+            mem.invalidate(0, bus.SIZE)  # the whole region
+            np.testing.assert_array_equal(mem.view(0, bus.SIZE), np.frombuffer(bytes(bus.mem), np.uint8))
+            with pytest.raises(ValueError, match="outside the memory"):
+                mem.invalidate(bus.SIZE - 64, 128)
+            reads = client.mem_reads
+            with pytest.raises(ValueError, match=r"outside the simulated DDR region \[0x10000000, 0x10010000\)"):
+                client.read_mem(bus.BASE + bus.SIZE, 64)
+            with pytest.raises(ValueError, match="outside the simulated DDR region"):
+                client.read_mem(0, 64)
+            assert client.mem_reads == reads, "a refused read reached the server"
+            assert client.read32(0x14) == 0x14  # the connection is still in step
+        with socket.create_connection(("127.0.0.1", port), timeout=30) as s:
+            s.settimeout(30)  # an answer, not a hang
+            s.sendall(REQUEST.pack(MEM_READ, bus.BASE - 4096, 64))
+            status, length = RESPONSE.unpack(recv_exact(s, RESPONSE.size))
+            assert status == 2 and b"outside the simulated DDR region" in recv_exact(s, length)
+            s.sendall(REQUEST.pack(MEM_READ, bus.BASE, 8))
+            status, length = RESPONSE.unpack(recv_exact(s, RESPONSE.size))
+            assert status == 0 and recv_exact(s, length) == bytes(bus.mem[:8])
+            s.sendall(REQUEST.pack(6, 0, 0))  # SHUTDOWN
+            recv_exact(s, RESPONSE.size)
+        thread.join(10)
+        assert not thread.is_alive()
+    finally:
+        listener.close()
+
+
+def test_ghdl_server_ddr(tmp_path: Path) -> None:
+    """The GHDL engine's server of a DDR build (MEM_KIND_g "DDR"): its frames go through m_axi_feat
+    into the job's AXI4 RAM (an emulated reserved region, HELLO's ddr) and the driver reads them
+    over the socket (SocketMemory): three frames bit-exact, in stream order, the DMA counters
+    clean; a read outside the region is refused with a message."""
+    small = np.stack([rgb_to_luma(colour_photo(name, 64, 48)) for name in ("coffee", "rocket")])
+    with SimServer(small, TINY.name, scales=1, mem_depth=64, mem_kind="ddr", job_dir=tmp_path / "job") as srv, \
+            SocketBus(srv.address) as bus:  # fmt: skip
+        assert bus.info["generics"]["MEM_KIND_g"] == "DDR" and bus.info["engine"] == "ghdl"
+        base, size = bus.memory_region or (0, 0)
+        assert (base, size) == (0x1000_0000, 4 << 20), bus.info["ddr"]
+        memory = SocketMemory(bus)
+        accel = OrbAccel(bus, memory=memory, ring_count=4)
+        assert accel.ddr and accel.ring is not None and accel.ring.base == base
+        accel.configure(threshold=20)
+        got = list(accel.frames(3, timeout_s=0.01))
+        with pytest.raises(ValueError, match="outside the simulated DDR region"):
+            bus.read_mem(base + size, 64)
+        dma = accel.dma_counters()
+        assert dma["dma_dropped"] == 0 and dma["dma_bus_errors"] == 0 and dma["dma_beats"] > 0, dma
+        assert memory.invalidations >= 2 * len(got)  # the record, then the features, of each frame
+    hw = HwConfig(64, 48, 1, SECTORS, 64)
+    selection = f"grid:{hw.default_budget()}:{RECOMMENDED_COLS}x{RECOMMENDED_ROWS}:{RECOMMENDED_THRESHOLD_LO}"
+    want = [expected_features(img, 1, 20, "orb", SECTORS, (2, 1), selection) for img in small]
+    ks = []
+    for f in got:
+        diffs = [first_difference(f.features, w) for w in want]
+        assert diffs.count(None) == 1, f"frame {f.number} equals no photograph: {diffs}"
+        ks.append(diffs.index(None))
+    assert [(k - ks[0]) % 2 for k in ks] == [0, 1, 0], f"photographs {ks} out of stream order"
+    assert [f.number for f in got] == list(range(got[0].number, got[0].number + 3))
 
 
 def test_cli_sim_zynq(frames: np.ndarray, tmp_path: Path) -> None:

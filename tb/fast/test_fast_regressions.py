@@ -11,7 +11,11 @@ test-all`). Each prints its figures.
 - the long campaign: 10,000 events (seed 2026) on the named configuration test-tiny, more than
   10,000 frames: no lock-up, no mismatch; about half an hour here. Its figures go to
   build/campaign/long-2026.json (progress in long-2026.progress), recorded in
-  docs/results/campaign.json (`python -m orb_flow.record campaign`, docs/fast-sim.md).
+  docs/results/campaign.json (`python -m orb_flow.record campaign`, docs/fast-sim.md);
+- DDR fault campaigns (orbtb.campaign on the "DDR" build of test-tiny, a 32-slot burst FIFO, a ring
+  of 3 buffers): 2 x 250 events with the interconnect's stalls, slowness and error responses besides
+  every other event: no lock-up, no mismatch, every frame the DDR path dropped reconciled with what
+  was injected. Figures in build/campaign/ddr-fault-SEED.json.
 """
 
 from __future__ import annotations
@@ -32,7 +36,7 @@ from orb_accel.driver import Frame
 from orb_sim.fast.jobs import ACCEL_MEM_DEPTH, generics_for, run_video_fast
 from orb_sim.hdl import BUILD
 from orb_tools.images import load_rgb_or_grey
-from orbtb.campaign import CHANGES, FAULTS, CampaignResult, Event, run_campaign
+from orbtb.campaign import CHANGES, DDR_KINDS, FAULTS, CampaignResult, Event, run_campaign
 from orbtb.images import colour_photo
 
 pytestmark = pytest.mark.slow
@@ -148,3 +152,23 @@ def test_long_campaign() -> None:
     rare = {k: n for k, n in result.by_kind((*FAULTS, *CHANGES)).items() if n < 300}
     assert not rare, rare
     assert result.frames_skipped >= 100 and result.frames_published >= 5_000
+
+
+@pytest.mark.parametrize(("seed", "init_seed"), [(11, 0), (23, 7)], ids=["ddr-11-0", "ddr-23-7"])
+def test_ddr_fault_campaign(seed: int, init_seed: int) -> None:
+    """The fault campaign on the DDR build (docs/fast-sim.md, "The DDR model"): test-tiny's size with
+    a burst FIFO of 32 slots, so that the stalls fill it; every event of the BRAM campaign and the DDR
+    ones; each frame the DDR path dropped explained by a stall or an error response and counted."""
+    tiny = named("test-tiny")
+    generics = {**generics_for(tiny.config(), colour=True, mem_depth=tiny.mem_depth, mem_kind="ddr"),
+                "DMA_FIFO_g": 32}  # fmt: skip
+    photos = [colour_photo(name, tiny.width, tiny.height) for name in CAMPAIGN_PHOTOS]
+    result = run_campaign(photos, 250, seed=seed, generics=generics, init_seed=init_seed)
+    write_report(f"ddr-fault-{seed}-{init_seed}", result)
+    print(f"DDR fault campaign: {result.summary()}")
+    assert not result.lockups, result.lockups
+    assert not result.mismatches, result.mismatches[:5]
+    ddr = result.by_kind(DDR_KINDS)
+    assert len(result.events) == 250 and all(n >= 5 for n in ddr.values()), ddr
+    assert result.frames_dropped_fifo >= 1 and result.frames_dropped_error >= 1, result.report()["ddr"]
+    assert result.axi["protocol_errors"] == 0 and result.axi["refused"] == 0, result.axi

@@ -20,6 +20,16 @@ bank by bank, the overlay video out; everything compared with the golden model.
 - soft_reset_holds_video: CTRL.soft_reset while the sink stalls m_axis_video with a beat waiting:
   the beat stays, unchanged, until taken (AXI4-Stream; the violation the formal check found,
   docs/formal.md), and the next frame is bit-exact.
+- ddr_ring (a DDR build, MEM_KIND_g "DDR": the features go through m_axi_feat into cocotbext-axi's
+  AXI4 RAM, an emulated reserved region, with random stalls on AW, W and B; docs/feature-dma.md):
+  CFG_DDR; a ring of 2 buffers opened by the driver, three frames (all selection) read by the
+  driver from the memory, bit-exact, in buffers 0, 1, 0 with consecutive numbers; DMA_BEATS 8 per
+  slot written (record and features), DMA_DROPPED and DMA_BUS_ERRORS 0, RING_INFO the last frame's
+  header, nothing written outside the ring (the rest of the region stays zero). Then a ring the
+  driver places beyond the region (inside the fabric's window): every burst is answered SLVERR, the
+  frame is dropped (DMA_DROPPED 1, DMA_BUS_ERRORS one per slot, the error interrupt, no buffer
+  READY), and after the ring is laid in the region again the next frame is published, bit-exact.
+  photo_stream, the tests of the driver's frame path, also run on the DDR build (read from memory).
 """
 
 from __future__ import annotations
@@ -38,6 +48,7 @@ from golden_model.features import Features
 from golden_model.luma import rgb_to_luma
 from golden_model.overlay import render_marker_overlay
 from orb_accel.bus import BusError
+from orb_accel.ddr import ArrayMemory
 from orb_sim.accel_bench import OKAY, SLVERR, AccelBench
 from orb_sim.video import Gaps
 from orbtb.images import colour_photo
@@ -48,6 +59,7 @@ from orbtb.unit import SIM_ENV
 warnings.filterwarnings("ignore", category=DeprecationWarning)
 
 PHOTOS = ("astronaut", "coffee", "chelsea", "rocket")
+UNMAPPED = 0x3C  # an offset below MEM_BASE that names no register (0x5C is RING_STRIDE since map 3.2)
 
 
 def expected(b: AccelBench, rgb: np.ndarray, threshold: int, mode: str = "orb") -> Features:
@@ -106,9 +118,80 @@ async def photo_stream(dut) -> None:
     assert not np.any(b.captured[0] != b.shown(frames[0])), "frame 0 has no earlier features: it must pass unchanged"
     counters = ((regs.FRAME_COUNT, len(frames)), (regs.DROPPED, 0), (regs.PROTO_ERRORS, 0), (regs.OVERRUN, 0),
                 (regs.OVERFLOW_COUNT, 0), (regs.DESC_LOST, 0), (regs.DISCARDED, 0))  # fmt: skip
+    if b.ddr:  # the DDR ring: nothing dropped, no error response, nothing written outside the region
+        counters += ((regs.DMA_DROPPED, 0), (regs.DMA_BUS_ERRORS, 0))
+        assert b.ram is not None and b.ram.outside_writes == 0
     for reg, value in counters:
         got = await b.read_reg(reg)
         assert got == value, f"{reg.name} = {got}, expected {value}"
+
+
+@cocotb.test()
+async def ddr_ring(dut) -> None:
+    b = AccelBench(dut)
+    assert b.ddr, "ddr_ring runs on a DDR build (MEM_KIND_g DDR)"
+    await b.start(pause_prob=0.2, seed=7, ddr_pause=0.4)
+    ram = b.ram
+    assert ram is not None
+    ddr = await b.read_reg(regs.CFG_DDR)
+    assert regs.CFG_DDR.field("ddr").get(ddr) == 1, f"CFG_DDR = {ddr:#x}"
+    await b.open_ring(2)
+    ring = b.accel.ring
+    assert ring is not None and (ring.base, ring.count, ring.depth) == (ram.base, 2, b.depth), ring
+    t = 20
+    await b.configure(threshold=t, irq=3, selection="all")
+    w, h = b.width, b.height
+    frames = [colour_photo(p, w, h) for p in ("coffee", "chelsea", "astronaut")]
+    exps = [expected(b, f, t) for f in frames]
+    assert all(0 < len(e) < b.depth - 1 for e in exps), [len(e) for e in exps]
+    beats0 = await b.read_reg(regs.DMA_BEATS)
+
+    async def video() -> None:
+        for f in frames:
+            await b.send(f)
+
+    cocotb.start_soon(video())
+    timeout = b.clocks_to_s(b.frame_timeout_clocks)
+    for k, exp in enumerate(exps):
+        frame = await b.cpu(b.accel.next_frame, timeout)
+        check_frame(frame.features, exp, f"DDR frame {k}")
+        assert (frame.bank, frame.number, frame.record.truncated) == (k % 2, k, 0), (frame.bank, frame.record)
+    beats = await b.read_reg(regs.DMA_BEATS) - beats0
+    assert beats == 8 * sum(len(e) + 1 for e in exps), f"DMA_BEATS + {beats}: not 8 per slot"
+    for reg in (regs.DMA_DROPPED, regs.DMA_BUS_ERRORS, regs.OVERRUN):
+        assert await b.read_reg(reg) == 0, f"{reg.name} after three frames"
+    info = await b.read_reg(regs.RING_INFO)
+    assert (regs.RING_INFO.field("count").get(info), regs.RING_INFO.field("frame").get(info)) == (len(exps[2]), 2)
+    status = await b.read_reg(regs.RING_STATUS)
+    assert regs.RING_STATUS.field("ready").get(status) == 0, f"RING_STATUS = {status:#x}: a buffer not released"
+    mem = np.frombuffer(ram.bytes, dtype=np.uint8)
+    assert ram.outside_writes == 0 and not np.any(mem[ring.extent :]), "bytes written outside the ring of 2 buffers"
+
+    # a ring beyond the emulated region (inside the fabric's window): SLVERR to every burst
+    beyond = ArrayMemory(ring.extent, ram.base + ram.size)
+    await b.cpu(b.accel.open_ring, beyond, 2)
+    await b.write_reg(regs.IRQ_STATUS, 0xFFFFFFFF)
+    await b.send(frames[1])
+    for _ in range(100):  # the frame is dropped at its record's (error) response
+        if await b.read_reg(regs.DMA_DROPPED):
+            break
+        await ClockCycles(dut.clk, 200)
+    want = len(exps[1]) + 1  # one burst a slot: the features and the record
+    assert await b.read_reg(regs.DMA_DROPPED) == 1
+    assert await b.read_reg(regs.DMA_BUS_ERRORS) == want
+    assert ram.outside_writes == 64 * want, f"{ram.outside_writes} bytes outside, expected {64 * want}"
+    irq = await b.read_reg(regs.IRQ_STATUS)
+    assert regs.IRQ_STATUS.field("error").get(irq) == 1 and regs.IRQ_STATUS.field("frame_done").get(irq) == 0, (
+        f"IRQ_STATUS = {irq:#x}"
+    )
+    assert regs.RING_STATUS.field("ready").get(await b.read_reg(regs.RING_STATUS)) == 0
+    # back in the region: the next frame is published (frame 0 after the driver's soft reset)
+    await b.open_ring(2)
+    await b.write_reg(regs.IRQ_STATUS, 0xFFFFFFFF)
+    await b.send(frames[2])
+    frame = await b.cpu(b.accel.next_frame, timeout)
+    check_frame(frame.features, exps[2], "DDR frame after the ring came back")
+    assert (frame.bank, frame.number) == (0, 0), (frame.bank, frame.record)
 
 
 @cocotb.test()
@@ -259,7 +342,8 @@ async def check_config_registers(b: AccelBench) -> None:
     step = (regs.CFG_ORB.field("step_num").get(orb), regs.CFG_ORB.field("step_den").get(orb))
     assert step == b.step, f"pyramid step read back {step}, built with {b.step}"
     assert regs.CFG_MEM.field("depth").get(await b.read_reg(regs.CFG_MEM)) == b.depth
-    resp, _ = await b.read(0x5C)
+    assert regs.CFG_DDR.field("ddr").get(await b.read_reg(regs.CFG_DDR)) == int(b.ddr)
+    resp, _ = await b.read(UNMAPPED)
     assert resp == SLVERR, "an unknown register must answer SLVERR"
     assert await b.write(regs.ID.offset, 0) == SLVERR
 
@@ -378,7 +462,7 @@ async def driver_errors(dut) -> None:
     )
     select = await b.read_reg(regs.SELECT)
     assert regs.SELECT.field("budget").get(select) == accel.selection.budget, "a refused configure wrote SELECT"
-    for op, args in ((b.bus.read32, (0x5C,)), (b.bus.write32, (regs.ID.offset, 0)),
+    for op, args in ((b.bus.read32, (UNMAPPED,)), (b.bus.write32, (regs.ID.offset, 0)),
                      (b.bus.write32, (regs.CTRL.offset, regs.CTRL.field("mode").put(3))),
                      (b.bus.write32, (regs.BANK_RELEASE.offset, 2)), (accel.release, (5,)),
                      (b.bus.write32, (regs.SELECT.offset, regs.SELECT.field("budget").put(cap + 1, 0x6801))),
@@ -437,6 +521,13 @@ CONFIGS = {
     # the finer pyramid (issue 14): 6 levels of 5:4, the overlay in 16x16 blocks
     "rgb_6levels_5to4": (192, 144, 6, 32, 1024, "RGB", {"STEP_NUM_g": 5, "STEP_DEN_g": 4, "BLOCK_LOG2_g": 4}),
 }
+# the DDR builds (MEM_KIND_g "DDR", docs/feature-dma.md): the features written to an emulated DDR
+CONFIGS["ddr_rgb_1scale"] = (96, 64, 1, 32, 128, "RGB", {"MEM_KIND_g": "DDR"})
+# the board's build at 640x480 (board-vga's generics, its 1,024 slots a buffer)
+VGA = named("board-vga")
+CONFIGS["ddr_board_vga"] = (VGA.width, VGA.height, VGA.scales, VGA.sectors, VGA.mem_depth, "RGB",
+                            {"STEP_NUM_g": VGA.step_num, "STEP_DEN_g": VGA.step_den, "BLOCK_LOG2_g": VGA.block_log2,
+                             "MEM_KIND_g": "DDR"})  # fmt: skip
 # the board configurations' pyramid: 4 levels of 5:4, 16x16 overlay blocks (docs/configurations.md)
 SMALL = named("test-small")
 CONFIGS["rgb_4levels_5to4"] = (SMALL.width, SMALL.height, SMALL.scales, SMALL.sectors, SMALL.mem_depth, "RGB",
@@ -500,6 +591,20 @@ def test_accel_defaults() -> None:
            "ORB_SECTORS": str(d.sectors), "ORB_STEP_NUM": str(d.step_num), "ORB_STEP_DEN": str(d.step_den),
            "ORB_MEM_DEPTH": str(d.mem_depth), "ORB_BLOCK_LOG2": str(d.block_log2)}  # fmt: skip
     run("orb_accel_top", "test_orb_accel_top", {}, env={**SIM_ENV, **env}, testcase=["config_readback"])
+
+
+def test_accel_ddr() -> None:
+    """The DDR build: the ring through the AXI4 RAM with stalls (ddr_ring) and the photo stream
+    read by the driver from memory, two frames."""
+    run_accel("ddr_rgb_1scale", testcase=["ddr_ring", "photo_stream"],
+              env={"ORB_PHOTOS": "coffee,chelsea", "ORB_FRAMES": "2"})  # fmt: skip
+
+
+@pytest.mark.slow
+def test_accel_ddr_board_vga() -> None:
+    """The board's 640x480 DDR build (board-vga's generics): two photographs through the ring,
+    read by the driver from memory, bit-exact (make test-all; make sim CONFIG=board-vga runs one)."""
+    run_accel("ddr_board_vga", testcase=["photo_stream"], env={"ORB_PHOTOS": "coffee,rocket", "ORB_FRAMES": "2"})
 
 
 def test_accel_overflow_overrun() -> None:

@@ -33,6 +33,10 @@ names (aclk, aresetn active low, s_axi_ctrl_* AXI4-Lite, s_axis_video_* / m_axis
   sizes pass as they came), unchanged or in a marker colour, and the last frame shows the previous
   published frame's features exactly (render_marker_overlay). On the old checker (IDLE_TIMEOUT_g
   0) B would stay open through the silence and be closed by C's start of frame.
+- wrapper on the DDR build (test_accel_zynq_ddr, MEM_KIND_g "DDR"): the same, the frames written
+  through m_axi_feat into cocotbext-axi's AXI4 RAM (an emulated reserved region inside the
+  wrapper's 1 GiB window, random stalls on AW, W and B) and read by the driver from there; CFG_DDR
+  reads the window; after aresetn RING_COUNT is 0 and the driver lays the ring out again.
 - reset_pulse: a one-clock aresetn pulse while a read and a write response wait: both fall at the
   edge that samples aresetn low and stay low; the registers are reset (the formal check's finding on
   the wrapper that registered aresetn only, docs/formal.md).
@@ -67,13 +71,17 @@ warnings.filterwarnings("ignore", category=DeprecationWarning)
 @cocotb.test()
 async def wrapper(dut) -> None:
     b = AccelBench(dut, "aclk", "aresetn", reset_active_low=True, axil_prefix="s_axi_ctrl")
-    await b.start()
+    await b.start(ddr_pause=0.3)  # a DDR build: stalls on m_axi_feat's AW, W and B
     b.start_capture()
     w, h, t = b.width, b.height, 25
     assert await b.read_reg(regs.ID) == regs.ORB_ID
     size = await b.read_reg(regs.CFG_SIZE)
     assert (regs.CFG_SIZE.field("width").get(size), regs.CFG_SIZE.field("height").get(size)) == (w, h)
     assert regs.CFG_MEM.field("depth").get(await b.read_reg(regs.CFG_MEM)) == b.depth
+    ddr = await b.read_reg(regs.CFG_DDR)
+    assert regs.CFG_DDR.field("ddr").get(ddr) == int(b.ddr), f"CFG_DDR = {ddr:#x}"
+    if b.ddr:  # the wrapper's DDR window: the Zybo's 1 GiB at 0 (WIN_BASE_MB_g, WIN_SIZE_MB_g defaults)
+        assert (regs.CFG_DDR.field("win_base").get(ddr), regs.CFG_DDR.field("win_size").get(ddr)) == (0, 1024)
     await b.configure(threshold=t)
     frames = [colour_photo("astronaut", w, h), colour_photo("coffee", w, h)]
     exps = [expected_features(rgb_to_luma(f), b.scales, t, "orb", b.sectors) for f in frames]
@@ -111,6 +119,9 @@ async def wrapper(dut) -> None:
     assert await b.read_reg(regs.THRESHOLD) == regs.THRESHOLD.reset_value(), "THRESHOLD kept over aresetn"
     assert await b.read_reg(regs.CTRL) == regs.CTRL.reset_value(), "CTRL kept over aresetn"
     assert await b.read_reg(regs.FRAME_COUNT) == 0
+    if b.ddr:  # the ring's registers are reset too: the driver lays the ring out again
+        assert await b.read_reg(regs.RING_COUNT) == 0, "RING_COUNT kept over aresetn"
+        await b.open_ring()
     await b.configure(threshold=t)
     await b.send(frames[0])
     feats, record = await b.read_newest()
@@ -118,6 +129,10 @@ async def wrapper(dut) -> None:
     check_frame(feats, exps[0], "frame after aresetn")
     for reg in (regs.DROPPED, regs.PROTO_ERRORS, regs.DISCARDED, regs.OVERRUN):
         assert await b.read_reg(reg) == 0, f"{reg.name} after aresetn"
+    if b.ddr:
+        for reg in (regs.DMA_DROPPED, regs.DMA_BUS_ERRORS):
+            assert await b.read_reg(reg) == 0, f"{reg.name} after aresetn"
+        assert b.ram is not None and b.ram.outside_writes == 0
 
 
 async def _until(dut, signal: str, what: str, clocks: int = 200) -> None:
@@ -497,3 +512,12 @@ def test_accel_zynq() -> None:
     assert timeout, "orb_accel_zynq has no IDLE_TIMEOUT_g default"
     generics = {"WIDTH_g": 128, "HEIGHT_g": 96, "SCALES_g": 2, "SECTORS_g": 32, "MEM_DEPTH_g": 256, "INPUT_g": "RBG"}
     run("orb_accel_zynq", "test_orb_accel_zynq", generics, env={**SIM_ENV, "ORB_IDLE_TIMEOUT": timeout[1]})
+
+
+def test_accel_zynq_ddr() -> None:
+    """The wrapper's DDR build (MEM_KIND_g "DDR", its m_axi_feat on cocotbext-axi's AXI4 RAM with
+    stalls on AW, W and B): `wrapper`, the frames read by the driver from the memory, the ring laid
+    out again after aresetn. A small frame: the wrapper's frame path is the same as the BRAM build's."""
+    generics = {"WIDTH_g": 96, "HEIGHT_g": 64, "SCALES_g": 1, "SECTORS_g": 32, "MEM_DEPTH_g": 128, "INPUT_g": "RBG",
+                "MEM_KIND_g": "DDR"}  # fmt: skip
+    run("orb_accel_zynq", "test_orb_accel_zynq", generics, env=SIM_ENV, testcase=["wrapper"])

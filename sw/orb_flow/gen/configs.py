@@ -119,7 +119,8 @@ def render_vhdl(d: dict[str, Any]) -> str:
             f"{name}: {e['about']}", 100, break_on_hyphens=False, initial_indent="  -- ", subsequent_indent="  -- "
         )
         out.append(f"  constant {const_name(name)} : orb_config_t := (")
-        out += [f"    {f.ljust(width)} => {e[f]}{',' if i < len(VHDL_FIELDS) - 1 else ''}" for i, f in enumerate(VHDL_FIELDS)]
+        last = len(VHDL_FIELDS) - 1
+        out += [f"    {f.ljust(width)} => {e[f]}{',' if i < last else ''}" for i, f in enumerate(VHDL_FIELDS)]
         out += ["  );", ""]
     out.append("  -- the generic defaults of the tops")
     out.append(f"  constant TOPS_DEFAULT_c : orb_config_t := {const_name(d['tops_default'])};")
@@ -202,8 +203,11 @@ def render_markdown(d: dict[str, Any]) -> str:
             f"{e['width']}x{e['height']}",
             _pyramid(e),
             str(e["sectors"]),
-            (f"DDR ring, {e['mem_depth']:,} slots a buffer" if e["mem_kind"] == "ddr"
-             else f"2 banks of {e['mem_depth']:,} slots"),
+            (
+                f"DDR ring, {e['mem_depth']:,} slots a buffer"
+                if e["mem_kind"] == "ddr"
+                else f"2 banks of {e['mem_depth']:,} slots"
+            ),
             f"{1 << e['block_log2']}x{1 << e['block_log2']}",
             _selection(e),
             "; ".join(e["used_by"]) or "-",

@@ -73,7 +73,8 @@ def build_fast(generics: Mapping[str, int | str], jobs: int = 2, log: Path | Non
     # GHDL's comments name each source file by its path: the key counts them relative to hdl/, so the
     # checkout and an installed wheel (orb_sim/data/hdl) share a library when the netlist is the same
     text = netlist.read_bytes().replace(str(HDL).encode() + b"/", b"hdl/")
-    for part in (text, HARNESS.read_bytes(), " ".join(VERILATOR_FLAGS).encode(), CXXFLAGS.encode(),
+    harness = HARNESS.read_bytes()  # compiled from a copy of what is hashed (the file may change meanwhile)
+    for part in (text, harness, " ".join(VERILATOR_FLAGS).encode(), CXXFLAGS.encode(),
                  MAKEFLAGS.encode(), version.encode()):  # fmt: skip
         key.update(part + b"\0")
     out = BUILD / f"{TOPLEVEL}-{key.hexdigest()[:16]}"
@@ -86,8 +87,9 @@ def build_fast(generics: Mapping[str, int | str], jobs: int = 2, log: Path | Non
         if lib.exists():
             return lib
         shutil.copy(netlist, out / "top.v")
-        cmd = [str(exe), "--cc", "top.v", "--top-module", TOPLEVEL, "--exe", str(HARNESS), "--build", "-j", str(jobs),
-               *VERILATOR_FLAGS, "-CFLAGS", CXXFLAGS, "-LDFLAGS", "-shared", "-MAKEFLAGS", MAKEFLAGS,
+        (out / HARNESS.name).write_bytes(harness)
+        cmd = [str(exe), "--cc", "top.v", "--top-module", TOPLEVEL, "--exe", str(out / HARNESS.name), "--build",
+               "-j", str(jobs), *VERILATOR_FLAGS, "-CFLAGS", CXXFLAGS, "-LDFLAGS", "-shared", "-MAKEFLAGS", MAKEFLAGS,
                "-o", "libfastsim.so.tmp", "--Mdir", "obj"]  # fmt: skip
         t0 = time.monotonic()
         log_path = log or out / "build.log"

@@ -6,7 +6,9 @@ rtl-fast` report the same fields.
 The shipped driver (orb_accel.OrbAccel over orb_sim.fast.sim.FastBus) configures the accelerator,
 the frame streams in (24-bit RGB, or 8-bit luma), the driver waits for the frame-done interrupt,
 reads the newest bank and releases it; the frame is then streamed again with the accelerator
-disabled while the overlay output is captured.
+disabled while the overlay output is captured. A "DDR" build (mem_kind "ddr": orb_feat_dma,
+docs/feature-dma.md) writes its frames into the harness's memory through m_axi_feat and the
+driver reads them from there (OrbAccel(memory=FastMemory(sim)): a ring of buffers in it).
 """
 
 from __future__ import annotations
@@ -26,7 +28,7 @@ from orb_accel.driver import Frame, OrbAccel
 
 from ..rtl_backend import ACCEL_MEM_DEPTH  # the GHDL job's: the same simulated accelerator
 from .build import build_fast
-from .sim import FastBus, FastSim, FastSimError
+from .sim import FastBus, FastMemory, FastSim, FastSimError
 
 # From orb_feat_mem's frame_done pulse to the irq output, AXIL_IRQ_LAT clocks: IRQ_STATUS is set at
 # the edge that samples the pulse and the registered irq one edge later (docs/registers.md,
@@ -34,15 +36,29 @@ from .sim import FastBus, FastSim, FastSimError
 # raised the pulse. The GHDL job measures the pulse itself (an internal signal, which a netlist
 # does not have): latency = irq - AXIL_IRQ_LAT.
 H_BLANK, V_BLANK = 16, 64  # as orb_sim.video.Gaps("blanking")
+MEM_KINDS = ("bram", "ddr")  # golden_model's mem_kind: orb_accel_top's MEM_KIND_g "BRAM", "DDR"
 
 
-def generics_for(cfg: Config, colour: bool, mem_depth: int = ACCEL_MEM_DEPTH,
-                 block_log2: int | None = None) -> dict[str, int | str]:  # fmt: skip
-    """orb_accel_top's generics for cfg (the overlay's block: marker_block_log2 unless given)."""
+def generics_for(cfg: Config, colour: bool, mem_depth: int = ACCEL_MEM_DEPTH, block_log2: int | None = None,
+                 mem_kind: str = "bram") -> dict[str, int | str]:  # fmt: skip
+    """orb_accel_top's generics for cfg (the overlay's block: marker_block_log2 unless given; the
+    feature memory: MEM_KIND_g "DDR" for mem_kind "ddr", left at its default "BRAM" otherwise)."""
+    if mem_kind not in MEM_KINDS:
+        raise ValueError(f"mem_kind {mem_kind!r} not one of {MEM_KINDS}")
     block = marker_block_log2(cfg.scales) if block_log2 is None else block_log2
-    return {"WIDTH_g": cfg.width, "HEIGHT_g": cfg.height, "SCALES_g": cfg.scales, "STEP_NUM_g": cfg.step_num,
-            "STEP_DEN_g": cfg.step_den, "SECTORS_g": cfg.sectors, "BLOCK_LOG2_g": block,
-            "MEM_DEPTH_g": mem_depth, "INPUT_g": "RGB" if colour else "LUMA"}  # fmt: skip
+    generics: dict[str, int | str] = {
+        "WIDTH_g": cfg.width, "HEIGHT_g": cfg.height, "SCALES_g": cfg.scales, "STEP_NUM_g": cfg.step_num,
+        "STEP_DEN_g": cfg.step_den, "SECTORS_g": cfg.sectors, "BLOCK_LOG2_g": block,
+        "MEM_DEPTH_g": mem_depth, "INPUT_g": "RGB" if colour else "LUMA",
+    }  # fmt: skip
+    if mem_kind == "ddr":
+        generics["MEM_KIND_g"] = "DDR"
+    return generics
+
+
+def is_ddr(generics: Mapping[str, int | str]) -> bool:
+    """Whether orb_accel_top with these generics writes its features to DDR (MEM_KIND_g "DDR")."""
+    return str(generics.get("MEM_KIND_g", "BRAM")).upper() == "DDR"
 
 
 def pack(img: np.ndarray) -> np.ndarray:
@@ -71,14 +87,33 @@ class FastAccel:
     colour: bool
     width: int
     height: int
+    memory: FastMemory | None = None  # a DDR build's: the harness's memory, as the driver sees it
 
     @classmethod
-    def start(cls, generics: Mapping[str, int | str], seed: int = 0) -> FastAccel:
+    def start(cls, generics: Mapping[str, int | str], seed: int = 0, ring_count: int | None = None,
+              coherent: bool = False) -> FastAccel:  # fmt: skip
+        """The netlist with these generics, reset, and the driver on it; a DDR build's driver with
+        the harness's memory (FastMemory; `coherent` False: the CPU's cache modelled, so the
+        driver must invalidate what it reads) and a ring of `ring_count` buffers (default: as many
+        as the memory holds, at most 16)."""
         sim = FastSim(build_fast(generics), seed=seed)
         sim.reset()
         bus = FastBus(sim)
-        accel = OrbAccel(bus, bank_read="slot")
-        return cls(sim, bus, accel, generics["INPUT_g"] != "LUMA", int(generics["WIDTH_g"]), int(generics["HEIGHT_g"]))
+        memory = FastMemory(sim, coherent=coherent) if is_ddr(generics) else None
+        accel = OrbAccel(bus, bank_read="slot", memory=memory, ring_count=ring_count)
+        return cls(sim, bus, accel, generics["INPUT_g"] != "LUMA", int(generics["WIDTH_g"]), int(generics["HEIGHT_g"]),
+                   memory)  # fmt: skip
+
+    def ddr_report(self) -> dict[str, int]:
+        """A DDR build's figures: the DMA counters (DMA_DROPPED, DMA_BUS_ERRORS, DMA_BEATS) and the
+        memory model's (bursts, responses by kind, the master's AXI rule violations, stalls)."""
+        if self.memory is None:
+            return {}
+        axi = self.sim.axi_stats()
+        keep = ("bursts", "beats", "okay", "slverr", "decerr", "protocol_errors", "aw_stall_clocks", "w_stall_clocks",
+                "max_outstanding", "max_w_ahead")  # fmt: skip
+        return {**self.accel.dma_counters(), **{f"axi_{k}": axi[k] for k in keep},
+                "invalidations": self.memory.invalidations}  # fmt: skip
 
     @property
     def frame_clocks(self) -> int:
@@ -110,14 +145,16 @@ class FastAccel:
 
 
 def run_accel_fast(img: np.ndarray, cfg: Config, job: Path, overlay: bool, seed: int = 0,
-                   mem_depth: int = ACCEL_MEM_DEPTH, block_log2: int | None = None) -> dict:  # fmt: skip
+                   mem_depth: int = ACCEL_MEM_DEPTH, block_log2: int | None = None,
+                   mem_kind: str = "bram") -> dict:  # fmt: skip
     """orb_accel_top's netlist in Verilator on one image, as orb_sim.rtl_backend.run_accel_job
     runs it in GHDL: writes job/features.csv (and job/overlay.npy) and returns the same report
     fields (frame_cycles, pixels, cycles_per_pixel, latency_cycles, dropped_merge, truncated,
-    desc_lost, proto_errors, frame_sim_wall_s, features, bus_reads, bus_writes), plus build_s."""
+    desc_lost, proto_errors, frame_sim_wall_s, features, bus_reads, bus_writes), plus build_s,
+    mem_kind and, for "ddr", `ddr` (FastAccel.ddr_report)."""
     job.mkdir(parents=True, exist_ok=True)
     t_build = time.perf_counter()
-    fa = FastAccel.start(generics_for(cfg, img.ndim == 3, mem_depth, block_log2), seed)
+    fa = FastAccel.start(generics_for(cfg, img.ndim == 3, mem_depth, block_log2, mem_kind), seed)
     build_s = time.perf_counter() - t_build
     accel, sim = fa.accel, fa.sim
     accel.configure_as(cfg)
@@ -146,7 +183,7 @@ def run_accel_fast(img: np.ndarray, cfg: Config, job: Path, overlay: bool, seed:
         "dropped_merge": counters["dropped"], "truncated": frame.record.truncated,
         "desc_lost": counters["desc_lost"], "proto_errors": counters["proto_errors"],
         "frame_sim_wall_s": round(frame_s, 3), "bus_reads": fa.bus.reads, "bus_writes": fa.bus.writes,
-        "build_s": round(build_s, 1),
+        "build_s": round(build_s, 1), "mem_kind": mem_kind, **({"ddr": fa.ddr_report()} if fa.memory else {}),
     }  # fmt: skip
 
 
@@ -163,13 +200,14 @@ def extract_fast(img: np.ndarray, cfg: Config, seed: int = 0) -> tuple[Features,
 
 def run_video_fast(frames: np.ndarray, cfg: Config, seed: int = 0, mem_depth: int = ACCEL_MEM_DEPTH,
                    on_frame: Callable[[int, Frame], None] | None = None,
-                   block_log2: int | None = None) -> tuple[list[Frame], dict]:  # fmt: skip
+                   block_log2: int | None = None, mem_kind: str = "bram") -> tuple[list[Frame], dict]:  # fmt: skip
     """Frames ((N, H, W, 3) RGB or (N, H, W) luma) back to back with blanking through the netlist
-    while the shipped driver reads frame k from one bank as frame k+1 is written into the other,
-    and releases each bank, as on the board. Returns every published frame (in order) and a
-    report (frames sent and published, clocks, wall time, overrun, the longest input stall)."""
+    while the shipped driver reads frame k from one bank (ring buffer) as frame k+1 is written
+    into the other, and releases each, as on the board. Returns every published frame (in order)
+    and a report (frames sent and published, clocks, wall time, overrun, the longest input stall;
+    for "ddr" the DMA and memory figures, `ddr`)."""
     colour = frames.ndim == 4
-    fa = FastAccel.start(generics_for(cfg, colour, mem_depth, block_log2), seed)
+    fa = FastAccel.start(generics_for(cfg, colour, mem_depth, block_log2, mem_kind), seed)
     accel, sim = fa.accel, fa.sim
     accel.configure_as(cfg)
     t0, c0 = time.perf_counter(), sim.cycle
@@ -187,6 +225,7 @@ def run_video_fast(frames: np.ndarray, cfg: Config, seed: int = 0, mem_depth: in
     counters = accel.counters()
     report = {"frames_sent": st["frames_started"], "frames_published": len(got), "clocks": sim.cycle - c0,
               "wall_s": round(wall, 2), "clocks_per_s": round((sim.cycle - c0) / wall) if wall else 0,
-              "overrun": counters["overrun"], "longest_input_stall": st["longest_stall"], **counters}  # fmt: skip
+              "overrun": counters["overrun"], "longest_input_stall": st["longest_stall"], **counters,
+              **({"ddr": fa.ddr_report()} if fa.memory else {})}  # fmt: skip
     sim.close()
     return got, report

@@ -8,7 +8,10 @@ Unless ORB_JOB_OVERLAY is 0, the image is streamed once more with the accelerato
 capture the overlay of its features. Inputs and outputs are files in ORB_JOB_DIR: input.npy in;
 features.csv, overlay.npy, job.json and progress.txt out. ORB_JOB_THRESHOLD, ORB_JOB_MODE (orb or
 fast), ORB_JOB_SELECTION (all or grid), ORB_JOB_BUDGET, ORB_JOB_CELLS (COLSxROWS), ORB_JOB_THRESHOLD_LO. It checks
-nothing against the model: its caller does.
+nothing against the model: its caller does. A DDR build (MEM_KIND_g "DDR") writes the frame into
+the bench's emulated DDR (orb_sim.ddr_ram, through m_axi_feat) and the driver reads it from there;
+job.json then has `mem_kind` "ddr" and `ddr` (the DMA counters, the region, the ring, the bytes
+the RAM stored).
 """
 
 from __future__ import annotations
@@ -89,7 +92,7 @@ async def accel_job(dut) -> None:
             await RisingEdge(dut.clk)
         np.save(out / "overlay.npy", b.captured[0])
     counters = await b.cpu(accel.counters)
-    report = {
+    report: dict[str, object] = {
         "features": len(frame.features),
         "frame_cycles": last_pixel - first + 1,
         "pixels": pixels,
@@ -102,5 +105,13 @@ async def accel_job(dut) -> None:
         "frame_sim_wall_s": round(sim_frame_s, 2),
         "bus_reads": b.bus.reads,
         "bus_writes": b.bus.writes,
+        "mem_kind": "ddr" if b.ddr else "bram",
     }
+    if b.ram is not None:
+        ring = accel.ring
+        assert ring is not None
+        report["ddr"] = {**(await b.cpu(accel.dma_counters)), "region_base": b.ram.base, "region_size": b.ram.size,
+                         "ring_base": ring.base, "ring_stride": ring.stride, "ring_count": ring.count,
+                         "stored_bytes": b.ram.stored, "outside_writes": b.ram.outside_writes,
+                         "invalidations": getattr(accel.memory, "invalidations", 0)}  # fmt: skip
     (out / "job.json").write_text(json.dumps(report, indent=2) + "\n")
