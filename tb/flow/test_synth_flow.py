@@ -83,11 +83,14 @@ def test_expected_file_parses_and_names_known_jobs() -> None:
     data = synth.load_expected()
     known = {(t, c) for t, c in (*synth.DEFAULT_JOBS, *synth.OTHER_JOBS)}
     board = {j.name for j in synth.board_jobs()}
+    # a board frame's earlier build (another memory or depth) stays as the tables' stale stand-in
+    # until its present build is synthesised (orb_flow.gen.results._board_job)
+    frames = {(j.top, j.cfg.name) for j in synth.board_jobs()}
     assert 0 < data["tolerance_pct"] <= 10
     for name, entry in data["jobs"].items():
         j = synth.parse_job_name(name)
         assert j.name == name, f"{name} is not in the script's spelling ({j.name})"
-        assert (j.top, j.cfg.name) in known or name in board, f"{name} is not a job the script knows"
+        assert (j.top, j.cfg.name) in known | frames or name in board, f"{name} is not a job the script knows"
         assert {"commit", "date", "command"} <= set(entry["measured"]), name
     for top, cfg in synth.DEFAULT_JOBS:  # the default set is always checked
         entry = data["jobs"][f"{top} {cfg}"]
@@ -181,7 +184,8 @@ def test_cache_key_follows_sources_top_generics_tools_and_flow_version(
 
 def test_cache_key_of_the_real_sources() -> None:
     j = synth.job("orb_accel_zynq", "1920x1080x2")
-    assert j.generics == {"WIDTH_g": 1920, "HEIGHT_g": 1080, "SCALES_g": 2, "MEM_DEPTH_g": 1024, "INPUT_g": "RBG"}
+    assert j.generics == {"WIDTH_g": 1920, "HEIGHT_g": 1080, "SCALES_g": 2, "MEM_DEPTH_g": 1024, "INPUT_g": "RBG",
+                          "MEM_KIND_g": "BRAM"}  # fmt: skip
     key = synth.cache_key(j.top, j.generics, synth.sources(), TOOLS)
     assert len(key) == 64 and key != synth.cache_key("orb_core", j.generics, synth.sources(), TOOLS)
 
