@@ -162,14 +162,15 @@ architecture rtl of orb_feat_dma is
   signal in_rel   : std_logic := '0';
   signal in_reli  : unsigned(3 downto 0) := (others => '0');
 
-  -- the selection's slot map (as orb_feat_mem)
+  -- the selection's slot map (as orb_feat_mem); it holds a feature's buffer slot (its index + 1),
+  -- so that no adder sits between the map's output and the FIFO entry (the timing path)
   signal smap     : map_t := (others => (others => '0'));
   signal map_q    : unsigned(SLOT_BITS_c - 1 downto 0) := (others => '0');
   signal fwd_ok   : std_logic := '0';
-  signal fwd_sel  : std_logic_vector(FEAT_SEL_SLOT_BITS_c - 1 downto 0) := (others => '0');
-  signal fwd_phys : unsigned(SLOT_BITS_c - 1 downto 0) := (others => '0');
+  signal fwd_eq   : std_logic := '0';  -- the beat's selection slot is the one of the beat before
+  signal fwd_slot : unsigned(SLOT_BITS_c - 1 downto 0) := (others => '0');
   signal repl     : std_logic;
-  signal phys     : unsigned(SLOT_BITS_c - 1 downto 0);
+  signal slot     : unsigned(SLOT_BITS_c - 1 downto 0);
 
   -- the ring registers (registered), their checks and the active ring
   signal cfg_base    : unsigned(31 downto 0) := (others => '0');
@@ -202,6 +203,7 @@ architecture rtl of orb_feat_dma is
   signal wbuf     : unsigned(3 downto 0) := (others => '0');
   signal queued   : std_logic := '0';  -- a slot of the frame has entered the FIFO
   signal cnt      : unsigned(SLOT_BITS_c - 1 downto 0) := (others => '0');
+  signal cnt_p1   : unsigned(SLOT_BITS_c - 1 downto 0) := to_unsigned(1, SLOT_BITS_c);  -- cnt + 1, kept
   signal trunc    : unsigned(31 downto 0) := (others => '0');
   signal ready    : std_logic_vector(15 downto 0) := (others => '0');
   signal claimed  : std_logic_vector(15 downto 0) := (others => '0');  -- written, record unanswered
@@ -294,6 +296,11 @@ begin
       in_reli  <= unsigned(release_index);
       map_q    <= smap(to_integer(unsigned(s_axis_feat_tdata(FEAT_SEL_SLOT_LO_c + MAP_BITS_c - 1 downto
                                                              FEAT_SEL_SLOT_LO_c))));
+      fwd_eq   <= '0';
+      if s_axis_feat_tdata(FEAT_SEL_SLOT_LO_c + FEAT_SEL_SLOT_BITS_c - 1 downto FEAT_SEL_SLOT_LO_c) =
+         in_data(FEAT_SEL_SLOT_LO_c + FEAT_SEL_SLOT_BITS_c - 1 downto FEAT_SEL_SLOT_LO_c) then
+        fwd_eq <= '1';
+      end if;
       if rst = '1' or bus_rst = '1' then
         in_beat  <= '0';
         in_abort <= '0';
@@ -302,11 +309,11 @@ begin
     end if;
   end process inputs;
 
-  -- a replacing beat's slot: the map's, or the slot the beat of the clock before took for it
+  -- a beat's buffer slot: a new feature's the next (cnt + 1); a replacing beat's the map's, or the
+  -- slot the beat of the clock before took for it (fwd_ok: it took one; fwd_eq: the same selection slot)
   repl <= in_data(FEAT_SEL_REPLACE_BIT_c) and not in_last;
-  phys <= cnt when repl = '0' else
-          fwd_phys when fwd_ok = '1' and fwd_sel = in_data(FEAT_SEL_SLOT_LO_c + FEAT_SEL_SLOT_BITS_c - 1 downto
-                                                            FEAT_SEL_SLOT_LO_c) else
+  slot <= cnt_p1 when repl = '0' else
+          fwd_slot when fwd_ok = '1' and fwd_eq = '1' else
           map_q;
 
   slot_map : process (clk) is
@@ -316,10 +323,9 @@ begin
       sel    := to_integer(unsigned(in_data(FEAT_SEL_SLOT_LO_c + MAP_BITS_c - 1 downto FEAT_SEL_SLOT_LO_c)));
       fwd_ok <= '0';
       if new_slot = '1' then
-        smap(sel) <= cnt;
+        smap(sel) <= cnt_p1;
         fwd_ok    <= '1';
-        fwd_sel   <= in_data(FEAT_SEL_SLOT_LO_c + FEAT_SEL_SLOT_BITS_c - 1 downto FEAT_SEL_SLOT_LO_c);
-        fwd_phys  <= cnt;
+        fwd_slot  <= cnt_p1;
       end if;
     end if;
   end process slot_map;
@@ -426,7 +432,7 @@ begin
       e_v                                                := (others => '0');
       e_v(DATA_BITS_c - 1 downto 0)                      := slot_word(in_data, in_last, cnt, trunc);
       if in_last = '0' then
-        e_v(E_INDEX_LO_c - 1 downto E_SLOT_LO_c) := std_logic_vector(phys + 1);
+        e_v(E_INDEX_LO_c - 1 downto E_SLOT_LO_c) := std_logic_vector(slot);
       end if;
       e_v(E_INDEX_LO_c + 3 downto E_INDEX_LO_c)          := std_logic_vector(cur_buf);
       e_v(E_REC_BIT_c)                                   := in_last;
@@ -497,7 +503,8 @@ begin
         in_frame <= '1';
         if store_nw = '1' and abort_nw = '0' and repl = '0' then
           if full = '0' then
-            cnt <= cnt + 1;
+            cnt    <= cnt + 1;
+            cnt_p1 <= cnt_p1 + 1;
           else
             trunc <= trunc + 1;
           end if;
@@ -510,6 +517,7 @@ begin
         abort_f  <= '0';
         lost     <= '0';
         cnt      <= (others => '0');
+        cnt_p1   <= to_unsigned(1, SLOT_BITS_c);
         trunc    <= (others => '0');
         if abort_nw = '1' then
           abt_cnt <= abt_cnt + 1;
@@ -575,6 +583,7 @@ begin
         abort_f  <= '0';
         queued   <= '0';
         cnt      <= (others => '0');
+        cnt_p1   <= to_unsigned(1, SLOT_BITS_c);
         trunc    <= (others => '0');
         ready    <= (others => '0');
         claimed  <= (others => '0');
