@@ -57,6 +57,7 @@ SBY = "yowasp-sby"
 PORT_RE = re.compile(r"^\s*\(?\s*(input|output)\s+(?:\[(\d+):0\]\s+)?(\w+)[,)]", re.M)
 AXIS_RE = re.compile(r"^([sm])_axis_(\w+)_tvalid$")
 AXIL_RE = re.compile(r"^(s_axil|s_axi_\w+?)_awvalid$")  # an AXI4-Lite slave port: s_axil_* or Xilinx's s_axi_<name>_*
+AXI4W_RE = re.compile(r"^(m_axi_\w+?)_awvalid$")  # an AXI4 master's write channels: m_axi_<name>_aw*, _w*, _b*
 CLOCKS = ("clk", "aclk")  # the clock input; the reset: rst (active high) or aresetn (active low)
 FAILED_RE = re.compile(r"failed assertion orb_formal_top\.(\S+)")
 
@@ -87,12 +88,19 @@ class Check:
     extra_props: Mapping[str, str] = field(default_factory=dict)  # label -> what it says
     mutations: tuple[Mutation, ...] = ()
     axil: Mapping[str, int] = field(default_factory=dict)  # orb_axil_chk parameters
+    # orb_axi4w_chk parameters (MAX_OUTSTANDING, MAX_AHEAD): given, the checker is bound to every m_axi_<name> write
+    # master port (its rst: the entity's bus_rst where it has one, the AXI reset); not given, those ports are unbound
+    axi4w: Mapping[str, int] = field(default_factory=dict)
     # planted bugs of another check that fail these properties on the same RTL (property prefix -> check)
     bugs_of: Mapping[str, str] = field(default_factory=dict)
     name: str = ""  # the check's name where an entity has several checks (default: the entity)
     # internal nets of the entity's module made outputs `probe_<net>` of it in GHDL's Verilog (add_probes), for
     # properties about state the ports do not show (e.g. a RAM's write port)
     probes: tuple[str, ...] = ()
+    # the sby engine line: smtbmc's --nopresat skips the check that the assumptions alone are satisfiable before each
+    # step's assertion check (orb_feat_dma: boolector spends minutes on that check at depth 24; the planted bugs show
+    # the assumptions are satisfiable to their steps)
+    engine: str = "smtbmc boolector"
 
     @property
     def key(self) -> str:
@@ -118,6 +126,30 @@ AXIL_PROPS: dict[str, str] = {
     "b_slverr": "bresp SLVERR exactly where the register map says (golden_model/data/regmap.json)",
     "r_slverr": "rresp SLVERR exactly where the register map says",
 }
+
+
+# the AXI4 write master checker's ports (m_axi_<name>_<port> of the entity) and its asserted properties (labels in
+# hdl/formal/orb_axi4w_chk.sv)
+AXI4W_PORTS = ("awaddr", "awlen", "awsize", "awburst", "awvalid", "awready", "wdata", "wstrb", "wlast", "wvalid",
+               "wready", "bresp", "bvalid", "bready")  # fmt: skip
+AXI4W_PROPS: dict[str, str] = {
+    "reset_low": "AWVALID and WVALID 0 in every clock after an edge of the bus reset",
+    "aw_hold": "AWVALID held with AWADDR, AWLEN, AWSIZE and AWBURST until AWREADY",
+    "w_hold": "WVALID held with WDATA, WSTRB and WLAST until WREADY",
+    "aw_burst": "every burst INCR (AWBURST 01) of the bus width (AWSIZE = log2 of the data bytes)",
+    "aw_4k": "no burst crosses a 4 KiB boundary (AWADDR[11:0] + (AWLEN + 1) x bytes <= 4096)",
+    "w_after_aw": "no write data without an address: a W beat taken only while a burst whose AWVALID has risen "
+    "waits for data",
+    "w_last": "WLAST exactly on beat AWLEN + 1 of its burst (the AWLENs of the bursts issued, in order)",
+    "aw_ahead": "at most MAX_AHEAD bursts issued whose last W beat is not taken (1: the next AWVALID waits for the "
+    "last beat of the burst before)",
+    "outstanding": "at most MAX_OUTSTANDING bursts issued (AWVALID risen) and not answered (BVALID and BREADY)",
+}
+
+
+def axi4w_prefixes(names: Iterable[str]) -> list[str]:
+    """The AXI4 write master ports' prefixes (m_axi_feat, ...)."""
+    return sorted(m.group(1) for m in map(AXI4W_RE.match, names) if m)
 
 
 @dataclass(frozen=True)
@@ -181,6 +213,10 @@ def bound_props(plist: Sequence[Port], check: Check) -> list[dict[str, str]]:
     if axil_prefix(names):
         for label, what in AXIL_PROPS.items():
             out.append({"name": f"chk_s_axil.{label}", "kind": "assert", "what": what})
+    if check.axi4w:
+        for pre in axi4w_prefixes(names):
+            for label, what in AXI4W_PROPS.items():
+                out.append({"name": f"chk_{pre}.{label}", "kind": "assert", "what": f"{pre}: {what}"})
     for label, what in check.extra_props.items():
         out.append({"name": label, "kind": "assert", "what": what})
     return out
@@ -210,6 +246,7 @@ def wrapper(check: Check, plist: Sequence[Port]) -> str:
         "  reg init = 1'b1;",
         "  always @(posedge clk) init <= 1'b0;",
         "  always @(*) if (init) assume (rst);",
+        *(["  always @(*) if (init) assume (bus_rst);  // and the bus reset (AXI's)"] if "bus_rst" in byname else []),
         "  reg rst_q = 1'b1;  // rst at the last edge",
         "  always @(posedge clk) rst_q <= rst;",
         f"  {check.entity} dut (",
@@ -240,6 +277,15 @@ def wrapper(check: Check, plist: Sequence[Port]) -> str:
             f"  orb_axil_chk #({', '.join(f'.{k}({v})' for k, v in params.items())}) chk_s_axil "
             f"(.clk(clk), .rst(rst), {conns});"
         )
+    if check.axi4w:
+        bus_rst = "bus_rst" if "bus_rst" in byname else "rst"  # the AXI reset: a soft rst does not reset the bus
+        for pre in axi4w_prefixes(byname):
+            params = {"A": byname[f"{pre}_awaddr"].width, "D": byname[f"{pre}_wdata"].width, **check.axi4w}
+            conns = ", ".join(f".{n}({pre}_{n})" for n in AXI4W_PORTS)
+            lines.append(
+                f"  orb_axi4w_chk #({', '.join(f'.{k}({v})' for k, v in params.items())}) chk_{pre} "
+                f"(.clk(clk), .rst({bus_rst}), {conns});"
+            )
     if check.extra:
         lines.append(check.extra.rstrip())
     lines.append("endmodule")
@@ -319,7 +365,7 @@ def sby_text(check: Check, checker_files: Sequence[str], only: str | None = None
     keep = "" if only is None else f"flatten\nchformal -assert -remove t:$check */{only} */{only}.* %u %d\n"
     files = "\n".join(["top.v", *checker_files, "wrapper.sv"])
     return (
-        f"[options]\nmode {check.mode}\ndepth {check.depth}\n\n[engines]\nsmtbmc boolector\n\n"
+        f"[options]\nmode {check.mode}\ndepth {check.depth}\n\n[engines]\n{check.engine}\n\n"
         f"[script]\nread_verilog -formal top.v\n{reads}\nread_verilog -formal -sv wrapper.sv\n"
         f"prep -top orb_formal_top\n{keep}\n[files]\n{files}\n"
     )
@@ -909,6 +955,75 @@ _VIDEO_CHECK_SHAPE_BUGS = (
     ),
 )
 
+# orb_feat_dma (docs/feature-dma.md): its generics (a small window: [1 MiB, 2 MiB)), the AXI4 write checker's
+# parameters (at most OUTSTANDING_g bursts unanswered; the next burst's address waits for the last beat of the one
+# before), and the wrapper's window and ring: the registers' contract (RING_COUNT 0 .. 16, the register map's
+# maximum) and, for the .ring and .off checks, a ring constant from the first clock, legal or not by the four checks
+# of docs/feature-dma.md computed here
+_DMA_GENERICS = {"DEPTH_g": 16, "SEL_SLOTS_g": 2, "FIFO_DEPTH_g": 16, "OUTSTANDING_g": 2, "WIN_BASE_MB_g": 1,
+                 "WIN_SIZE_MB_g": 1}  # fmt: skip
+_DMA_AXI4W = {"MAX_OUTSTANDING": 2, "MAX_AHEAD": 1}
+_DMA_WINDOW = """  // the DDR window [WIN_BASE_MB_g, + WIN_SIZE_MB_g) MiB in bytes, and one buffer (DEPTH_g slots of 64 bytes)
+  localparam [36:0] WIN_LO = 37'd{lo}, WIN_HI = 37'd{hi}, BUF = 37'd{buf};
+  wire [36:0] aw_a = {{5'd0, m_axi_feat_awaddr}};
+  // the registers' contract: RING_COUNT 0 .. 16 (the register map's maximum; a larger write is refused)
+  always @(*) assume (ring_count <= 16);"""
+_DMA_ADDR = """  // every address 64-byte aligned, every burst (64 bytes) inside the window, whatever the ring registers do
+  always @(*) if (!init && m_axi_feat_awvalid) begin
+    aw_aligned: assert (m_axi_feat_awaddr[5:0] == 0);
+    aw_in_window: assert (aw_a >= WIN_LO && aw_a + 64 <= WIN_HI);
+  end"""
+_DMA_CONST_RING = """  // the ring registers constant from the first clock; legal: the four checks of docs/feature-dma.md
+  (* anyconst *) reg [31:0] c_base, c_stride;
+  (* anyconst *) reg [4:0] c_count;
+  always @(*) assume (ring_base == c_base && ring_stride == c_stride && ring_count == c_count);
+  function [36:0] mul4(input [3:0] k, input [31:0] v);  // k * v
+    mul4 = (k[0] ? {5'd0, v} : 37'd0) + (k[1] ? {4'd0, v, 1'b0} : 37'd0) + (k[2] ? {3'd0, v, 2'b0} : 37'd0) +
+           (k[3] ? {2'd0, v, 3'b0} : 37'd0);
+  endfunction
+  wire [3:0] c_last = c_count[3:0] - 4'd1;  // count - 1 (count 1 .. 16)
+  wire [36:0] ring_end = {5'd0, c_base} + mul4(c_last, c_stride) + BUF;
+  wire legal = c_base[5:0] == 0 && c_stride[5:0] == 0 && c_count != 0 && (c_count <= 1 || c_stride >= BUF) &&
+               {5'd0, c_base} >= WIN_LO && ring_end <= WIN_HI;"""
+# (legal is assumed in the first clock only: the values are constant, and the solver then computes it once)
+_DMA_RING = """  always @(*) if (init) assume (legal);
+  // every burst inside a buffer of the ring: [base + i stride, + DEPTH_g 64) for some i < count; the
+  // buffers' starts computed once, in the first clock (the ring is constant)
+  reg [16 * 37 - 1:0] starts;
+  integer i;
+  always @(posedge clk) if (init) for (i = 0; i < 16; i = i + 1) starts[37 * i +: 37] <= {5'd0, c_base} + mul4(i, c_stride);
+  reg in_buf;
+  integer j;
+  always @(*) begin
+    in_buf = 1'b0;
+    for (j = 0; j < 16; j = j + 1)
+      if (j < c_count && aw_a >= starts[37 * j +: 37] && aw_a + 64 <= starts[37 * j +: 37] + BUF) in_buf = 1'b1;
+  end
+  always @(*) if (!init && m_axi_feat_awvalid) aw_in_ring: assert (in_buf);"""
+_DMA_OFF = """  always @(*) if (init) assume (!legal);
+  // a ring in error: nothing is written (no AWVALID, ever)
+  always @(*) if (!init) no_write: assert (!m_axi_feat_awvalid);"""
+
+
+_DMA_ADDR_PROPS = {
+    "aw_aligned": "every AWADDR 64-byte aligned (the ring registers, the stream, frame_abort, the release, rst and "
+    "bus_rst free)",
+    "aw_in_window": "every burst (64 bytes at AWADDR) inside the DDR window [WIN_BASE_MB_g, + WIN_SIZE_MB_g) MiB, "
+    "whatever the ring registers do (RING_COUNT at most 16)",
+}
+
+
+def _dma_window(generics: Mapping[str, int | str]) -> str:
+    lo = int(generics["WIN_BASE_MB_g"]) << 20
+    hi = lo + (int(generics["WIN_SIZE_MB_g"]) << 20)
+    return _DMA_WINDOW.format(lo=lo, hi=hi, buf=int(generics["DEPTH_g"]) * 64)
+
+
+_DMA = "host/orb_feat_dma.vhd"
+DMA_DEPTH = 26  # the second burst's AWVALID at step 25 at the earliest
+DMA_OUT1_DEPTH = 27  # with OUTSTANDING_g 1 a second burst waits for the first's response: step 26 at the earliest
+_DMA_ENGINE = "smtbmc --nopresat boolector"
+
 CHECKS: dict[str, Check] = {
     c.key: c
     for c in (
@@ -1428,6 +1543,180 @@ CHECKS: dict[str, Check] = {
                     r"wr_en    <= beat and store_nw and not abort_nw",
                     "wr_en    <= beat and not abort_nw",
                     "published_stable",
+                ),
+            ),
+        ),
+        Check(
+            "orb_feat_dma",
+            _DMA_GENERICS,
+            mode="bmc",
+            depth=DMA_DEPTH,
+            quick=False,  # about a minute (2 cores shared), each planted bug 10-30 s
+            axi4w=_DMA_AXI4W,
+            engine=_DMA_ENGINE,
+            extra=_dma_window(_DMA_GENERICS) + "\n" + _DMA_ADDR,
+            extra_props=_DMA_ADDR_PROPS,
+            bugs_of={"chk_m_axi_feat.outstanding": "orb_feat_dma.out1"},
+            mutations=(
+                Mutation(
+                    "wlast_early",
+                    "WLAST one beat early (on beat 7 of 8)",
+                    _DMA,
+                    r"m_axi_feat_wlast   <= '1' when wbeat = BEATS_c - 1 else",
+                    "m_axi_feat_wlast   <= '1' when wbeat = BEATS_c - 2 else",
+                    "chk_m_axi_feat.w_last",
+                ),
+                Mutation(
+                    "soft_reset_cuts_burst",
+                    "the rule that finishes a launched burst removed: rst drops AWVALID and WVALID at once",
+                    _DMA,
+                    r"if state = addr1_s or state = addr2_s or state = addr3_s then\n\s*state <= idle_s;\n\s*end if;",
+                    "state     <= idle_s;\n        awvalid_r <= '0';\n        wvalid_r  <= '0';",
+                    "chk_m_axi_feat.aw_hold",
+                ),
+                Mutation(
+                    "soft_reset_drops_wvalid",
+                    "rst drops WVALID in the middle of a burst (AWVALID kept)",
+                    _DMA,
+                    r"stale    <= inflight_v;",
+                    "stale    <= inflight_v;\n        wvalid_r <= '0';",
+                    "chk_m_axi_feat.w_hold",
+                ),
+                Mutation(
+                    "bus_reset_keeps_awvalid",
+                    "bus_rst does not clear AWVALID",
+                    _DMA,
+                    r"(if bus_rst = '1' then\n\s*state     <= idle_s;\n)\s*awvalid_r <= '0';\n",
+                    r"\1",
+                    "chk_m_axi_feat.reset_low",
+                ),
+                Mutation(
+                    "awsize_32bit",
+                    "AWSIZE of a 32-bit port (010) on the 64-bit bus",
+                    _DMA,
+                    r'm_axi_feat_awsize  <= "011";',
+                    'm_axi_feat_awsize  <= "010";',
+                    "chk_m_axi_feat.aw_burst",
+                ),
+                Mutation(
+                    "slot_not_shifted",
+                    "the slot's address not shifted by 6 (base + slot instead of base + 64 slot): bursts cross 4 KiB",
+                    _DMA,
+                    r"b_start <= act_base \+ shift_left\(resize\(b_slot, 32\), 6\);",
+                    "b_start <= act_base + resize(b_slot, 32);",
+                    "chk_m_axi_feat.aw_4k",
+                ),
+                Mutation(
+                    "w_before_aw",
+                    "WVALID raised in the last address stage, a clock before AWVALID: a W beat without an address",
+                    _DMA,
+                    r"b_prod <= resize\(b_lo \+ b_hi, 32\);",
+                    "b_prod <= resize(b_lo + b_hi, 32);\n        wvalid_r <= '1';",
+                    "chk_m_axi_feat.w_after_aw",
+                ),
+                Mutation(
+                    "wvalid_never",
+                    "WVALID not raised with AWVALID: the next burst's address without the data of the one before",
+                    _DMA,
+                    r"wvalid_r  <= '1';",
+                    "wvalid_r  <= '0';",
+                    "chk_m_axi_feat.aw_ahead",
+                ),
+                Mutation(
+                    "base_unchecked",
+                    "RING_BASE's alignment not checked (only the stride's)",
+                    _DMA,
+                    r"if cfg_base\(5 downto 0\) /= 0 or cfg_stride\(5 downto 0\) /= 0 then",
+                    "if cfg_stride(5 downto 0) /= 0 then",
+                    "aw_aligned",
+                ),
+                Mutation(
+                    "live_ring_address",
+                    "the address computed with the live ring registers (cfg_base) instead of the active ring",
+                    _DMA,
+                    r"b_start <= act_base \+",
+                    "b_start <= cfg_base +",
+                    "aw_in_window",
+                ),
+                Mutation(
+                    "ring_count_above_16",
+                    "the registers' contract dropped: RING_COUNT 17 .. 31 (which the register map refuses) passes the "
+                    "checks as count - 1 mod 16, and a frame goes past the checked ring (the contract is needed)",
+                    "wrapper",
+                    r"^  always @\(\*\) assume \(ring_count <= 16\);\n",
+                    "",
+                    "aw_in_window",
+                ),
+            ),
+        ),
+        Check(
+            "orb_feat_dma",
+            {**_DMA_GENERICS, "OUTSTANDING_g": 1},
+            name="orb_feat_dma.out1",
+            mode="bmc",
+            depth=DMA_OUT1_DEPTH,
+            quick=False,  # about a minute
+            axi4w={**_DMA_AXI4W, "MAX_OUTSTANDING": 1},
+            engine=_DMA_ENGINE,
+            extra=_dma_window(_DMA_GENERICS) + "\n" + _DMA_ADDR,
+            extra_props=_DMA_ADDR_PROPS,
+            bugs_of={"chk_m_axi_feat": "orb_feat_dma", "aw_aligned": "orb_feat_dma", "aw_in_window": "orb_feat_dma"},
+            mutations=(
+                Mutation(
+                    "outstanding_off_by_one",
+                    "the master takes a slot while OUTSTANDING_g bursts are unanswered (<= for <)",
+                    _DMA,
+                    r"inflight < OUTSTANDING_g and rst = '0'",
+                    "inflight <= OUTSTANDING_g and rst = '0'",
+                    "chk_m_axi_feat.outstanding",
+                ),
+            ),
+        ),
+        Check(
+            "orb_feat_dma",
+            _DMA_GENERICS,
+            name="orb_feat_dma.ring",
+            mode="bmc",
+            depth=DMA_DEPTH,
+            quick=False,  # 2-3 minutes: the buffers' starts against the master's address arithmetic
+            engine=_DMA_ENGINE,
+            extra=_dma_window(_DMA_GENERICS) + "\n" + _DMA_CONST_RING + "\n" + _DMA_RING,
+            extra_props={
+                "aw_in_ring": "with the ring registers constant and legal, every burst (64 bytes at AWADDR) inside a "
+                "buffer of the ring: [base + i stride, + DEPTH_g 64) for some i < count (the slave unconstrained)",
+            },
+            mutations=(
+                Mutation(
+                    "pos_wraps_late",
+                    "the ring position wraps after buffer count instead of count - 1: a frame written past the ring",
+                    _DMA,
+                    r"if resize\(cur_buf, 5\) \+ 1 >= eff_count then",
+                    "if resize(cur_buf, 5) + 1 > eff_count then",
+                    "aw_in_ring",
+                ),
+            ),
+        ),
+        Check(
+            "orb_feat_dma",
+            _DMA_GENERICS,
+            name="orb_feat_dma.off",
+            mode="bmc",
+            depth=DMA_DEPTH,
+            quick=False,  # 20-40 s
+            engine=_DMA_ENGINE,
+            extra=_dma_window(_DMA_GENERICS) + "\n" + _DMA_CONST_RING + "\n" + _DMA_OFF,
+            extra_props={
+                "no_write": "with the ring registers constant and in error (unaligned, overlapping, outside the "
+                "window or off), no AWVALID, ever",
+            },
+            mutations=(
+                Mutation(
+                    "window_end_unchecked",
+                    "the ring's end not checked against the window (only its start)",
+                    _DMA,
+                    r"if chk_err2\(2\) = '1' or chk_top > WIN_HI_c then",
+                    "if chk_err2(2) = '1' then",
+                    "no_write",
                 ),
             ),
         ),
