@@ -230,9 +230,23 @@ def record_formal(summary: Path, command: str, commit: str | None, date: str | N
     data = {name: {k: rec[k] for k in FORMAL_KEPT if k in rec} for name, rec in _json(summary).items()}
     for rec in data.values():
         rec["mutations"] = [{k: v for k, v in m.items() if k != "traces"} for m in rec.get("mutations", [])]
+    from orb_flow import formal  # the check list (a tool, not the model's or the driver's layer)
+
     records = load("formal")
-    records["runs"]["make-formal"] = entry(command, data, commit, date, "GHDL 2.0.0; Yosys 0.70, SymbiYosys and "
-                                           "Boolector from PyPI (yowasp)")  # fmt: skip
+    tools = "GHDL 2.0.0; Yosys 0.70, SymbiYosys and Boolector from PyPI (yowasp)"
+    if set(formal.CHECKS) <= set(data):
+        # a whole run: it replaces the whole record and the partial runs it supersedes
+        records["runs"] = {"make-formal": entry(command, data, commit, date, tools)}
+    else:
+        # a run of some checks (make formal K=...): kept beside the whole run with its own commit; the
+        # table takes each check from the newest run that holds it
+        unknown = sorted(set(data) - set(formal.CHECKS))
+        if unknown:
+            raise SystemExit(f"error: {summary} holds checks make formal no longer lists: {', '.join(unknown)}")
+        key = "make-formal K=" + " ".join(sorted(data))
+        for name in [k for k, run in records["runs"].items() if k != "make-formal" and set(run["data"]) <= set(data)]:
+            del records["runs"][name]
+        records["runs"][key] = entry(command, data, commit, date, tools)
     save("formal", records)
 
 

@@ -379,14 +379,27 @@ def test_table(records: Records) -> list[str]:
 
 
 def formal_table(records: Records) -> list[str]:
-    run = records.run("formal", "make-formal")
-    order = [k for k in formal.CHECKS if k in run["data"]]
-    missing = [k for k in formal.CHECKS if k not in run["data"]]
+    """The checks of the whole run (make-formal), each replaced by the newest run of some checks
+    (make formal K=...) that holds it; the footer says which run measured which checks."""
+    whole = records.run("formal", "make-formal")
+    runs = sorted(records.formal.values(), key=lambda r: (r["date"], r is not whole))
+    source: dict[str, dict[str, Any]] = {}
+    for run in runs:
+        for k in run["data"]:
+            source[k] = run
+    missing = [k for k in formal.CHECKS if k not in source]
     if missing:
         raise ResultsError(f"docs/results/formal.json lacks the checks {', '.join(missing)}: run make formal and "
                            "record it (python -m orb_flow.record formal)")  # fmt: skip
-    text = formal.table({k: run["data"][k] for k in order})
-    return [*text.rstrip("\n").split("\n"), "", f"Measured by {_source(run)} ({run['tools']})."]
+    text = formal.table({k: source[k]["data"][k] for k in formal.CHECKS})
+    foot = []
+    for run in runs:
+        mine = [k for k in formal.CHECKS if source[k] is run]
+        if not mine:
+            continue
+        what = "the other checks" if run is whole and len(runs) > 1 else ", ".join(f"`{k}`" for k in mine)
+        foot.append(f"{what}: {_source(run)} ({run['tools']})")
+    return [*text.rstrip("\n").split("\n"), "", "Measured by " + "; ".join(foot) + "."]
 
 
 def sim_table(records: Records) -> list[str]:
