@@ -413,12 +413,43 @@ def sim_table(records: Records) -> list[str]:
             device = f"{d['config']}: {device}"
         if "block_log2" in d:
             device += f", {1 << d['block_log2']}-pixel overlay blocks"
-        rows.append([f"`{run['command']}`", f"{what} {d['width']}x{d['height']}", device, engine,
+        memory = "block RAM"
+        if d.get("mem_kind") == "ddr":
+            ddr = d.get("ddr", {})
+            memory = "DDR ring" + (f", {_int(ddr['axi_bursts'])} bursts" if "axi_bursts" in ddr else "")
+        rows.append([f"`{run['command']}`", f"{what} {d['width']}x{d['height']}", device, memory, engine,
                      _int(d["features"]), "yes" if d["bit_exact"] and d.get("overlay_bit_exact", True) else "**no**",
                      str(d["dropped"]), str(d.get("latency_cycles", "-")), f"{d['sim_wall_s']:,.0f} s",
                      f"{run['commit']}, {run['date']}"])  # fmt: skip
-    head = ["command", "image", "device", "engine", "features", "bit-exact (features, overlay)", "lost",
-            "last pixel to end-of-frame record, clocks", "simulation", "commit, date"]  # fmt: skip
+    head = ["command", "image", "device", "feature memory", "engine", "features", "bit-exact (features, overlay)",
+            "lost", "last pixel to end-of-frame record, clocks", "simulation", "commit, date"]  # fmt: skip
+    return _table(head, rows)
+
+
+HP0_BYTES_PER_S = 8 * 150e6  # S_AXI_HP0: 64 bits at the 150 MHz core clock (docs/feature-dma.md)
+
+
+def bus_table(records: Records) -> list[str]:
+    """docs/feature-dma.md's bus load: per make sim run through the DDR ring, the bursts of 64 bytes a
+    frame, the bytes and the share of S_AXI_HP0 at 60 frames a second."""
+    rows = []
+    for run in records.sim.values():
+        d = run["data"]
+        ddr = d.get("ddr", {})
+        if d.get("mem_kind") != "ddr" or "axi_bursts" not in ddr:
+            continue
+        frame = ddr["axi_bursts"] * 64
+        rate = frame * 60
+        errors = ddr.get("axi_slverr", 0) + ddr.get("axi_decerr", 0) + ddr.get("axi_protocol_errors", 0)
+        rows.append([f"`{run['command']}`", f"{d['width']}x{d['height']}", _int(d["features"]),
+                     _int(ddr["axi_bursts"]), f"{frame / 1e3:,.0f} KB", f"{rate / 1e6:.1f} MB/s",
+                     f"{100 * rate / HP0_BYTES_PER_S:.1f} %", str(errors),
+                     f"{run['commit']}, {run['date']}"])  # fmt: skip
+    if not rows:
+        raise ResultsError("docs/results/sim.json has no make sim run through the DDR ring: run make sim "
+                           "CONFIG=board-vga FAST=1 and record it (python -m orb_flow.record sim ...)")  # fmt: skip
+    head = ["command", "frame", "features", "bursts (64 B)", "bytes a frame", "at 60 frames a second",
+            "share of S_AXI_HP0", "bus errors and protocol faults", "commit, date"]  # fmt: skip
     return _table(head, rows)
 
 
@@ -609,6 +640,7 @@ TABLES: dict[str, tuple[Path, Callable[[Records], list[str]]]] = {
     "board-worst-paths": (Path("docs/synthesis.md"), worst_paths_table),
     "make-test": (Path("docs/conventions.md"), test_table),
     "formal": (Path("docs/formal.md"), formal_table),
+    "bus-load": (Path("docs/feature-dma.md"), bus_table),
 }
 
 
