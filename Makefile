@@ -57,8 +57,8 @@ help:
 	@echo "make board-estimate  yosys estimate of orb_accel_zynq for each board configuration (slow, cached)"
 
 $(STAMP): pyproject.toml
-	@$(PYTHON) -c 'import sys; sys.exit(sys.version_info < (3, 10))' || \
-		{ echo "error: Python 3.10 or newer is needed (found $$($(PYTHON) --version))"; exit 1; }
+	@$(PYTHON) -c 'import sys; sys.exit(sys.version_info < (3, 11))' || \
+		{ echo "error: Python 3.11 or newer is needed for make's venv (the tools read TOML with tomllib; found $$($(PYTHON) --version)); PYTHON=python3.11"; exit 1; }
 	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV) || \
 		{ echo "error: '$(PYTHON) -m venv' failed; on Debian: apt-get install python3-venv"; exit 1; }
 	$(BIN)/python -m pip install --quiet --upgrade pip
@@ -88,7 +88,7 @@ $(PYNQ_STAMP): tb/pynq/requirements.txt
 setup: $(STAMP) $(ROS2_STAMP) $(PYNQ_STAMP)
 
 # the Debian tools the tests use (scripts/flow/check_tools.sh prints the apt-get line for a missing one)
-TEST_TOOLS := ghdl tclsh dtc cxx ros
+TEST_TOOLS := ghdl yosys tclsh dtc cxx ros
 test: $(STAMP) $(ROS2_STAMP) $(PYNQ_STAMP)
 	@sh scripts/flow/check_tools.sh $(TEST_TOOLS)
 	$(BIN)/python -m pytest -n $(JOBS) --maxschedchunk 1 -m "not slow" tb

@@ -49,8 +49,8 @@ version_of() {
         2>/dev/null || echo '?'), roscore, rosbag, genpy" ;;
     python3)
       command -v python3 >/dev/null 2>&1 || return 1
-      python3 -c 'import sys; sys.exit(sys.version_info < (3, 10))' 2>/dev/null || {
-        echo "$(first_line python3 --version) (too old: 3.10 or newer is needed)"; return 2; }
+      python3 -c 'import sys; sys.exit(sys.version_info < (3, 11))' 2>/dev/null || {
+        echo "$(first_line python3 --version) (too old: make's venv needs 3.11 or newer)"; return 2; }
       first_line python3 --version ;;
     *) echo "unknown tool '$1'" >&2; return 1 ;;
   esac

