@@ -20,7 +20,7 @@ SECTORS ?=
 THRESHOLD ?=
 JOBS   ?= 2
 
-.PHONY: setup test test-all sim bench bench-sim bench-driver bench-stream bench-ros2 ros2-sim eval figures lint synth formal netlist-sim tools pattern docs views clean \
+.PHONY: setup test test-tools test-all sim bench bench-sim bench-driver bench-stream bench-ros2 ros2-sim eval figures lint synth formal netlist-sim tools pattern docs views clean \
 	help bitstream board-estimate board-dryrun ros-sim
 
 help:
@@ -57,6 +57,7 @@ help:
 	@echo "make board-estimate  yosys estimate of orb_accel_zynq for each board configuration (slow, cached)"
 
 $(STAMP): pyproject.toml
+	@echo "make: setting up $(VENV) (the project and its test tools from PyPI: a few minutes the first time)"
 	@$(PYTHON) -c 'import sys; sys.exit(sys.version_info < (3, 11))' || \
 		{ echo "error: Python 3.11 or newer is needed for make's venv (the tools read TOML with tomllib; found $$($(PYTHON) --version)); PYTHON=python3.11"; exit 1; }
 	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV) || \
@@ -66,6 +67,7 @@ $(STAMP): pyproject.toml
 	@touch $(STAMP)
 
 $(ROS2_STAMP): sw/orb_ros2/requirements.txt
+	@echo "make: setting up $(VENV_ROS2) (ROS 2 from PyPI and its messages: about a minute the first time)"
 	@$(ROS2_PYTHON) -c 'import sys, platform; sys.exit(sys.version_info[:2] != (3, 11) or platform.machine() != "x86_64")' || \
 		{ echo "error: the ROS 2 venv needs CPython 3.11 on x86_64 (PyPI's ROS 2 wheels; found $$($(ROS2_PYTHON) --version) on $$(uname -m)); ROS2_PYTHON=python3.11"; exit 1; }
 	@test -x $(VENV_ROS2)/bin/python || $(ROS2_PYTHON) -m venv $(VENV_ROS2)
@@ -79,6 +81,7 @@ $(ROS2_STAMP): sw/orb_ros2/requirements.txt
 PYNQ_VENV  := .venv-pynq
 PYNQ_STAMP := $(PYNQ_VENV)/.installed
 $(PYNQ_STAMP): tb/pynq/requirements.txt
+	@echo "make: setting up $(PYNQ_VENV) (PyPI's pynq for the PYNQ checks: about a minute the first time)"
 	@test -x $(PYNQ_VENV)/bin/python || $(PYTHON) -m venv $(PYNQ_VENV) || \
 		{ echo "error: '$(PYTHON) -m venv' failed; on Debian: apt-get install python3-venv"; exit 1; }
 	$(PYNQ_VENV)/bin/python -m pip install --quiet --upgrade pip
@@ -89,12 +92,15 @@ setup: $(STAMP) $(ROS2_STAMP) $(PYNQ_STAMP)
 
 # the Debian tools the tests use (scripts/flow/check_tools.sh prints the apt-get line for a missing one)
 TEST_TOOLS := ghdl yosys tclsh dtc cxx ros
-test: $(STAMP) $(ROS2_STAMP) $(PYNQ_STAMP)
+# the tools first (a missing Debian package stops make test before the venvs' minutes, not after)
+test-tools:
 	@sh scripts/flow/check_tools.sh $(TEST_TOOLS)
+
+test: test-tools $(STAMP) $(ROS2_STAMP) $(PYNQ_STAMP)
+	@echo "make test: the venvs are ready and the Debian tools found; now the tests (pytest, $(JOBS) workers, the long simulations first; docs/results/test.json has the last fresh-clone time)"
 	$(BIN)/python -m pytest -n $(JOBS) --maxschedchunk 1 -m "not slow" tb
 
-test-all: $(STAMP) $(ROS2_STAMP) $(PYNQ_STAMP)
-	@sh scripts/flow/check_tools.sh $(TEST_TOOLS)
+test-all: test-tools $(STAMP) $(ROS2_STAMP) $(PYNQ_STAMP)
 	$(BIN)/python -m pytest -n $(JOBS) --maxschedchunk 1 tb
 
 FAST ?=
