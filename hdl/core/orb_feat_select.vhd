@@ -24,7 +24,8 @@
 -- so the next one up is upper's lowest set bit, with no compare against the lowest. Pipeline: two
 -- clocks for the cell (multiply and add, DSP48), then D1 (reads: cell table, bucket heads, the next
 -- non-empty bucket; and the decision's predicates: the rank against the floor's, the keys
--- against the lowest bucket's) and D2 (decision from those registers, writes); a decision leaves
+-- against the lowest bucket's) and D2 (decision from those registers, writes; the next-pointer
+-- RAM's write registered, landing a clock later); a decision leaves
 -- FEAT_SELECT_LAT_c = 5 clocks after its candidate (orb_latency_pkg, docs/latency.md). In `all`
 -- mode (grid = 0) every main candidate is kept (new), low ones are dropped, and no state changes.
 -- The parameters (grid, budget, cols, rows) must hold from the frame's first candidate to in_done;
@@ -164,6 +165,12 @@ architecture rtl of orb_feat_select is
   signal c1_load : std_logic := '0';
   -- the next-pointer RAM's read register
   signal n_rd : std_logic_vector(SEL_SLOT_BITS_c downto 0) := (others => '0');
+  -- the next-pointer RAM's write, registered: a decision's write lands a clock after it (before
+  -- the next decision's read, at least two clocks after it), so that the decision's logic ends at
+  -- flip-flops, not at the block RAM's data and enable inputs (their setup: docs/selection.md "Timing")
+  signal nw_we : std_logic := '0';
+  signal nw_a  : slot_t := (others => '0');
+  signal nw_d  : std_logic_vector(SEL_SLOT_BITS_c downto 0) := (others => '0');
 
   -- stage m0: the candidate; m1, m2: the cell products
   signal v_m0, v_m1, v_m2          : std_logic := '0';
@@ -522,7 +529,14 @@ begin
       n_c1nil := c1_nil;
       n_load := '0';
       n_any  := rest_any;
-      n_addr := c1;
+      -- the prefetch's address: the slot below the lowest bucket's top, or the next bucket's top
+      -- when there is none. It is used only after a pop, which empties the bucket exactly when
+      -- c1_nil is set, so it needs none of the decision's logic (the read address's timing)
+      if c1_nil = '1' then
+        n_addr := heads(to_integer(mb2_d1));
+      else
+        n_addr := c1;
+      end if;
       n_we   := false;
       n_wa   := ps;
       n_wd   := NIL_c;
@@ -535,14 +549,12 @@ begin
         if not emptied then
           n_c0   := c1;
           n_load := '1';
-          n_addr := c1;
         -- the bucket empties: the next bucket up becomes the lowest
         elsif mb2_ok_d1 = '1' then
           clr2   := true;
           n_mb   := mb2_d1;
           n_c0   := heads(to_integer(mb2_d1));
           n_load := '1';
-          n_addr := heads(to_integer(mb2_d1));
         else
           n_any := '0';
         end if;
@@ -598,10 +610,13 @@ begin
       if clr2 then
         up(to_integer(mb2_d1)) := '0';
       end if;
+      nw_we <= bool2sl(v_d1 = '1' and grid = '1' and n_we);
+      nw_a  <= n_wa;
+      nw_d  <= n_wn & std_logic_vector(n_wd);
+      if nw_we = '1' then
+        nexts(to_integer(nw_a(NBITS_c - 1 downto 0))) <= nw_d;
+      end if;
       if v_d1 = '1' and grid = '1' then
-        if n_we then
-          nexts(to_integer(n_wa(NBITS_c - 1 downto 0))) <= n_wn & std_logic_vector(n_wd);
-        end if;
         if h_we then
           heads(to_integer(h_wa)) <= h_wd;
         end if;
@@ -641,6 +656,7 @@ begin
         touched1 <= (others => '0');
       end if;
       if rst = '1' then
+        nw_we <= '0';
         v_m0  <= '0';
         v_m1  <= '0';
         v_m2  <= '0';

@@ -176,6 +176,7 @@ architecture rtl of orb_feat_dma is
   signal cfg_base    : unsigned(31 downto 0) := (others => '0');
   signal cfg_stride  : unsigned(31 downto 0) := (others => '0');
   signal cfg_count   : unsigned(4 downto 0) := (others => '0');
+  signal cfg_last    : unsigned(3 downto 0) := (others => '0');  -- count - 1 (0 for count 0), beside cfg_count
   signal settle      : unsigned(2 downto 0) := to_unsigned(SETTLE_c, 3);  -- clocks until ring_err is theirs
   signal chk_lo      : unsigned(35 downto 0) := (others => '0');  -- (count - 1) * stride, bits 1..0
   signal chk_hi      : unsigned(35 downto 0) := (others => '0');  -- ... bits 3..2
@@ -336,12 +337,16 @@ begin
   -- been 0 for a clock: a frame whose first beat is registered by the edge that registers a change
   -- or by one of the 4 after it is refused, one registered by the 5th edge uses the new ring).
   checks : process (clk) is
-    variable last_v : unsigned(3 downto 0);
   begin
     if rising_edge(clk) then
       cfg_base   <= unsigned(ring_base);
       cfg_stride <= unsigned(ring_stride);
       cfg_count  <= unsigned(ring_count);
+      -- count - 1, registered with the count so that stage 1 starts at a register (the timing path)
+      cfg_last   <= (others => '0');
+      if unsigned(ring_count) /= 0 then
+        cfg_last <= resize(unsigned(ring_count) - 1, 4);
+      end if;
       if unsigned(ring_base) /= cfg_base or unsigned(ring_stride) /= cfg_stride or
          unsigned(ring_count) /= cfg_count then
         settle <= to_unsigned(SETTLE_c, 3);
@@ -349,12 +354,8 @@ begin
         settle <= settle - 1;
       end if;
       -- 1: the partial products of (count - 1) * stride, base + one buffer, the plain flags
-      last_v := (others => '0');
-      if cfg_count /= 0 then
-        last_v := resize(cfg_count - 1, 4);
-      end if;
-      chk_lo    <= times2(last_v(1 downto 0), cfg_stride);
-      chk_hi    <= shift_left(times2(last_v(3 downto 2), cfg_stride), 2);
+      chk_lo    <= times2(cfg_last(1 downto 0), cfg_stride);
+      chk_hi    <= shift_left(times2(cfg_last(3 downto 2), cfg_stride), 2);
       chk_end   <= resize(cfg_base, 37) + to_unsigned(BUF_BYTES_c, 37);
       chk_below <= '1' when resize(cfg_base, 37) < WIN_LO_c else '0';
       chk_err1  <= (others => '0');

@@ -963,17 +963,17 @@ _VIDEO_CHECK_SHAPE_BUGS = (
 _DMA_GENERICS = {"DEPTH_g": 16, "SEL_SLOTS_g": 2, "FIFO_DEPTH_g": 16, "OUTSTANDING_g": 2, "WIN_BASE_MB_g": 1,
                  "WIN_SIZE_MB_g": 1}  # fmt: skip
 _DMA_AXI4W = {"MAX_OUTSTANDING": 2, "MAX_AHEAD": 1}
-_DMA_WINDOW = """  // the DDR window [WIN_BASE_MB_g, + WIN_SIZE_MB_g) MiB in bytes, and one buffer (DEPTH_g slots of 64 bytes)
+_DMA_WINDOW = """  // the DDR window [WIN_BASE_MB_g, + WIN_SIZE_MB_g) MiB in bytes, one buffer (DEPTH_g 64-byte slots)
   localparam [36:0] WIN_LO = 37'd{lo}, WIN_HI = 37'd{hi}, BUF = 37'd{buf};
   wire [36:0] aw_a = {{5'd0, m_axi_feat_awaddr}};
   // the registers' contract: RING_COUNT 0 .. 16 (the register map's maximum; a larger write is refused)
   always @(*) assume (ring_count <= 16);"""
-_DMA_ADDR = """  // every address 64-byte aligned, every burst (64 bytes) inside the window, whatever the ring registers do
+_DMA_ADDR = """  // every address 64-byte aligned, every 64-byte burst inside the window, whatever the ring registers do
   always @(*) if (!init && m_axi_feat_awvalid) begin
     aw_aligned: assert (m_axi_feat_awaddr[5:0] == 0);
     aw_in_window: assert (aw_a >= WIN_LO && aw_a + 64 <= WIN_HI);
   end"""
-_DMA_CONST_RING = """  // the ring registers constant from the first clock; legal: the four checks of docs/feature-dma.md
+_DMA_CONST_RING = """  // the ring registers constant from the first clock; legal by the four checks of feature-dma.md
   (* anyconst *) reg [31:0] c_base, c_stride;
   (* anyconst *) reg [4:0] c_count;
   always @(*) assume (ring_base == c_base && ring_stride == c_stride && ring_count == c_count);
@@ -991,7 +991,8 @@ _DMA_RING = """  always @(*) if (init) assume (legal);
   // buffers' starts computed once, in the first clock (the ring is constant)
   reg [16 * 37 - 1:0] starts;
   integer i;
-  always @(posedge clk) if (init) for (i = 0; i < 16; i = i + 1) starts[37 * i +: 37] <= {5'd0, c_base} + mul4(i, c_stride);
+  always @(posedge clk)
+    if (init) for (i = 0; i < 16; i = i + 1) starts[37 * i +: 37] <= {5'd0, c_base} + mul4(i, c_stride);
   reg in_buf;
   integer j;
   always @(*) begin
