@@ -55,6 +55,10 @@ _REC_GRID = f"{_REC}s{RECOMMENDED_SECTORS}/g{RECOMMENDED_BUDGET}"
 SCALE_BENCH_DEFAULT = ("2:1x4", _REC_HOST, _REC_GRID, "cv-2:1x4", f"cv-{_REC}", "cv-default@2:1x4",
                        f"cv-default@{_REC_HOST}", f"cv-default@{_REC_GRID}")  # fmt: skip
 
+# the viewpoint bench: ours at the recommended configuration with the fabric's selection, and OpenCV's
+# defaults at its feature count
+VIEWPOINT_BENCH_DEFAULT = (_REC_GRID, f"cv-default@{_REC_GRID}")
+
 
 class UsageError(Exception):
     """A user mistake reported as one line."""
@@ -194,6 +198,16 @@ def _add_model_options(p: argparse.ArgumentParser) -> None:
                    help=f"orientation sectors (default {RECOMMENDED_SECTORS})")  # fmt: skip
 
 
+def _tilt(text: str) -> float:
+    try:
+        v = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"tilt {text!r}: expected degrees, 0 <= tilt < 90") from None
+    if not 0.0 <= v < 90.0:
+        raise argparse.ArgumentTypeError(f"tilt {text}: expected degrees, 0 <= tilt < 90")
+    return v
+
+
 def _positive_float(text: str) -> float:
     try:
         value = float(text)
@@ -271,6 +285,19 @@ def build_parser() -> argparse.ArgumentParser:
     sb.add_argument("--extractors", nargs="+", default=list(SCALE_BENCH_DEFAULT),
                     help="ours NUM:DENxLEVELS; OpenCV cv-NUM:DENxLEVELS, cv-default[@OURS] (OURS budget)")  # fmt: skip
     sb.add_argument("--out-dir", type=Path, default=Path("build/scale-bench"))
+
+    vb = sub.add_parser("viewpoint-bench", help="matching under a change of viewpoint (tilt), against OpenCV ORB")
+    vb.add_argument("images", nargs="+", type=Path)
+    vb.add_argument("--extractors", nargs="+", default=list(VIEWPOINT_BENCH_DEFAULT),
+                    help="as scale-bench's: ours NUM:DENxLEVELS[sSECTORS][/[g]BUDGET], cv-NUM:DENxLEVELS, "
+                         "cv-default[@OURS] (OURS's feature count as its budget)")  # fmt: skip
+    vb.add_argument("--tilts", type=_tilt, nargs="+", default=[0.0, 20.0, 30.0, 40.0, 50.0, 60.0],
+                    help="tilts of the view in degrees, 0 <= tilt < 90 (default 0 20 30 40 50 60)")  # fmt: skip
+    vb.add_argument("--axes", choices=("x", "y"), nargs="+", default=["x", "y"],
+                    help="the tilt's axes: x (the image's horizontal axis), y (its vertical one)")  # fmt: skip
+    vb.add_argument("--rotations", type=float, nargs="+", default=[0.0, 30.0], help="in-plane rotations (degrees)")
+    vb.add_argument("--scales", type=_positive_float, nargs="+", default=[1.0, 0.75], help="scale changes")
+    vb.add_argument("--out-dir", type=Path, default=Path("build/viewpoint-bench"))
 
     ep = sub.add_parser("eval-photos", help="the 32 held-out photographs from Debian packages (docs/evaluation.md)")
     ep.add_argument("out_dir", type=Path, help="writes native/, 640x480/, 1280x720/, 1920x1080/ and photos.json")
@@ -456,6 +483,33 @@ def cmd_scale_bench(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_viewpoint_bench(args: argparse.Namespace) -> int:
+    from . import scale_bench as sb
+    from . import viewpoint_bench as vpb
+
+    try:
+        extractors = [sb.parse_extractor(t) for t in args.extractors]
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
+    images = _load_images(args.images)
+    try:
+        rows, summary = vpb.run(images, extractors, tilts=args.tilts, axes=args.axes, rotations=args.rotations,
+                                scales=args.scales, progress=lambda line: print(line, flush=True))  # fmt: skip
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
+    args.out_dir.mkdir(parents=True, exist_ok=True)
+    sb.write_csv(args.out_dir / "viewpoint_bench.csv", rows)
+    sb.write_csv(args.out_dir / "viewpoint_bench_summary.csv", summary)
+    vpb.plot(summary, args.out_dir / "viewpoint_bench.png")
+    keys = [k for k in summary[0] if k != "extractor"]
+    print("| extractor | " + " | ".join(keys) + " |")
+    print("|---|" + "---|" * len(keys))
+    for row in summary:
+        print(f"| {row['extractor']} | " + " | ".join(str(row[k]) for k in keys) + " |")
+    print(f"-> {args.out_dir}/viewpoint_bench.csv, viewpoint_bench_summary.csv, viewpoint_bench.png")
+    return 0
+
+
 def cmd_eval_photos(args: argparse.Namespace) -> int:
     from . import eval_photos as ep
 
@@ -516,7 +570,8 @@ def cmd_density_bench(args: argparse.Namespace) -> int:
 
 
 COMMANDS = {"extract": cmd_extract, "compare-fast": cmd_compare_fast, "rotation-bench": cmd_rotation_bench,
-            "scale-bench": cmd_scale_bench, "eval-photos": cmd_eval_photos, "track-bench": cmd_track_bench,
+            "scale-bench": cmd_scale_bench, "viewpoint-bench": cmd_viewpoint_bench, "eval-photos": cmd_eval_photos,
+            "track-bench": cmd_track_bench,
             "density-bench": cmd_density_bench, "ros-env": board_cli.cmd_ros_env,
             "sim-server": board_cli.cmd_sim_server, "bag": board_cli.cmd_bag, "serve": board_cli.cmd_serve}  # fmt: skip
 BOARD_COMMANDS = {"info": board_cli.cmd_info, "stream": board_cli.cmd_stream}
