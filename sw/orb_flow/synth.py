@@ -74,6 +74,7 @@ from pathlib import Path
 from typing import Any
 
 from orb_flow import timing  # the worst-paths report of the timing pass's netlist
+from orb_flow.device import DEVICE  # the XC7Z020, once
 from orb_sim.hdl import sources  # the one list of hdl files: hdl/manifest.txt
 from orb_sim.verilog_netlist import VerilogError, ghdl_verilog  # GHDL's Verilog, repaired
 
@@ -118,7 +119,6 @@ CHECKED = ("lut", "ff", "bram36", "dsp", "logic_delay_ns")
 BLOCK_FIGURES = ("lut", "ff", "bram36", "dsp")
 WORST_KEPT = 5  # worst paths (distinct endpoint registers) an expected-values entry keeps
 # XC7Z020 (Zybo Z7-20) capacity
-DEVICE = {"name": "XC7Z020", "lut": 53200, "ff": 106400, "bram36": 140, "dsp": 220}
 
 LUT_CELLS = ("LUT1", "LUT2", "LUT3", "LUT4", "LUT5", "LUT6")
 SRL_CELLS = ("SRL16E", "SRLC16E", "SRLC32E")

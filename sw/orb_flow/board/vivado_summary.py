@@ -60,7 +60,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-DEVICE = {"name": "XC7Z020", "lut": 53200, "ff": 106400, "bram36": 140, "dsp": 220}
+from orb_flow.device import DEVICE
+
 THESIS_MEASURED_W = 0.159  # the thesis's measured board power
 REPORTS = {"utilization": "utilization.rpt", "timing": "timing_summary.rpt", "power": "power.rpt"}
 UTIL_ROWS = {  # our key -> report_utilization row name

@@ -20,6 +20,7 @@ from pathlib import Path
 from typing import Any
 
 from orb_flow import formal
+from orb_flow.device import DEVICE as XC7Z020
 from orb_flow.gen.codegen import views_main
 
 ROOT = Path(__file__).resolve().parents[3]
@@ -28,7 +29,6 @@ BEGIN = "<!-- generated: {name} (" + GENERATOR + ") -->"
 END = "<!-- end generated -->"
 SYNTH = Path("sw") / "orb_flow" / "synth_expected.json"
 BOARD = Path("vivado") / "board.json"
-XC7Z020 = {"lut": 53200, "ff": 106400, "bram36": 140, "dsp": 220}  # the device's resources (DS190)
 
 
 class ResultsError(ValueError):
