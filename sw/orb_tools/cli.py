@@ -299,6 +299,31 @@ def build_parser() -> argparse.ArgumentParser:
     vb.add_argument("--scales", type=_positive_float, nargs="+", default=[1.0, 0.75], help="scale changes")
     vb.add_argument("--out-dir", type=Path, default=Path("build/viewpoint-bench"))
 
+    tj = sub.add_parser("trajectory-bench",
+                        help="visual odometry on a rendered stereo sequence (or TUM RGB-D ones): ATE and RPE by evo, "
+                             "ours against OpenCV ORB and an ORB-SLAM-style extractor at the same count")  # fmt: skip
+    tj.add_argument("photos", nargs="*", type=Path,
+                    help="photographs that texture the rendered scene (default: scikit-image's)")  # fmt: skip
+    tj.add_argument("--frames", type=_at_least(2), default=150, help="rendered stereo frames at 30 fps (default 150)")
+    tj.add_argument("--size", type=_size, default=(640, 480), help="frame size WxH (default 640x480)")
+    tj.add_argument("--budget", type=_budget, default=1000, help="features per frame for every extractor")
+    tj.add_argument("--extractors", nargs="+", default=None,
+                    help="orbslam, cv-default, or ours as scale-bench names them (default: the recommended "
+                         "configuration with the grid selection at --budget, cv-default, orbslam)")  # fmt: skip
+    tj.add_argument(
+        "--tum",
+        type=Path,
+        nargs="+",
+        default=[],
+        help="TUM RGB-D sequences (directories with rgb.txt, depth.txt, groundtruth.txt), run as well",
+    )
+    tj.add_argument("--tum-frames", type=_at_least(0), default=0, help="at most this many frames of each (0: all)")
+    tj.add_argument("--intrinsics", type=float, nargs=4, default=None, metavar=("FX", "FY", "CX", "CY"),
+                    help="the TUM sequences' camera (default: TUM's freiburg1)")  # fmt: skip
+    tj.add_argument("--no-render", action="store_true", help="only the --tum sequences")
+    tj.add_argument("--seed", type=int, default=1, help="the rendered scene's textures and noise (default 1)")
+    tj.add_argument("--out-dir", type=Path, default=Path("build/trajectory-bench"))
+
     ep = sub.add_parser("eval-photos", help="the 32 held-out photographs from Debian packages (docs/evaluation.md)")
     ep.add_argument("out_dir", type=Path, help="writes native/, 640x480/, 1280x720/, 1920x1080/ and photos.json")
     ep.add_argument(
@@ -510,6 +535,48 @@ def cmd_viewpoint_bench(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_trajectory_bench(args: argparse.Namespace) -> int:
+    from . import trajectory_bench as tjb
+    from .images import sample_photographs
+
+    names = args.extractors or [f"{_REC}s{RECOMMENDED_SECTORS}/g{args.budget}", "cv-default", "orbslam"]
+    try:
+        for name in names:
+            tjb.extractor(name, args.budget)
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
+    if args.no_render and not args.tum:
+        raise UsageError("--no-render needs at least one --tum sequence")
+    say = lambda line: print(line, flush=True)  # noqa: E731
+    rows: list[dict] = []
+    sequences = []
+    if not args.no_render:
+        photos = [img for _, img in _load_images(args.photos)] if args.photos else list(sample_photographs().values())
+        say(f"trajectory-bench: rendering the wall scene, {args.frames} stereo frames at {args.size[0]}x{args.size[1]}")
+        sequences.append(lambda: tjb.render_wall(photos, args.frames, args.size, seed=args.seed, progress=say))
+    for root in args.tum:
+        intr = tuple(args.intrinsics) if args.intrinsics else tjb.TUM_FR1
+        sequences.append(lambda root=root, intr=intr: tjb.load_tum(root, args.tum_frames, intr))
+    for make in sequences:
+        try:
+            seq = make()
+        except ValueError as exc:
+            raise UsageError(str(exc)) from None
+        out = args.out_dir / seq.name
+        out.mkdir(parents=True, exist_ok=True)
+        say(f"trajectory-bench: {seq.name}, {len(seq.frames)} frames, extractors {', '.join(names)}")
+        rows += tjb.run(seq, names, args.budget, out, progress=say)
+        tjb.plot(seq, out, names, out / "trajectory.png")
+    tjb.write_csv(args.out_dir / "trajectory_bench.csv", rows)
+    keys = [k for k in rows[0] if k not in ("sequence", "extractor")]
+    print("| sequence | extractor | " + " | ".join(keys) + " |")
+    print("|---|---|" + "---|" * len(keys))
+    for row in rows:
+        print(f"| {row['sequence']} | {row['extractor']} | " + " | ".join(str(row[k]) for k in keys) + " |")
+    print(f"-> {args.out_dir}/trajectory_bench.csv, <sequence>/trajectory.png and the trajectories (TUM format)")
+    return 0
+
+
 def cmd_eval_photos(args: argparse.Namespace) -> int:
     from . import eval_photos as ep
 
@@ -571,7 +638,7 @@ def cmd_density_bench(args: argparse.Namespace) -> int:
 
 COMMANDS = {"extract": cmd_extract, "compare-fast": cmd_compare_fast, "rotation-bench": cmd_rotation_bench,
             "scale-bench": cmd_scale_bench, "viewpoint-bench": cmd_viewpoint_bench, "eval-photos": cmd_eval_photos,
-            "track-bench": cmd_track_bench,
+            "track-bench": cmd_track_bench, "trajectory-bench": cmd_trajectory_bench,
             "density-bench": cmd_density_bench, "ros-env": board_cli.cmd_ros_env,
             "sim-server": board_cli.cmd_sim_server, "bag": board_cli.cmd_bag, "serve": board_cli.cmd_serve}  # fmt: skip
 BOARD_COMMANDS = {"info": board_cli.cmd_info, "stream": board_cli.cmd_stream}
@@ -596,6 +663,7 @@ EXTRAS = {
     "skimage": ("tools", "scikit-image"),
     "matplotlib": ("tools", "matplotlib"),
     "rosbags": ("tools", "rosbags"),
+    "evo": ("tools", "evo"),
     "cocotb": ("sim", "cocotb"),
     "cocotb_tools": ("sim", "cocotb"),
     "cocotbext": ("sim", "cocotbext-axi"),
