@@ -162,6 +162,7 @@ eval: $(STAMP)
 	$(BIN)/orb-accel scale-bench $(EVAL_HELD)/640x480/*.png --extractors 5:4x5s64/g1000 cv-default@5:4x5s64/g1000 \
 		--out-dir build/eval/scale-bench-held
 	$(BIN)/orb-accel viewpoint-bench $(EVAL_HELD)/640x480/*.png --out-dir build/eval/viewpoint-bench-held
+	$(BIN)/orb-accel trajectory-bench $(EVAL_HELD)/native/*.png --out-dir build/eval/trajectory-bench
 	$(BIN)/orb-accel track-bench $(foreach p,$(TRACK_PHOTOS),$(EVAL_HELD)/native/$(p).png) \
 		$$(ls $(EVAL_DEBS)/opencv-doc/usr/share/doc/opencv-doc/examples/data/vtest.avi 2>/dev/null) \
 		--out-dir build/eval/track-bench

@@ -99,6 +99,16 @@ EVAL: dict[str, tuple[str, str, Callable[[Path], Any]]] = {
         "scale-bench-held/scale_bench_summary.csv",
         _csv_rows,
     ),
+    "viewpoint-bench-held": (
+        "orb-accel viewpoint-bench build/eval/held/640x480/*.png --out-dir build/eval/viewpoint-bench-held",
+        "viewpoint-bench-held/viewpoint_bench_summary.csv",
+        _csv_rows,
+    ),
+    "trajectory-bench": (
+        "orb-accel trajectory-bench build/eval/held/native/*.png --out-dir build/eval/trajectory-bench",
+        "trajectory-bench/trajectory_bench.csv",
+        _csv_rows,
+    ),
     "track-bench": (
         "orb-accel track-bench build/eval/held/native/{Wood,Aqua,Garden,LadyBird,TwoWings,YellowFlower,Storm,"
         "Blinds}.png build/eval/debian-cache/opencv-doc/usr/share/doc/opencv-doc/examples/data/vtest.avi "
