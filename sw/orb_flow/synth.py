@@ -73,7 +73,10 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from orb_flow import timing  # the worst-paths report of the timing pass's netlist
+from orb_flow import (
+    digest,
+    timing,
+)  # the hdl/ digest of a record (orb_flow.digest); the worst-paths report of the timing pass's netlist
 from orb_flow.device import DEVICE  # the XC7Z020, once
 from orb_sim.hdl import sources  # the one list of hdl files: hdl/manifest.txt
 from orb_sim.verilog_netlist import VerilogError, ghdl_verilog  # GHDL's Verilog, repaired
@@ -787,6 +790,7 @@ def expected_entry(rec: dict[str, Any], cdir: Path, command: str, old: dict[str,
     entry["measured"] = {
         "command": command,
         "commit": rec["hdl_revision"].removeprefix("commit "),
+        "hdl_digest": digest.at_commit(rec["hdl_revision"].removeprefix("commit "), ROOT),
         "date": rec["date"],
         "tools": ", ".join(" ".join(rec["tools"][t].split()[:2]) for t in ("ghdl", "yosys")),  # GHDL 2.0.0, Yosys 0.23
     }

@@ -19,7 +19,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from orb_flow import formal
+from orb_flow import digest, formal
 from orb_flow.device import DEVICE as XC7Z020
 from orb_flow.gen.codegen import views_main
 
@@ -48,6 +48,14 @@ class Records:
         self.campaign = self._runs(root / "docs" / "results" / "campaign.json")
         self.synth = json.loads((root / SYNTH).read_text())["jobs"]
         self.board = json.loads((root / BOARD).read_text())
+        self.hdl = digest.on_disk(root)  # the checkout's hdl/, against which an HDL record is dated
+
+    def age(self, hdl_digest: str | None) -> str:
+        """What a table appends to an HDL record's commit: nothing when it measured this checkout's
+        hdl/, else that the HDL has changed since (standard 8; orb_flow.digest)."""
+        if hdl_digest is None:
+            return " (hdl/ of the record unknown)"
+        return "" if hdl_digest == self.hdl else " (**older hdl/**: changed since)"
 
     @staticmethod
     def _runs(path: Path) -> dict[str, Any]:
@@ -304,7 +312,8 @@ def synth_table(records: Records) -> list[str]:
         m = j["measured"]
         rows.append([f"`{top}`", size, ", ".join(f"`{g}`" for g in generics) or "the top's defaults",
                      f"{j['lut']:,} ({100 * j['lut'] / XC7Z020['lut']:.1f}%)", f"{j['ff']:,}", f"{j['bram36']:g}",
-                     str(j["dsp"]), delay, f"{m['commit']}, {m['date']}"])  # fmt: skip
+                     str(j["dsp"]), delay,
+                     f"{m['commit']}, {m['date']}{records.age(m.get('hdl_digest'))}"])  # fmt: skip
     head = ["top", "W x H x levels", "other generics", "LUT (of the XC7Z020)", "FF", "RAMB36", "DSP48",
             "logic delay (pre-route)", "commit, date"]  # fmt: skip
     return [*_table(head, rows), "", f"From `{SYNTH}` (yosys estimates; the commands and wall times are there)."]
@@ -398,7 +407,7 @@ def formal_table(records: Records) -> list[str]:
         if not mine:
             continue
         what = "the other checks" if run is whole and len(runs) > 1 else ", ".join(f"`{k}`" for k in mine)
-        foot.append(f"{what}: {_source(run)} ({run['tools']})")
+        foot.append(f"{what}: {_source(run)}{records.age(run.get('hdl_digest'))} ({run['tools']})")
     return [*text.rstrip("\n").split("\n"), "", "Measured by " + "; ".join(foot) + "."]
 
 
@@ -420,7 +429,7 @@ def sim_table(records: Records) -> list[str]:
         rows.append([f"`{run['command']}`", f"{what} {d['width']}x{d['height']}", device, memory, engine,
                      _int(d["features"]), "yes" if d["bit_exact"] and d.get("overlay_bit_exact", True) else "**no**",
                      str(d["dropped"]), str(d.get("latency_cycles", "-")), f"{d['sim_wall_s']:,.0f} s",
-                     f"{run['commit']}, {run['date']}"])  # fmt: skip
+                     f"{run['commit']}, {run['date']}{records.age(run.get('hdl_digest'))}"])  # fmt: skip
     head = ["command", "image", "device", "feature memory", "engine", "features", "bit-exact (features, overlay)",
             "lost", "last pixel to end-of-frame record, clocks", "simulation", "commit, date"]  # fmt: skip
     return _table(head, rows)
@@ -444,7 +453,7 @@ def bus_table(records: Records) -> list[str]:
         rows.append([f"`{run['command']}`", f"{d['width']}x{d['height']}", _int(d["features"]),
                      _int(ddr["axi_bursts"]), f"{frame / 1e3:,.0f} KB", f"{rate / 1e6:.1f} MB/s",
                      f"{100 * rate / HP0_BYTES_PER_S:.1f} %", str(errors),
-                     f"{run['commit']}, {run['date']}"])  # fmt: skip
+                     f"{run['commit']}, {run['date']}{records.age(run.get('hdl_digest'))}"])  # fmt: skip
     if not rows:
         raise ResultsError("docs/results/sim.json has no make sim run through the DDR ring: run make sim "
                            "CONFIG=board-vga FAST=1 and record it (python -m orb_flow.record sim ...)")  # fmt: skip
@@ -484,7 +493,8 @@ def campaign_table(records: Records) -> list[str]:
         rows.append([f"`{run['command']}`", device, seed, f"{d['events']:,}", frames,
                      f"{d['faults_injected']:,}: {_kinds(d['faults_by_kind'])}", _kinds(d["changes_by_kind"]),
                      bad["lockups"], bad["mismatches"], f"{d['features_checked']:,}",
-                     f"{_wall(d['wall_s'])}, {d['machine']}", f"{run['commit']}, {run['date']}"])  # fmt: skip
+                     f"{_wall(d['wall_s'])}, {d['machine']}",
+                     f"{run['commit']}, {run['date']}{records.age(run.get('hdl_digest'))}"])  # fmt: skip
     head = ["command", "device", "seed", "events", "frames", "faults injected", "changes (each with a good frame)",
             "lock-ups", "mismatches", "features checked", "wall time", "commit, date"]  # fmt: skip
     return _table(head, rows)
@@ -528,7 +538,9 @@ def board_table(records: Records) -> list[str]:
                      f"{j['dsp']} ({100 * j['dsp'] / XC7Z020['dsp']:.1f}%)", f"{j['logic_delay_ns']:.3f} ns",
                      f"{1000 / c['core_mhz']:.2f} ns ({c['core_mhz']} MHz)",
                      f"{j['measured']['commit']}, {j['measured']['date']}"
-                     + (f" (**stale**: {j['stale']})" if "stale" in j else ""), "not run"])  # fmt: skip
+                     + (f" (**stale**: {j['stale']})" if "stale" in j
+                        else records.age(j["measured"].get("hdl_digest"))),
+                     "not run"])  # fmt: skip
     head = ["configuration", "device", "LUT", "FF", "RAMB36", "DSP48", "logic delay (pre-route)",
             "core clock period", "commit, date", "Vivado"]  # fmt: skip
     return _table(head, rows)
@@ -581,7 +593,8 @@ def headline(records: Records) -> list[str]:
     rot = {r["method"]: r for r in records.run("eval", "rotation-bench-grid")["data"]}
     track = {(r["extractor"], r["gap"]): r for r in records.run("eval", "track-bench")["data"]["summary"]}
     dens = records.run("eval", "density-bench")["data"]["summary"]
-    sim = records.run("sim", "make-sim")["data"]
+    simrun = records.run("sim", "make-sim")
+    sim = simrun["data"]
     ours_h, cv_h = held["5:4x5s64/g1000"], held["cv-default@5:4x5s64/g1000"]
     ours_r = next(r for m, r in rot.items() if m != "opencv")
     empty = {x: sum(r["corner_cells_empty"] for r in dens if r["extractor"] == x) for x in ("ours", "cv-ours")}
@@ -591,7 +604,8 @@ def headline(records: Records) -> list[str]:
         _, j = _board_job(records, name)
         boards.append(f"{name}: {j['lut']:,} LUT ({100 * j['lut'] / XC7Z020['lut']:.0f}%), "
                       f"{j['bram36']:g} RAMB36, {j['dsp']} DSP48, {j['logic_delay_ns']:.2f} ns pre-route logic delay"
-                      + (" (block-RAM build: not yet synthesised with the DDR ring)" * ("stale" in j)))  # fmt: skip
+                      + (" (block-RAM build: not yet synthesised with the DDR ring)" if "stale" in j
+                         else records.age(j["measured"].get("hdl_digest"))))  # fmt: skip
     rows = [
         ["Matching under scale change (32 held-out photographs, 0.6 to 1.0)",
          f"**{_pct(ours_h['pooled_pct'])}**", f"{_pct(cv_h['pooled_pct'])} (OpenCV ORB, its defaults, same count)",
@@ -611,7 +625,8 @@ def headline(records: Records) -> list[str]:
         ["Throughput", "one pixel per clock: 1080p60, 720p60 and 480p60 HDMI in real time (design; not run on a board)",
          "-", "[board.md](docs/board.md)"],
         ["`make sim`: the bundled photograph in GHDL", f"{sim['features']:,} features, bit-exact, "
-         f"{sim['dropped']} lost, {sim['sim_wall_s']:.0f} s", "-", "[fast-sim.md](docs/fast-sim.md#results)"],
+         f"{sim['dropped']} lost, {sim['sim_wall_s']:.0f} s (commit {simrun['commit']})"
+         f"{records.age(simrun.get('hdl_digest'))}", "-", "[fast-sim.md](docs/fast-sim.md#results)"],
     ]  # fmt: skip
     return _table(["", "this accelerator", "reference", "where"], rows)
 
