@@ -499,13 +499,18 @@ def cmd_scale_bench(args: argparse.Namespace) -> int:
     sb.write_csv(args.out_dir / "scale_bench.csv", rows)
     sb.write_csv(args.out_dir / "scale_bench_summary.csv", summary)
     sb.plot(summary, sb.SCALE_CHANGES, args.out_dir / "scale_bench.png")
-    keys = [k for k in summary[0] if k != "extractor"]
-    print("| extractor | " + " | ".join(keys) + " |")
-    print("|---|" + "---|" * len(keys))
-    for row in summary:
-        print(f"| {row['extractor']} | " + " | ".join(str(row[k]) for k in keys) + " |")
+    _print_table(summary, ("extractor",))
     print(f"-> {args.out_dir}/scale_bench.csv, scale_bench_summary.csv, scale_bench.png")
     return 0
+
+
+def _print_table(rows: Sequence[dict], first: Sequence[str]) -> None:
+    """A bench's summary rows as a Markdown table, the `first` columns first."""
+    keys = [*first, *(k for k in rows[0] if k not in first)]
+    print("| " + " | ".join(keys) + " |")
+    print("|" + "---|" * len(keys))
+    for row in rows:
+        print("| " + " | ".join(str(row[k]) for k in keys) + " |")
 
 
 def cmd_viewpoint_bench(args: argparse.Namespace) -> int:
@@ -526,16 +531,13 @@ def cmd_viewpoint_bench(args: argparse.Namespace) -> int:
     sb.write_csv(args.out_dir / "viewpoint_bench.csv", rows)
     sb.write_csv(args.out_dir / "viewpoint_bench_summary.csv", summary)
     vpb.plot(summary, args.out_dir / "viewpoint_bench.png")
-    keys = [k for k in summary[0] if k != "extractor"]
-    print("| extractor | " + " | ".join(keys) + " |")
-    print("|---|" + "---|" * len(keys))
-    for row in summary:
-        print(f"| {row['extractor']} | " + " | ".join(str(row[k]) for k in keys) + " |")
+    _print_table(summary, ("extractor",))
     print(f"-> {args.out_dir}/viewpoint_bench.csv, viewpoint_bench_summary.csv, viewpoint_bench.png")
     return 0
 
 
 def cmd_trajectory_bench(args: argparse.Namespace) -> int:
+    from . import scale_bench as sb
     from . import trajectory_bench as tjb
     from .images import sample_photographs
 
@@ -567,12 +569,8 @@ def cmd_trajectory_bench(args: argparse.Namespace) -> int:
         say(f"trajectory-bench: {seq.name}, {len(seq.frames)} frames, extractors {', '.join(names)}")
         rows += tjb.run(seq, names, args.budget, out, progress=say)
         tjb.plot(seq, out, names, out / "trajectory.png")
-    tjb.write_csv(args.out_dir / "trajectory_bench.csv", rows)
-    keys = [k for k in rows[0] if k not in ("sequence", "extractor")]
-    print("| sequence | extractor | " + " | ".join(keys) + " |")
-    print("|---|---|" + "---|" * len(keys))
-    for row in rows:
-        print(f"| {row['sequence']} | {row['extractor']} | " + " | ".join(str(row[k]) for k in keys) + " |")
+    sb.write_csv(args.out_dir / "trajectory_bench.csv", rows)
+    _print_table(rows, ("sequence", "extractor"))
     print(f"-> {args.out_dir}/trajectory_bench.csv, <sequence>/trajectory.png and the trajectories (TUM format)")
     return 0
 

@@ -27,9 +27,11 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
+from golden_model.orientation import PATCH_RADIUS, UMAX
+
 CELL = 30
 BORDER = 16  # ORB-SLAM's EDGE_THRESHOLD - 3
-HALF_PATCH = 15
+HALF_PATCH = PATCH_RADIUS  # 15
 
 
 @dataclass(frozen=True)
@@ -153,30 +155,13 @@ def distribute(pts: np.ndarray, quota: int, bounds: tuple[float, float, float, f
     return best
 
 
-def _umax() -> np.ndarray:
-    """Half widths of the radius-15 disc by row (OpenCV's and ORB-SLAM's umax)."""
-    u = np.zeros(HALF_PATCH + 1, dtype=np.int64)
-    vmax = math.floor(HALF_PATCH * math.sqrt(2.0) / 2 + 1)
-    vmin = math.ceil(HALF_PATCH * math.sqrt(2.0) / 2)
-    hp2 = HALF_PATCH * HALF_PATCH
-    for v in range(vmax + 1):
-        u[v] = round(math.sqrt(hp2 - v * v))
-    v0 = 0
-    for v in range(HALF_PATCH, vmin - 1, -1):
-        while u[v0] == u[v0 + 1]:
-            v0 += 1
-        u[v] = v0
-        v0 += 1
-    return u
-
-
 _DISC = None
 
 
 def _disc() -> tuple[np.ndarray, np.ndarray]:
     global _DISC
     if _DISC is None:
-        um = _umax()
+        um = UMAX  # the radius-15 disc's half widths by row, as OpenCV's and ORB-SLAM's
         dy, dx = [], []
         for v in range(-HALF_PATCH, HALF_PATCH + 1):
             for u in range(-int(um[abs(v)]), int(um[abs(v)]) + 1):

@@ -214,16 +214,21 @@ def score(counts: np.ndarray) -> float:
     return 100.0 * counts[..., 4].sum() / max(counts[..., 2].sum(), 1)
 
 
-def run(images: Sequence[tuple[str, np.ndarray]], extractors: Sequence[Extractor],
-        rotations: Sequence[float] = ROTATIONS, scales: Sequence[float] = SCALE_CHANGES,
-        perspectives: Sequence[float] = PERSPECTIVES,
-        progress: Callable[[str], None] | None = None) -> tuple[list[dict], list[dict]]:  # fmt: skip
-    """(one row per image x extractor x homography, one summary row per extractor)."""
+def check_budgets(extractors: Sequence[Extractor]) -> None:
+    """An OpenCV-defaults extractor takes its budget from one of ours in the same list."""
     ours = {e.name for e in extractors if e.kind == "ours"}
     for e in extractors:
         if e.kind == "opencv-default" and (not ours or (e.budget_of and e.budget_of not in ours)):
             listed = ", ".join(sorted(ours)) or "none"
             raise ValueError(f"{e.name}: the budget needs one of ours in the list ({listed})")
+
+
+def run(images: Sequence[tuple[str, np.ndarray]], extractors: Sequence[Extractor],
+        rotations: Sequence[float] = ROTATIONS, scales: Sequence[float] = SCALE_CHANGES,
+        perspectives: Sequence[float] = PERSPECTIVES,
+        progress: Callable[[str], None] | None = None) -> tuple[list[dict], list[dict]]:  # fmt: skip
+    """(one row per image x extractor x homography, one summary row per extractor)."""
+    check_budgets(extractors)
     rows: list[dict] = []
     totals = {e.name: np.zeros((len(scales), len(COUNTS)), dtype=np.int64) for e in extractors}
     per_image = {e.name: [] for e in extractors}

@@ -16,7 +16,6 @@ degrees) come from PyPI's evo; lost frames (too few PnP inliers) are counted.
 
 from __future__ import annotations
 
-import csv
 import math
 import time
 from collections.abc import Callable, Sequence
@@ -186,14 +185,6 @@ def run(seq: Sequence_, names: Sequence[str], budget: int, out_dir: Path | None 
 
 def _file_name(name: str) -> str:
     return name.replace("/", "_").replace(":", "-").replace("@", "_at_")
-
-
-def write_csv(path: Path, rows: Sequence[dict]) -> None:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    with open(path, "w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
-        w.writeheader()
-        w.writerows(rows)
 
 
 def plot(seq: Sequence_, out_dir: Path, names: Sequence[str], path: Path) -> None:

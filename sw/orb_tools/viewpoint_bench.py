@@ -126,11 +126,7 @@ def run(images: Sequence[tuple[str, np.ndarray]], extractors: Sequence[sb.Extrac
         scales: Sequence[float] = SCALES,
         progress: Callable[[str], None] | None = None) -> tuple[list[dict], list[dict]]:  # fmt: skip
     """(one row per image x extractor x view, one row per extractor x tilt and one pooled)."""
-    ours = {e.name for e in extractors if e.kind == "ours"}
-    for e in extractors:
-        if e.kind == "opencv-default" and (not ours or (e.budget_of and e.budget_of not in ours)):
-            listed = ", ".join(sorted(ours)) or "none"
-            raise ValueError(f"{e.name}: the budget needs one of ours in the list ({listed})")
+    sb.check_budgets(extractors)
     pairs = views(tilts, axes, rotations, scales)
     rows: list[dict] = []
     totals = {e.name: np.zeros((len(tilts), len(COUNTS)), dtype=np.int64) for e in extractors}
