@@ -113,8 +113,7 @@ def views(tilts: Sequence[float] = TILTS, axes: Sequence[str] = AXES, rotations:
     return out
 
 
-def score(c: np.ndarray) -> float:
-    return 100.0 * c[..., 4].sum() / max(c[..., 2].sum(), 1)
+score = sb.score  # correct / inside, the scale bench's
 
 
 def inlier_ratio(c: np.ndarray) -> float:
