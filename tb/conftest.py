@@ -2,7 +2,8 @@
 """Test order for `make test`: the long simulations first, so that two workers (pytest-xdist
 `--dist load --maxschedchunk 1`, the Makefile's) finish together instead of one of them starting a
 ten-minute simulation when the other has nothing left. The order changes nothing else: every test
-is independent of the others (each simulation builds in its own directory: docs/conventions.md).
+is independent of the others (a simulation's build is shared only by the tests of its own worker,
+which run one after the other, and is rebuilt when a source changes: docs/conventions.md).
 """
 
 from __future__ import annotations
@@ -15,7 +16,9 @@ LONG_FIRST = (
     # two Verilator builds when the cache is cold (a fresh clone: 220 s), 20 s when warm
     "tb/fast/test_fast_sim.py::test_make_sim_fast_and_cli",
     "tb/top/test_orb_accel_top.py",
+    "tb/fast/test_fast_sim.py::test_against_ghdl",
     "tb/top/test_orb_accel_zynq.py",
+    "tb/fast/test_fast_ddr.py::test_ddr_frames",
     "tb/core/test_orb_core.py::test_recommended_configuration_densest_input",
     "tb/core/test_orb_core.py::test_grid_selection",
     "tb/core/test_orb_core.py",
