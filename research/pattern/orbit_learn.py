@@ -109,7 +109,51 @@ def rotated_twins(img: np.ndarray, xs: np.ndarray, ys: np.ndarray, rng: np.rando
     return wins, m10, m01
 
 
-def training_windows(params: GreedyParams, twins: int = 0):
+def viewpoint_twins(img: np.ndarray, xs: np.ndarray, ys: np.ndarray, rng: np.random.Generator, views: int,
+                    max_tilt: float = 50.0):  # fmt: skip
+    """Windows and moments of the same keypoints in a copy of ``img`` seen from another viewpoint.
+
+    As ``rotated_twins``, but each of the ``views`` random views per image is the viewpoint bench's
+    exact homography (orb_tools.viewpoint_bench.tilt_homography): a tilt uniform in 0..``max_tilt``
+    degrees about a random in-plane axis, then an in-plane rotation uniform in 0..360 degrees, scale
+    1; the view is translated into a canvas that holds all of it with a margin (R + 8)."""
+    import cv2
+
+    from orb_tools.viewpoint_bench import tilt_homography
+
+    h, w = img.shape
+    wins = np.empty((len(xs), W * W), dtype=np.uint8)
+    m10 = np.empty(len(xs), dtype=np.int64)
+    m01 = np.empty(len(xs), dtype=np.int64)
+    which = rng.integers(0, views, len(xs))
+    corners = np.array([[0, w - 1, w - 1, 0], [0, 0, h - 1, h - 1], [1, 1, 1, 1]], dtype=np.float64)
+    for a in range(views):
+        tilt, axis_angle, rot = rng.uniform(0.0, max_tilt), rng.uniform(0.0, 180.0), rng.uniform(0.0, 360.0)
+        # a tilt about an axis at axis_angle: rotate the axis onto x, tilt about x, rotate back, then rotate
+        cx, cy = (w - 1) / 2.0, (h - 1) / 2.0
+        to_c = np.array([[1, 0, -cx], [0, 1, -cy], [0, 0, 1]])
+        back = np.array([[1, 0, cx], [0, 1, cy], [0, 0, 1]])
+
+        def rz(deg: float) -> np.ndarray:
+            c, s_ = np.cos(np.radians(deg)), np.sin(np.radians(deg))
+            return np.array([[c, s_, 0], [-s_, c, 0], [0, 0, 1]])
+
+        hm = back @ rz(-axis_angle) @ to_c @ tilt_homography(img.shape, tilt, "x", axis_angle + rot)
+        pc = hm @ corners
+        px, py = pc[0] / pc[2], pc[1] / pc[2]
+        shift = np.array([[1, 0, R + 8 - px.min()], [0, 1, R + 8 - py.min()], [0, 0, 1]])
+        hm = shift @ hm
+        size = (int(np.ceil(px.max() - px.min())) + 2 * (R + 8), int(np.ceil(py.max() - py.min())) + 2 * (R + 8))
+        view = cv2.warpPerspective(img, hm, size, flags=cv2.INTER_LINEAR, borderMode=cv2.BORDER_CONSTANT)
+        sel = which == a
+        q = hm @ np.vstack([xs[sel], ys[sel], np.ones(int(sel.sum()))])
+        rx = np.floor(q[0] / q[2] + 0.5).astype(np.int64)
+        ry = np.floor(q[1] / q[2] + 0.5).astype(np.int64)
+        wins[sel], m10[sel], m01[sel] = _windows(smooth(view), rx, ry)
+    return wins, m10, m01
+
+
+def training_windows(params: GreedyParams, twins: int = 0, twin_kind: str = "rotation"):
     """(961, K) uint8 window values (row (dy+15)*31 + dx+15), m10 and m01 of pattern_learn's keypoints.
 
     With ``twins`` > 0 also the same for a rotated twin of every keypoint (``rotated_twins``).
@@ -125,7 +169,8 @@ def training_windows(params: GreedyParams, twins: int = 0):
             xs, ys = xs[pick], ys[pick]
         parts.append(_windows(smooth(img), xs, ys))
         if twins:
-            tparts.append(rotated_twins(img, xs, ys, rng_twin, twins))
+            make = rotated_twins if twin_kind == "rotation" else viewpoint_twins
+            tparts.append(make(img, xs, ys, rng_twin, twins))
     win, m10, m01 = (np.concatenate([p[i] for p in parts]) for i in range(3))
     pick = np.arange(len(win))
     if len(win) > params.keypoints:
@@ -319,6 +364,7 @@ class OrbitParams:
     twins: int = 3  # > 0: objective d' with rotated twins (this many angles per image); 0: n_eff
     integer: bool = False  # integer seed candidates instead of the 1/16 grid
     random_seed: int = 1001  # seed of the random baseline's candidates
+    twin_kind: str = "rotation"  # rotation: rotated twins; viewpoint: tilted and rotated (viewpoint_twins)
 
 
 def log(s: str) -> None:
@@ -329,7 +375,7 @@ def learn(op: OrbitParams, sector_counts: tuple[int, ...]) -> tuple[dict[int, np
     """Learned seeds per sector count and their description (the experiment's ORBIT_SOURCE)."""
     params = GreedyParams()
     t0 = time.perf_counter()
-    win, m10, m01, *tw = training_windows(params, op.twins)
+    win, m10, m01, *tw = training_windows(params, op.twins, op.twin_kind)
     log(f"training keypoints {win.shape[1]} ({time.perf_counter() - t0:.0f} s)")
     if op.integer:
         cands = integer_candidates(op.candidates, params.min_dist, params.seed)
@@ -353,7 +399,8 @@ def learn(op: OrbitParams, sector_counts: tuple[int, ...]) -> tuple[dict[int, np
         log("  training, learned: " + ", ".join(f"{k} {v:.4g}" for k, v in s.items()))
         log(f"  ({time.perf_counter() - t0:.0f} s)")
     kind = "integer" if op.integer else f"real (1/{GRID} grid)"
-    objective = f"d' with rotated twins ({op.twins} angles per image)" if op.twins else "n_eff"
+    kind_text = "rotated" if op.twin_kind == "rotation" else "tilted (0..50 degrees) and rotated"
+    objective = f"d' with {kind_text} twins ({op.twins} views per image)" if op.twins else "n_eff"
     source = (
         f"orbit greedy {objective}, {kind} seeds, candidates={op.candidates} pool={op.pool}, "
         f"pattern_learn training keypoints (seed {params.seed}, {win.shape[1]}), sector-steered"
@@ -409,10 +456,13 @@ DESCRIPTION = (
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--method", choices=["orbit-dprime", "orbit-random"], default="orbit-dprime")
+    ap.add_argument("--twins", choices=["rotation", "viewpoint"], default="rotation",
+                    help="orbit-dprime's matching twins: rotated copies (the adopted seeds) or viewpoint changes")
+    ap.add_argument("--views", type=int, default=3, help="twin views (angles) per training image")
     ap.add_argument("--out", type=Path, default=SEEDS_JSON, help=f"seed data to write (default: {SEEDS_JSON})")
     args = ap.parse_args()
     if args.method == "orbit-dprime":
-        seeds, source = learn(OrbitParams(), SECTOR_COUNTS)
+        seeds, source = learn(OrbitParams(twins=args.views, twin_kind=args.twins), SECTOR_COUNTS)
     else:
         seeds, source = random_seeds(SECTOR_COUNTS)
     args.out.write_text(seeds_json(args.method, source, seeds))

@@ -91,7 +91,7 @@ def disc_points(radius: int = RADIUS) -> np.ndarray:
 
 
 def keypoints(img: np.ndarray, fast_threshold: int) -> tuple[np.ndarray, np.ndarray]:
-    xs, ys, _ = detect(img, fast_threshold)
+    xs, ys, _, _ = detect(img, fast_threshold)
     keep = in_desc_border(xs, ys, img.shape[1], img.shape[0])
     return xs[keep], ys[keep]
 
