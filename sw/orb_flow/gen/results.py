@@ -171,6 +171,19 @@ def viewpoint_table(records: Records, name: str = "viewpoint-bench-held") -> lis
             f"the same image. Measured by {_source(run)}."]  # fmt: skip
 
 
+def trajectory_table(records: Records) -> list[str]:
+    """One row per sequence and extractor: frames, lost, ATE, RPE, inliers, features, 3D points."""
+    run = records.run("eval", "trajectory-bench")
+    names = {"cv-default": "OpenCV ORB's defaults (`cv-default`)", "orbslam": "ORB-SLAM-style (`orbslam`)"}
+    rows = [[r["sequence"], names.get(r["extractor"], extractor_label(r["extractor"])), f"{r['budget']:,}",
+             str(r["frames"]), str(r["lost"]), f"{r['ate_m'] * 100:.2f} cm", f"{r['rpe_m'] * 100:.2f} cm",
+             f"{r['rpe_deg']:.3f}", f"{r['inliers']:.1f}", f"{r['features']:.1f}", f"{r['points']:.1f}"]
+            for r in run["data"]]  # fmt: skip
+    head = ["sequence", "extractor", "budget", "frames", "lost", "ATE (RMSE)", "RPE, translation", "RPE (degrees)",
+            "PnP inliers a frame", "features a frame", "stereo points a frame"]  # fmt: skip
+    return [*_table(head, rows), "", f"Measured by {_source(run)}."]
+
+
 def track_tables(records: Records) -> list[str]:
     run = records.run("eval", "track-bench")
     rows = []
@@ -613,6 +626,7 @@ def headline(records: Records) -> list[str]:
     rot = {r["method"]: r for r in records.run("eval", "rotation-bench-grid")["data"]}
     track = {(r["extractor"], r["gap"]): r for r in records.run("eval", "track-bench")["data"]["summary"]}
     view = {(r["extractor"], str(r["tilt"])): r for r in records.run("eval", "viewpoint-bench-held")["data"]}
+    traj = {r["extractor"]: r for r in records.run("eval", "trajectory-bench")["data"] if r["sequence"] == "wall"}
     dens = records.run("eval", "density-bench")["data"]["summary"]
     simrun = records.run("sim", "make-sim")
     sim = simrun["data"]
@@ -638,6 +652,11 @@ def headline(records: Records) -> list[str]:
          f"**{_pct(view[('5:4x5s64/g1000', 'pooled')]['score_pct'])}**",
          f"{_pct(view[('cv-default@5:4x5s64/g1000', 'pooled')]['score_pct'])} (OpenCV ORB, its defaults, same count)",
          "[evaluation.md](docs/evaluation.md#viewpoint-change-issue-39)"],
+        ["Stereo odometry on the rendered diver sequence: ATE, lost frames (150 frames, 1,000 features)",
+         f"**{traj['5:4x5s64/g1000']['ate_m'] * 100:.2f} cm, {traj['5:4x5s64/g1000']['lost']} lost**",
+         f"{traj['cv-default']['ate_m'] * 100:.2f} cm, {traj['cv-default']['lost']} lost (OpenCV ORB); "
+         f"{traj['orbslam']['ate_m'] * 100:.2f} cm, {traj['orbslam']['lost']} lost (ORB-SLAM-style)",
+         "[evaluation.md](docs/evaluation.md#trajectory-issue-39)"],
         ["Tracking: inliers per feature, frame gap 1 / 5 (9 clips)",
          f"**{track[('ours', 1)]['inliers_per_feature']:.3f} / {track[('ours', 5)]['inliers_per_feature']:.3f}**",
          f"{track[('opencv', 1)]['inliers_per_feature']:.3f} / {track[('opencv', 5)]['inliers_per_feature']:.3f}",
@@ -665,6 +684,7 @@ TABLES: dict[str, tuple[Path, Callable[[Records], list[str]]]] = {
     "rotation-bench-grid": (Path("docs/evaluation.md"), lambda r: rotation_table(r, "rotation-bench-grid")),
     "track-bench": (Path("docs/evaluation.md"), track_tables),
     "viewpoint-bench-held": (Path("docs/evaluation.md"), viewpoint_table),
+    "trajectory-bench": (Path("docs/evaluation.md"), trajectory_table),
     "density-bench": (Path("docs/evaluation.md"), density_table),
     "sim-runs": (Path("docs/fast-sim.md"), sim_table),
     "campaigns": (Path("docs/fast-sim.md"), campaign_table),
