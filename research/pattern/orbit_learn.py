@@ -5,10 +5,13 @@
 Writes the seed data golden_model/data/orbit_seeds.json, from which sw/orb_flow/gen/pattern.py
 (``make pattern``) generates golden_model/pattern_data.py. Research code: nothing in the model, the
 tools or the tests imports it. Same code path and defaults as the experiment of 2026-11-22
-(research/pattern/, README.md there), so ``--method orbit-dprime`` reproduces that run's
-``orbit-dprime`` seeds. Run from the repository with the project's venv (golden_model installed):
+(research/pattern/, README.md there), with the matching twins taken from viewpoint changes since
+issue 39 (``--twins viewpoint --views 6``, the defaults: the adopted ``orbit-dprime-viewpoint``
+seeds); ``--twins rotation --views 3`` gives the earlier ``orbit-dprime`` seeds (rotated twins). Run
+from the repository with the project's venv (golden_model installed):
 
-    .venv/bin/python -m research.pattern.orbit_learn                  # orbit-dprime, about 3 min
+    .venv/bin/python -m research.pattern.orbit_learn                  # orbit-dprime-viewpoint, about 5 min
+    .venv/bin/python -m research.pattern.orbit_learn --twins rotation --views 3 --out /tmp/s.json  # the earlier seeds
     .venv/bin/python -m research.pattern.orbit_learn --method orbit-random --out /tmp/seeds.json
     make pattern                                                     # or python -m orb_flow.gen.pattern --seeds ...
 
@@ -336,11 +339,19 @@ def greedy(st: Steered, cands: np.ndarray, pool: int, batch: int, log, twin: Ste
     cross = np.zeros(len(seeds))
     chosen: list[int] = []
     e_s = v_s = f_s = 0.0
+    # the pattern's integer tests must be distinct (tb/model/test_pattern.py): a candidate whose members
+    # round onto each other or onto a test already chosen is not taken (it never was for the earlier
+    # rotation-twin seeds, so they are reproduced unchanged)
+    tables = member_tables(seeds, st.sectors)  # (4N, P, 4)
+    tests_of = [set(map(tuple, tables[:, i].tolist())) for i in range(len(seeds))]
+    taken: set[tuple[int, ...]] = set()
     for step in range(m):
         total = objective(e_s + e, v_s + v + 2 * cross, f_s + f)
         total[chosen] = -np.inf
+        total[[i for i, t in enumerate(tests_of) if len(t) < st.sectors or t & taken]] = -np.inf
         c = int(np.argmax(total))
         chosen.append(c)
+        taken |= tests_of[c]
         e_s += e[c]
         f_s += f[c]
         v_s += v[c] + 2 * cross[c]
@@ -399,8 +410,10 @@ def learn(op: OrbitParams, sector_counts: tuple[int, ...]) -> tuple[dict[int, np
         log("  training, learned: " + ", ".join(f"{k} {v:.4g}" for k, v in s.items()))
         log(f"  ({time.perf_counter() - t0:.0f} s)")
     kind = "integer" if op.integer else f"real (1/{GRID} grid)"
-    kind_text = "rotated" if op.twin_kind == "rotation" else "tilted (0..50 degrees) and rotated"
-    objective = f"d' with {kind_text} twins ({op.twins} views per image)" if op.twins else "n_eff"
+    if op.twin_kind == "rotation":  # the adopted seeds' text, byte for byte
+        objective = f"d' with rotated twins ({op.twins} angles per image)" if op.twins else "n_eff"
+    else:
+        objective = f"d' with tilted (0..50 degrees) and rotated twins ({op.twins} views per image)"
     source = (
         f"orbit greedy {objective}, {kind} seeds, candidates={op.candidates} pool={op.pool}, "
         f"pattern_learn training keypoints (seed {params.seed}, {win.shape[1]}), sector-steered"
@@ -456,16 +469,18 @@ DESCRIPTION = (
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--method", choices=["orbit-dprime", "orbit-random"], default="orbit-dprime")
-    ap.add_argument("--twins", choices=["rotation", "viewpoint"], default="rotation",
-                    help="orbit-dprime's matching twins: rotated copies (the adopted seeds) or viewpoint changes")
-    ap.add_argument("--views", type=int, default=3, help="twin views (angles) per training image")
+    ap.add_argument("--twins", choices=["rotation", "viewpoint"], default="viewpoint",
+                    help="orbit-dprime's matching twins: viewpoint changes (the adopted seeds) or rotated copies")
+    ap.add_argument("--views", type=int, default=6, help="twin views (angles) per training image (adopted: 6)")
+    ap.add_argument("--candidates", type=int, default=OrbitParams.candidates, help="seed candidates drawn")
     ap.add_argument("--out", type=Path, default=SEEDS_JSON, help=f"seed data to write (default: {SEEDS_JSON})")
     args = ap.parse_args()
     if args.method == "orbit-dprime":
-        seeds, source = learn(OrbitParams(twins=args.views, twin_kind=args.twins), SECTOR_COUNTS)
+        seeds, source = learn(OrbitParams(candidates=args.candidates, twins=args.views, twin_kind=args.twins), SECTOR_COUNTS)
     else:
         seeds, source = random_seeds(SECTOR_COUNTS)
-    args.out.write_text(seeds_json(args.method, source, seeds))
+    method = args.method + ("-viewpoint" if args.method == "orbit-dprime" and args.twins == "viewpoint" else "")
+    args.out.write_text(seeds_json(method, source, seeds))
     print(f"wrote {args.out}; now run `make pattern` (or sw/orb_flow/gen/pattern.py --seeds {args.out} --out ...)")
 
 
