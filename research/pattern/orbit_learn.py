@@ -70,6 +70,7 @@ W = 2 * R + 1
 GRID = 16
 ALL_SECTORS = 64
 SECTOR_COUNTS = (16, 32, 64)
+VIEW_MAX_TILT = 50.0  # the viewpoint twins' largest tilt (degrees; --max-tilt for experiments)
 ROOT = Path(__file__).resolve().parents[2]
 SEEDS_JSON = ROOT / "golden_model" / "data" / "orbit_seeds.json"
 
@@ -113,7 +114,7 @@ def rotated_twins(img: np.ndarray, xs: np.ndarray, ys: np.ndarray, rng: np.rando
 
 
 def viewpoint_twins(img: np.ndarray, xs: np.ndarray, ys: np.ndarray, rng: np.random.Generator, views: int,
-                    max_tilt: float = 50.0):  # fmt: skip
+                    max_tilt: float | None = None):  # fmt: skip
     """Windows and moments of the same keypoints in a copy of ``img`` seen from another viewpoint.
 
     As ``rotated_twins``, but each of the ``views`` random views per image is the viewpoint bench's
@@ -131,7 +132,8 @@ def viewpoint_twins(img: np.ndarray, xs: np.ndarray, ys: np.ndarray, rng: np.ran
     which = rng.integers(0, views, len(xs))
     corners = np.array([[0, w - 1, w - 1, 0], [0, 0, h - 1, h - 1], [1, 1, 1, 1]], dtype=np.float64)
     for a in range(views):
-        tilt, axis_angle, rot = rng.uniform(0.0, max_tilt), rng.uniform(0.0, 180.0), rng.uniform(0.0, 360.0)
+        top = VIEW_MAX_TILT if max_tilt is None else max_tilt
+        tilt, axis_angle, rot = rng.uniform(0.0, top), rng.uniform(0.0, 180.0), rng.uniform(0.0, 360.0)
         # a tilt about an axis at axis_angle: rotate the axis onto x, tilt about x, rotate back, then rotate
         cx, cy = (w - 1) / 2.0, (h - 1) / 2.0
         to_c = np.array([[1, 0, -cx], [0, 1, -cy], [0, 0, 1]])
@@ -413,7 +415,7 @@ def learn(op: OrbitParams, sector_counts: tuple[int, ...]) -> tuple[dict[int, np
     if op.twin_kind == "rotation":  # the adopted seeds' text, byte for byte
         objective = f"d' with rotated twins ({op.twins} angles per image)" if op.twins else "n_eff"
     else:
-        objective = f"d' with tilted (0..50 degrees) and rotated twins ({op.twins} views per image)"
+        objective = f"d' with tilted (0..{VIEW_MAX_TILT:g} degrees) and rotated twins ({op.twins} views per image)"
     source = (
         f"orbit greedy {objective}, {kind} seeds, candidates={op.candidates} pool={op.pool}, "
         f"pattern_learn training keypoints (seed {params.seed}, {win.shape[1]}), sector-steered"
@@ -467,16 +469,21 @@ DESCRIPTION = (
 
 
 def main() -> None:
+    global VIEW_MAX_TILT
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--method", choices=["orbit-dprime", "orbit-random"], default="orbit-dprime")
     ap.add_argument("--twins", choices=["rotation", "viewpoint"], default="viewpoint",
                     help="orbit-dprime's matching twins: viewpoint changes (the adopted seeds) or rotated copies")
     ap.add_argument("--views", type=int, default=6, help="twin views (angles) per training image (adopted: 6)")
     ap.add_argument("--candidates", type=int, default=OrbitParams.candidates, help="seed candidates drawn")
+    ap.add_argument("--pool", type=int, default=OrbitParams.pool, help="candidates kept for the greedy selection")
+    ap.add_argument("--max-tilt", type=float, default=VIEW_MAX_TILT, help="the viewpoint twins' largest tilt")
     ap.add_argument("--out", type=Path, default=SEEDS_JSON, help=f"seed data to write (default: {SEEDS_JSON})")
     args = ap.parse_args()
+    VIEW_MAX_TILT = args.max_tilt
     if args.method == "orbit-dprime":
-        seeds, source = learn(OrbitParams(candidates=args.candidates, twins=args.views, twin_kind=args.twins), SECTOR_COUNTS)
+        seeds, source = learn(OrbitParams(candidates=args.candidates, pool=args.pool, twins=args.views,
+                                     twin_kind=args.twins), SECTOR_COUNTS)
     else:
         seeds, source = random_seeds(SECTOR_COUNTS)
     method = args.method + ("-viewpoint" if args.method == "orbit-dprime" and args.twins == "viewpoint" else "")
