@@ -5,8 +5,9 @@
 The pattern for 4N sectors is M = 256 / 4N rotation-closed orbits of 4N members, one real-valued
 seed test per orbit (golden_model/pattern.py, spec section 10). The seeds for 16, 32 and 64 sectors
 are data, golden_model/data/orbit_seeds.json (the `orbit-dprime-viewpoint` seeds: the method of the
-experiment of 2026-11-22 with viewpoint twins, issue 39); this script checks them (1/16 grid, radius 15, 256 / 4N tests, no rounding tie) and
-writes them as Python. Deterministic: the same data gives a byte-identical file.
+experiment of 2026-11-22 with viewpoint twins, issue 39); this script checks them (1/16 grid,
+radius 15, 256 / 4N tests, no rounding tie) and writes them as Python. Deterministic: the same data
+gives a byte-identical file.
 
 Re-learning is research, not part of the build: research/pattern/orbit_learn.py (greedy d' with
 viewpoint twins, about 2 minutes; or the orbit-random baseline) writes the JSON, then `make pattern`.
