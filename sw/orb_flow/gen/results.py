@@ -652,7 +652,8 @@ def headline(records: Records) -> list[str]:
          f"**{_pct(view[('5:4x5s64/g1000', 'pooled')]['score_pct'])}**",
          f"{_pct(view[('cv-default@5:4x5s64/g1000', 'pooled')]['score_pct'])} (OpenCV ORB, its defaults, same count)",
          "[evaluation.md](docs/evaluation.md#viewpoint-change-issue-39)"],
-        ["Stereo odometry on the rendered diver sequence: ATE, lost frames (150 frames, 1,000 features)",
+        ["Stereo odometry on the rendered diver sequence: ATE, lost frames "
+         f"({traj['5:4x5s64/g1000']['frames']} frames, {traj['5:4x5s64/g1000']['budget']:,} features)",
          f"**{traj['5:4x5s64/g1000']['ate_m'] * 100:.2f} cm, {traj['5:4x5s64/g1000']['lost']} lost**",
          f"{traj['cv-default']['ate_m'] * 100:.2f} cm, {traj['cv-default']['lost']} lost (OpenCV ORB); "
          f"{traj['orbslam']['ate_m'] * 100:.2f} cm, {traj['orbslam']['lost']} lost (ORB-SLAM-style)",
