@@ -7,11 +7,11 @@ Writes the seed data golden_model/data/orbit_seeds.json, from which sw/orb_flow/
 tools or the tests imports it. Same code path and defaults as the experiment of 2026-11-22
 (research/pattern/, README.md there), with the matching twins taken from viewpoint changes since
 issue 39 (``--twins viewpoint --views 6``, the defaults: the adopted ``orbit-dprime-viewpoint``
-seeds); ``--twins rotation --views 3`` gives the earlier ``orbit-dprime`` seeds (rotated twins). Run
-from the repository with the project's venv (golden_model installed):
+seeds); ``--twins rotation --views 3`` learns with rotated twins as the earlier ``orbit-dprime``
+seeds were (it does not give those seeds again: docs/pattern.md). Run from the repository with the project's venv (golden_model installed):
 
-    .venv/bin/python -m research.pattern.orbit_learn                  # orbit-dprime-viewpoint, about 5 min
-    .venv/bin/python -m research.pattern.orbit_learn --twins rotation --views 3 --out /tmp/s.json  # the earlier seeds
+    .venv/bin/python -m research.pattern.orbit_learn                  # orbit-dprime-viewpoint, about 2 min
+    .venv/bin/python -m research.pattern.orbit_learn --twins rotation --views 3 --out /tmp/s.json  # rotated twins
     .venv/bin/python -m research.pattern.orbit_learn --method orbit-random --out /tmp/seeds.json
     make pattern                                                     # or python -m orb_flow.gen.pattern --seeds ...
 
@@ -70,7 +70,6 @@ W = 2 * R + 1
 GRID = 16
 ALL_SECTORS = 64
 SECTOR_COUNTS = (16, 32, 64)
-VIEW_MAX_TILT = 50.0  # the viewpoint twins' largest tilt (degrees; --max-tilt for experiments)
 ROOT = Path(__file__).resolve().parents[2]
 SEEDS_JSON = ROOT / "golden_model" / "data" / "orbit_seeds.json"
 
@@ -114,7 +113,7 @@ def rotated_twins(img: np.ndarray, xs: np.ndarray, ys: np.ndarray, rng: np.rando
 
 
 def viewpoint_twins(img: np.ndarray, xs: np.ndarray, ys: np.ndarray, rng: np.random.Generator, views: int,
-                    max_tilt: float | None = None):  # fmt: skip
+                    max_tilt: float = 50.0):  # fmt: skip
     """Windows and moments of the same keypoints in a copy of ``img`` seen from another viewpoint.
 
     As ``rotated_twins``, but each of the ``views`` random views per image is the viewpoint bench's
@@ -131,18 +130,17 @@ def viewpoint_twins(img: np.ndarray, xs: np.ndarray, ys: np.ndarray, rng: np.ran
     m01 = np.empty(len(xs), dtype=np.int64)
     which = rng.integers(0, views, len(xs))
     corners = np.array([[0, w - 1, w - 1, 0], [0, 0, h - 1, h - 1], [1, 1, 1, 1]], dtype=np.float64)
+    cx, cy = (w - 1) / 2.0, (h - 1) / 2.0
+    to_c = np.array([[1, 0, -cx], [0, 1, -cy], [0, 0, 1]])
+    back = np.array([[1, 0, cx], [0, 1, cy], [0, 0, 1]])
+
+    def rz(deg: float) -> np.ndarray:
+        c, s_ = np.cos(np.radians(deg)), np.sin(np.radians(deg))
+        return np.array([[c, s_, 0], [-s_, c, 0], [0, 0, 1]])
+
     for a in range(views):
-        top = VIEW_MAX_TILT if max_tilt is None else max_tilt
-        tilt, axis_angle, rot = rng.uniform(0.0, top), rng.uniform(0.0, 180.0), rng.uniform(0.0, 360.0)
+        tilt, axis_angle, rot = rng.uniform(0.0, max_tilt), rng.uniform(0.0, 180.0), rng.uniform(0.0, 360.0)
         # a tilt about an axis at axis_angle: rotate the axis onto x, tilt about x, rotate back, then rotate
-        cx, cy = (w - 1) / 2.0, (h - 1) / 2.0
-        to_c = np.array([[1, 0, -cx], [0, 1, -cy], [0, 0, 1]])
-        back = np.array([[1, 0, cx], [0, 1, cy], [0, 0, 1]])
-
-        def rz(deg: float) -> np.ndarray:
-            c, s_ = np.cos(np.radians(deg)), np.sin(np.radians(deg))
-            return np.array([[c, s_, 0], [-s_, c, 0], [0, 0, 1]])
-
         hm = back @ rz(-axis_angle) @ to_c @ tilt_homography(img.shape, tilt, "x", axis_angle + rot)
         pc = hm @ corners
         px, py = pc[0] / pc[2], pc[1] / pc[2]
@@ -158,10 +156,11 @@ def viewpoint_twins(img: np.ndarray, xs: np.ndarray, ys: np.ndarray, rng: np.ran
     return wins, m10, m01
 
 
-def training_windows(params: GreedyParams, twins: int = 0, twin_kind: str = "rotation"):
+def training_windows(params: GreedyParams, twins: int = 0, twin_kind: str = "rotation", max_tilt: float = 50.0):
     """(961, K) uint8 window values (row (dy+15)*31 + dx+15), m10 and m01 of pattern_learn's keypoints.
 
-    With ``twins`` > 0 also the same for a rotated twin of every keypoint (``rotated_twins``).
+    With ``twins`` > 0 also the same for a twin of every keypoint: rotated (``rotated_twins``) or, with
+    ``twin_kind`` "viewpoint", seen from another viewpoint tilted up to ``max_tilt`` (``viewpoint_twins``).
     """
     rng = np.random.default_rng([params.seed, 0])
     rng_twin = np.random.default_rng([params.seed, 7])
@@ -174,8 +173,10 @@ def training_windows(params: GreedyParams, twins: int = 0, twin_kind: str = "rot
             xs, ys = xs[pick], ys[pick]
         parts.append(_windows(smooth(img), xs, ys))
         if twins:
-            make = rotated_twins if twin_kind == "rotation" else viewpoint_twins
-            tparts.append(make(img, xs, ys, rng_twin, twins))
+            if twin_kind == "rotation":
+                tparts.append(rotated_twins(img, xs, ys, rng_twin, twins))
+            else:
+                tparts.append(viewpoint_twins(img, xs, ys, rng_twin, twins, max_tilt))
     win, m10, m01 = (np.concatenate([p[i] for p in parts]) for i in range(3))
     pick = np.arange(len(win))
     if len(win) > params.keypoints:
@@ -342,8 +343,7 @@ def greedy(st: Steered, cands: np.ndarray, pool: int, batch: int, log, twin: Ste
     chosen: list[int] = []
     e_s = v_s = f_s = 0.0
     # the pattern's integer tests must be distinct (tb/model/test_pattern.py): a candidate whose members
-    # round onto each other or onto a test already chosen is not taken (it never was for the earlier
-    # rotation-twin seeds, so they are reproduced unchanged)
+    # round onto each other or onto a test already chosen is not taken
     tables = member_tables(seeds, st.sectors)  # (4N, P, 4)
     tests_of = [set(map(tuple, tables[:, i].tolist())) for i in range(len(seeds))]
     taken: set[tuple[int, ...]] = set()
@@ -378,6 +378,7 @@ class OrbitParams:
     integer: bool = False  # integer seed candidates instead of the 1/16 grid
     random_seed: int = 1001  # seed of the random baseline's candidates
     twin_kind: str = "rotation"  # rotation: rotated twins; viewpoint: tilted and rotated (viewpoint_twins)
+    max_tilt: float = 50.0  # viewpoint twins: the largest tilt (degrees)
 
 
 def log(s: str) -> None:
@@ -388,7 +389,7 @@ def learn(op: OrbitParams, sector_counts: tuple[int, ...]) -> tuple[dict[int, np
     """Learned seeds per sector count and their description (the experiment's ORBIT_SOURCE)."""
     params = GreedyParams()
     t0 = time.perf_counter()
-    win, m10, m01, *tw = training_windows(params, op.twins, op.twin_kind)
+    win, m10, m01, *tw = training_windows(params, op.twins, op.twin_kind, op.max_tilt)
     log(f"training keypoints {win.shape[1]} ({time.perf_counter() - t0:.0f} s)")
     if op.integer:
         cands = integer_candidates(op.candidates, params.min_dist, params.seed)
@@ -415,7 +416,7 @@ def learn(op: OrbitParams, sector_counts: tuple[int, ...]) -> tuple[dict[int, np
     if op.twin_kind == "rotation":  # the adopted seeds' text, byte for byte
         objective = f"d' with rotated twins ({op.twins} angles per image)" if op.twins else "n_eff"
     else:
-        objective = f"d' with tilted (0..{VIEW_MAX_TILT:g} degrees) and rotated twins ({op.twins} views per image)"
+        objective = f"d' with tilted (0..{op.max_tilt:g} degrees) and rotated twins ({op.twins} views per image)"
     source = (
         f"orbit greedy {objective}, {kind} seeds, candidates={op.candidates} pool={op.pool}, "
         f"pattern_learn training keypoints (seed {params.seed}, {win.shape[1]}), sector-steered"
@@ -469,7 +470,6 @@ DESCRIPTION = (
 
 
 def main() -> None:
-    global VIEW_MAX_TILT
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--method", choices=["orbit-dprime", "orbit-random"], default="orbit-dprime")
     ap.add_argument("--twins", choices=["rotation", "viewpoint"], default="viewpoint",
@@ -477,13 +477,12 @@ def main() -> None:
     ap.add_argument("--views", type=int, default=6, help="twin views (angles) per training image (adopted: 6)")
     ap.add_argument("--candidates", type=int, default=OrbitParams.candidates, help="seed candidates drawn")
     ap.add_argument("--pool", type=int, default=OrbitParams.pool, help="candidates kept for the greedy selection")
-    ap.add_argument("--max-tilt", type=float, default=VIEW_MAX_TILT, help="the viewpoint twins' largest tilt")
+    ap.add_argument("--max-tilt", type=float, default=OrbitParams.max_tilt, help="the viewpoint twins' largest tilt")
     ap.add_argument("--out", type=Path, default=SEEDS_JSON, help=f"seed data to write (default: {SEEDS_JSON})")
     args = ap.parse_args()
-    VIEW_MAX_TILT = args.max_tilt
     if args.method == "orbit-dprime":
         seeds, source = learn(OrbitParams(candidates=args.candidates, pool=args.pool, twins=args.views,
-                                     twin_kind=args.twins), SECTOR_COUNTS)
+                                     twin_kind=args.twins, max_tilt=args.max_tilt), SECTOR_COUNTS)
     else:
         seeds, source = random_seeds(SECTOR_COUNTS)
     method = args.method + ("-viewpoint" if args.method == "orbit-dprime" and args.twins == "viewpoint" else "")

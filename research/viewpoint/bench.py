@@ -14,11 +14,9 @@ import argparse
 import json
 from pathlib import Path
 
-import cv2
-
 import golden_model.pattern as gp
-from golden_model.images import to_luma
 from orb_tools import scale_bench as sb
+from orb_tools.images import load_luma
 from orb_tools import viewpoint_bench as vpb
 
 
@@ -57,10 +55,7 @@ def images(which: str) -> list:
         from research.selection.photos import load
 
         return load("tune")
-    out = []
-    for p in sorted(Path("build/eval/held/640x480").glob("*.png")):
-        im = cv2.imread(str(p), cv2.IMREAD_COLOR)
-        out.append((p.stem, to_luma(cv2.cvtColor(im, cv2.COLOR_BGR2RGB))))
+    out = [(p.stem, load_luma(p)) for p in sorted(Path("build/eval/held/640x480").glob("*.png"))]
     if not out:
         raise SystemExit("no photographs under build/eval/held/640x480: run orb-accel eval-photos build/eval/held")
     return out

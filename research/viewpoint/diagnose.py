@@ -48,12 +48,7 @@ def main() -> None:
     sb.check_budgets(exts)
     tot: dict[tuple[str, float], np.ndarray] = {}
     for _name, img in images(args.set):
-        refs = {e.name: sb.extract_ours(img, e) for e in exts if e.kind == "ours"}
-        first = next(iter(refs), "")
-        budgets = {e.name: len(refs[e.budget_of or first]) for e in exts if e.kind == "opencv-default"}
-        for e in exts:
-            if e.kind != "ours":
-                refs[e.name] = sb._extract(img, e, budgets)
+        refs, budgets = sb.references(img, exts)
         for tilt, axis, rot, sc in vpb.views():
             hmat = vpb.tilt_homography(img.shape, tilt, axis if axis != "-" else "x", rot, sc)
             warped = sb.warp(img, hmat)

@@ -44,14 +44,11 @@ def main() -> None:
     fs = cv2.FileStorage(str(DATA / "H1to3p.xml"), cv2.FILE_STORAGE_READ)
     h = fs.getFirstTopLevelNode().mat()
     exts = [sb.parse_extractor(t) for t in args.extractors]
-    refs = {e.name: sb.extract_ours(a, e) for e in exts if e.kind == "ours"}
-    first = next(iter(refs), "")
-    budgets = {e.name: len(refs[e.budget_of or first]) for e in exts if e.kind == "opencv-default"}
+    refs, budgets = sb.references(a, exts)
     print(f"graf1 -> graf3 ({a.shape[1]}x{a.shape[0]}), seeds {args.seeds or 'model'}{', steered' if args.steered else ''}")
     print("| extractor | features | inside | correct | score | homography inliers | correct homography |")
     for e in exts:
-        ref = refs[e.name] if e.kind == "ours" else sb._extract(a, e, budgets)
-        c = vpb.pair_counts(ref, sb._extract(b, e, budgets), h, b.shape)
+        c = vpb.pair_counts(refs[e.name], sb._extract(b, e, budgets), h, b.shape)
         print(f"| {e.name} | {c[0]} | {c[2]} | {c[4]} | {vpb.score(c):.2f} | {vpb.inlier_ratio(c):.2f} | {c[6]} |")
 
 

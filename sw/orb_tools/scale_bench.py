@@ -223,6 +223,18 @@ def check_budgets(extractors: Sequence[Extractor]) -> None:
             raise ValueError(f"{e.name}: the budget needs one of ours in the list ({listed})")
 
 
+def references(img: np.ndarray, extractors: Sequence[Extractor]) -> tuple[dict[str, Points], dict[str, int]]:
+    """Every extractor's features of the reference image, and the budget of each opencv-default one:
+    the feature count of its ours (`budget_of`, else the first of ours)."""
+    refs = {e.name: extract_ours(img, e) for e in extractors if e.kind == "ours"}
+    first_ours = next(iter(refs), "")
+    budgets = {e.name: len(refs[e.budget_of or first_ours]) for e in extractors if e.kind == "opencv-default"}
+    for e in extractors:
+        if e.kind != "ours":
+            refs[e.name] = _extract(img, e, budgets)
+    return refs, budgets
+
+
 def run(images: Sequence[tuple[str, np.ndarray]], extractors: Sequence[Extractor],
         rotations: Sequence[float] = ROTATIONS, scales: Sequence[float] = SCALE_CHANGES,
         perspectives: Sequence[float] = PERSPECTIVES,
@@ -234,14 +246,8 @@ def run(images: Sequence[tuple[str, np.ndarray]], extractors: Sequence[Extractor
     per_image = {e.name: [] for e in extractors}
     t0 = time.perf_counter()
     for name, img in images:
-        refs = {e.name: extract_ours(img, e) for e in extractors if e.kind == "ours"}
-        first_ours = next(iter(refs), "")
-        budgets = {e.name: len(refs[e.budget_of or first_ours]) for e in extractors
-                   if e.kind == "opencv-default"}  # fmt: skip
-
+        refs, budgets = references(img, extractors)
         for e in extractors:
-            if e.kind != "ours":
-                refs[e.name] = _extract(img, e, budgets)
             per_image[e.name].append(len(refs[e.name]))
         for angle in rotations:
             for si, sc in enumerate(scales):

@@ -132,13 +132,7 @@ def run(images: Sequence[tuple[str, np.ndarray]], extractors: Sequence[sb.Extrac
     n_pairs = np.zeros(len(tilts), dtype=np.int64)
     t0 = time.perf_counter()
     for name, img in images:
-        refs = {e.name: sb.extract_ours(img, e) for e in extractors if e.kind == "ours"}
-        first_ours = next(iter(refs), "")
-        budgets = {e.name: len(refs[e.budget_of or first_ours]) for e in extractors
-                   if e.kind == "opencv-default"}  # fmt: skip
-        for e in extractors:
-            if e.kind != "ours":
-                refs[e.name] = sb._extract(img, e, budgets)
+        refs, budgets = sb.references(img, extractors)
         for tilt, axis, rot, sc in pairs:
             ti = list(tilts).index(tilt)
             n_pairs[ti] += 1
