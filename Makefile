@@ -55,6 +55,8 @@ help:
 	@echo "             BOARD_REPO=DIR, VIVADO=; outputs in build/vivado/<config>; docs/board.md)"
 	@echo "make board-dryrun  the Vivado build's TCL in tclsh against recording stubs, checked, with its table"
 	@echo "make board-estimate  yosys estimate of orb_accel_zynq for each board configuration (slow, cached)"
+	@echo "make power   power and energy a frame of each board configuration and the thesis's device, from yosys's"
+	@echo "             resources and the netlist's activity in Verilator (CONFIG=board-vga ...; slow, cached; docs/power.md)"
 
 $(STAMP): pyproject.toml
 	@echo "make: setting up $(VENV) (the project and its test tools from PyPI: a few minutes the first time)"
@@ -241,6 +243,25 @@ bitstream:
 	@PYTHONPATH=sw $(PYTHON) -m orb_flow.board.bitstream $(if $(CONFIG),--config $(CONFIG)) --vivado $(VIVADO) \
 		$(if $(VIVADO_LIBRARY),--vivado-library $(VIVADO_LIBRARY)) $(if $(BOARD_REPO),--board-repo $(BOARD_REPO)) \
 		--jobs $(JOBS)
+
+# Post-route timing without Vivado (docs/pnr.md): the board top orb_accel_zynq of a named configuration
+# (CONFIG, default board-vga) through GHDL, yosys and nextpnr-xilinx (openXC7); PNR_TIMEOUT limits each
+# tool run in seconds. Plain python3: stops at once, one line, exit 2, when nextpnr-xilinx or its chip
+# database is missing.
+PNR_TIMEOUT ?=
+.PHONY: pnr
+pnr:
+	@PYTHONPATH=sw $(PYTHON) -m orb_flow.pnr --named $(or $(CONFIG),board-vga) \
+		$(if $(PNR_TIMEOUT),--timeout $(PNR_TIMEOUT))
+
+# Power and energy a frame without Vivado (docs/power.md): yosys's resources x the netlist's toggles in
+# Verilator on photographs x coefficients from published Vivado reports; CONFIG= one or more of
+# board-vga board-720p board-1080p thesis-vga (default all). Slow the first time: a synthesis per
+# configuration (cached in build/synth) and an activity build (cached in build/fastsim).
+.PHONY: power
+power: $(STAMP)
+	@sh scripts/flow/check_tools.sh ghdl yosys python3
+	PYTHONPATH=sw $(BIN)/python -m orb_flow.power $(if $(CONFIG),--configs $(CONFIG))
 
 board-dryrun:
 	@sh scripts/flow/check_tools.sh tclsh

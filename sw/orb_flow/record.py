@@ -9,6 +9,7 @@ the commit, the date and the tools. The docs' results tables are generated from 
     python -m orb_flow.record test NAME LOG --command "make test" [--total-s S]  # a make test log
     python -m orb_flow.record formal                   # make formal's build/formal/summary.json
     python -m orb_flow.record recovery [NAME]          # orb_flow.board.recovery's build/recovery/recovery.json
+    python -m orb_flow.record power [NAME]             # make power's build/power/power.json
     python -m orb_flow.record campaign NAME REPORT --command "pytest ..."  # a fault campaign's JSON report
 
 --commit / --date say when the measured tree is not the checkout's HEAD or today.
@@ -322,8 +323,32 @@ def record_recovery(name: str, report: Path, commit: str | None, date: str | Non
     save("recovery", records)
 
 
+POWER_OUT = ROOT / "build" / "power" / "power.json"
+POWER_ABOUT = (
+    "The power estimate (docs/power.md): per configuration, yosys's resources, the netlist's activity in "
+    "Verilator on photographs, dynamic power in mW (typ and the coefficients' band), the vectorless figure, "
+    "energy a frame at 60 fps, the largest entities. Written by python -m orb_flow.record power from make "
+    "power's build/power/power.json."
+)
+
+
+def record_power(name: str, report: Path, commit: str | None, date: str | None) -> None:
+    """make power's output (its command and one record per configuration) into docs/results/power.json."""
+    if not report.exists():
+        raise SystemExit(f"error: {report} is missing: run `make power` first")
+    data = _json(report)
+    records = load("power")
+    records["about"] = POWER_ABOUT
+    for run in data["runs"]:  # the per-entity table keeps the ten largest (the record stays small)
+        run["by_entity_mw"] = dict(list(run["by_entity_mw"].items())[:10])
+    records["runs"][name] = entry(data["command"], data["runs"], commit, date,
+                                  "GHDL 2.0.0, Yosys 0.23 (resources), Verilator 5.48.0 (activity)",
+                                  hdl_digest=_hdl(commit))  # fmt: skip
+    save("power", records)
+
+
 # the records of the HDL: each keeps the digest of the hdl/ it measured (orb_flow.digest)
-HDL_RECORDS = ("sim", "formal", "campaign", "recovery")
+HDL_RECORDS = ("sim", "formal", "campaign", "recovery", "power")
 
 
 def _hdl(commit: str | None) -> str:
@@ -393,7 +418,10 @@ def main(argv: list[str] | None = None) -> int:
     recovery = sub.add_parser("recovery", help="orb_flow.board.recovery's output into docs/results/recovery.json")
     recovery.add_argument("name", nargs="?", default="board-recovery", help="the run's name (board-recovery)")
     recovery.add_argument("--report", type=Path, default=RECOVERY_OUT)
-    for p in (ev, bench, sim, test, formal, campaign, recovery):
+    power = sub.add_parser("power", help="make power's build/power/power.json into docs/results/power.json")
+    power.add_argument("name", nargs="?", default="make-power", help="the run's name (make-power)")
+    power.add_argument("--report", type=Path, default=POWER_OUT)
+    for p in (ev, bench, sim, test, formal, campaign, recovery, power):
         p.add_argument("--commit", help="the measured commit (default: HEAD)")
         p.add_argument("--date", help="the measurement's date, YYYY-MM-DD (default: today)")
     args = ap.parse_args(argv)
@@ -412,6 +440,9 @@ def main(argv: list[str] | None = None) -> int:
     elif args.kind == "recovery":
         record_recovery(args.name, args.report, args.commit, args.date)
         print(f"recorded {args.name} in {RESULTS / 'recovery.json'}; now `make views`")
+    elif args.kind == "power":
+        record_power(args.name, args.report, args.commit, args.date)
+        print(f"recorded {args.name} in {RESULTS / 'power.json'}; now `make views`")
     elif args.kind == "campaign":
         record_campaign(args.name, args.report, args.command, args.commit, args.date)
         print(f"recorded {args.name} in {RESULTS / 'campaign.json'}; now `make views`")

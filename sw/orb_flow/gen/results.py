@@ -28,6 +28,7 @@ GENERATOR = "orb_flow.gen.results"
 BEGIN = "<!-- generated: {name} (" + GENERATOR + ") -->"
 END = "<!-- end generated -->"
 SYNTH = Path("sw") / "orb_flow" / "synth_expected.json"
+COEFFICIENTS = Path("sw") / "orb_flow" / "power_coefficients.json"
 BOARD = Path("vivado") / "board.json"
 
 
@@ -45,6 +46,8 @@ class Records:
         self.test = self._runs(root / "docs" / "results" / "test.json")
         self.formal = self._runs(root / "docs" / "results" / "formal.json")
         self.recovery = self._runs(root / "docs" / "results" / "recovery.json")
+        self.power = self._runs(root / "docs" / "results" / "power.json")
+        self.root = root
         self.campaign = self._runs(root / "docs" / "results" / "campaign.json")
         self.synth = json.loads((root / SYNTH).read_text())["jobs"]
         self.board = json.loads((root / BOARD).read_text())
@@ -621,6 +624,88 @@ def recovery_table(records: Records) -> list[str]:
     return [*_table(head, rows), "", *sources]
 
 
+def _power_run(records: Records) -> dict[str, Any]:
+    if not records.power:
+        raise ResultsError("docs/results/power.json has no run: measure it (make power) and record it "
+                           "(python -m orb_flow.record power)")  # fmt: skip
+    return list(records.power.values())[-1]
+
+
+def _band(d: dict[str, float], fmt: str = "{:.0f}") -> str:
+    return f"{fmt.format(d['typ'])} ({fmt.format(d['low'])}-{fmt.format(d['high'])})"
+
+
+def power_table(records: Records) -> list[str]:
+    """make power's estimate per configuration: resources, activity, dynamic power and energy a frame
+    with the coefficients' band, the vectorless figure, the thesis's Table 5.3 beside its device."""
+    run = _power_run(records)
+    rows = []
+    for r in run["data"]:
+        res = r["resources"]
+        thesis = f"{r['thesis_mw']} mW, {r['thesis_mj']} mJ" if "thesis_mw" in r else "-"
+        rows.append([f"`{r['config']}`", f"{r['width']}x{r['height']}, {r['scales']} levels, {r['sectors']} sectors",
+                     f"{res['lut']:,} / {res['ff']:,} / {res['bram36']:g} / {res['dsp']}",
+                     f"{r['pixel_mhz']:g} / {r['core_mhz']} MHz", f"{100 * r['mean_activity']:.1f}%",
+                     _band(r["dynamic_mw"]), _band(r["energy_mj"], "{:.2f}"), _band(r["dynamic_vectorless_mw"]),
+                     thesis])  # fmt: skip
+    head = ["configuration", "frame, pyramid", "LUT / FF / RAMB36 / DSP48 (yosys)", "pixel / core clock",
+            "register activity (toggles a bit a clock)", "dynamic power, mW (band)",
+            "energy a frame at 60 fps, mJ (band)", "vectorless (12.5%, BRAM 0.5/0.5), mW (band)",
+            "the thesis's Table 5.3"]  # fmt: skip
+    static = run["data"][0]
+    foot = [f"Measured by {_source(run)}{records.age(run.get('hdl_digest'))} ({run['tools']}). Static power (the "
+            f"device's, not in the columns): {1000 * static['static_device_w']:.0f} mW at a junction of "
+            f"{static['static_tj_c']} C, of it {1000 * static['static_pl_w']:.0f} mW on the PL's rails."]  # fmt: skip
+    return [*_table(head, rows), "", *foot]
+
+
+def power_classes_table(records: Records) -> list[str]:
+    """make power's dynamic power per resource class (typ coefficients), measured and vectorless."""
+    run = _power_run(records)
+    classes = list(run["data"][0]["by_class_mw"])
+    rows = []
+    for r in run["data"]:
+        rows.append([f"`{r['config']}`", *(f"{r['by_class_mw'][k]:.1f} ({r['by_class_vectorless_mw'][k]:.1f})"
+                                            for k in classes)])  # fmt: skip
+    head = ["configuration", *(f"{k}, mW (vectorless)" for k in classes)]
+    return [*_table(head, rows), "", f"Measured by {_source(run)}{records.age(run.get('hdl_digest'))}."]
+
+
+def power_entities_table(records: Records) -> list[str]:
+    """make power's largest entities per configuration (typ coefficients)."""
+    run = _power_run(records)
+    rows = []
+    for r in run["data"]:
+        for ent, p in list(r["by_entity_mw"].items())[:8]:
+            en = (f"{100 * p['bram_read_enable']:.0f}% / {100 * p['bram_write_enable']:.0f}%"
+                  if "bram_read_enable" in p else "-")  # fmt: skip
+            act = f"{100 * p['activity']:.1f}%" if "activity" in p else "-"
+            rows.append([f"`{r['config']}`", f"`{ent}`", f"{p['total']:.1f}", act, en,
+                         f"{p.get('clock', 0):.1f}", f"{p.get('signal', 0) + p.get('lut', 0):.1f}",
+                         f"{p.get('bram', 0):.1f}", f"{p.get('dsp', 0):.1f}"])  # fmt: skip
+    head = ["configuration", "entity (all its instances)", "mW", "register activity", "RAM read / write enable",
+            "clock, mW", "LUT + routing, mW", "block RAM, mW", "DSP48, mW"]  # fmt: skip
+    return [*_table(head, rows), "", f"Measured by {_source(run)}{records.age(run.get('hdl_digest'))}."]
+
+
+def power_coefficients_table(records: Records) -> list[str]:
+    """The coefficients (sw/orb_flow/power_coefficients.json) with their band and their sources."""
+    data = json.loads((records.root / COEFFICIENTS).read_text())
+    rows = []
+    for name, c in data["coefficients"].items():
+        points = ", ".join(f"{s['report']} {s['value']:g}{' (bound)' if s.get('upper_bound') else ''}"
+                           for s in c["sources"] if s.get("value") is not None)  # fmt: skip
+        rows.append([f"`{name}`", f"{c['typ']:g}", f"{c['low']:g}-{c['high']:g}", c["unit"], points or "-"])
+    reports = {}
+    for c in data["coefficients"].values():
+        for s in c["sources"]:
+            reports.setdefault(s["report"], f"{s['report']}: `{s['repo']}` `{s['path']}` at {s['commit']} "
+                                            f"({s.get('part') or '?'}; {s.get('activity') or '?'})")  # fmt: skip
+    head = ["coefficient", "typ", "band (low-high)", "unit", "the reports' point values"]
+    return [*_table(head, rows), "", "Reports (Vivado report_power of routed designs, public repositories):", "",
+            *(f"- {reports[k]}" for k in sorted(reports))]  # fmt: skip
+
+
 def headline(records: Records) -> list[str]:
     held = {r["extractor"]: r for r in records.run("eval", "scale-bench-held")["data"]}
     rot = {r["method"]: r for r in records.run("eval", "rotation-bench-grid")["data"]}
@@ -703,6 +788,10 @@ TABLES: dict[str, tuple[Path, Callable[[Records], list[str]]]] = {
     "make-test": (Path("docs/conventions.md"), test_table),
     "formal": (Path("docs/formal.md"), formal_table),
     "bus-load": (Path("docs/feature-dma.md"), bus_table),
+    "power": (Path("docs/power.md"), power_table),
+    "power-classes": (Path("docs/power.md"), power_classes_table),
+    "power-entities": (Path("docs/power.md"), power_entities_table),
+    "power-coefficients": (Path("docs/power.md"), power_coefficients_table),
 }
 
 

@@ -27,6 +27,7 @@ from ..hdl import BUILD as BUILD_ROOT
 from ..hdl import HDL, sources
 from ..runner import ToolMissing, ghdl_path_env
 from ..verilog_netlist import ghdl_verilog
+from .activity import instrument
 
 HARNESS = Path(__file__).resolve().with_name("harness.cpp")
 BUILD = BUILD_ROOT / "fastsim"
@@ -38,6 +39,11 @@ CXXFLAGS = "-fPIC -O2 -std=c++20"
 # The PyPI wheel's verilated.mk leaves the "read a precompiled header" option empty (its configure
 # ran with another compiler); g++ needs -include. OPT_FAST: -O2 instead of the wheel's -Os.
 MAKEFLAGS = "CFG_CXXFLAGS_PCH_I=-include OPT_FAST=-O2"
+# The activity build: every net's bits (up to 4,096 wide: the descriptors and RAM words) counted
+COVERAGE_FLAGS = ("--coverage-toggle", "--coverage-max-width", "4096")
+# ... compiled for a quicker build: its code is several times larger (the counters and their names)
+COVERAGE_CXXFLAGS = "-fPIC -std=c++20"  # the optimisation from the MAKEFLAGS' OPT_FAST and OPT_SLOW
+COVERAGE_MAKEFLAGS = "CFG_CXXFLAGS_PCH_I=-include OPT_FAST=-O1 OPT_SLOW=-O0"
 
 
 def verilator() -> tuple[Path, dict[str, str]]:
@@ -59,8 +65,11 @@ def verilator_version() -> str:
     return out.stdout.strip() or out.stderr.strip()
 
 
-def build_fast(generics: Mapping[str, int | str], jobs: int = 2, log: Path | None = None) -> Path:
-    """The shared library of orb_accel_top with these generics (built, or taken from the cache)."""
+def build_fast(generics: Mapping[str, int | str], jobs: int = 2, log: Path | None = None,
+               toggle_coverage: bool = False) -> Path:  # fmt: skip
+    """The shared library of orb_accel_top with these generics (built, or taken from the cache).
+    `toggle_coverage`: the activity build (orb_sim.fast.activity: the netlist instrumented, every
+    net's toggles counted; several times slower), a library of its own."""
     exe, env = verilator()
     env.update(ghdl_path_env())
     gtag = "-".join(f"{v}" for _, v in sorted(generics.items()))
@@ -68,14 +77,19 @@ def build_fast(generics: Mapping[str, int | str], jobs: int = 2, log: Path | Non
     net_dir.mkdir(parents=True, exist_ok=True)
     rec: dict = {}
     netlist = ghdl_verilog("ghdl", TOPLEVEL, generics, sources(), net_dir, rec)
+    flags = VERILATOR_FLAGS + (COVERAGE_FLAGS if toggle_coverage else ())
+    makeflags = COVERAGE_MAKEFLAGS if toggle_coverage else MAKEFLAGS
+    cxxflags = COVERAGE_CXXFLAGS if toggle_coverage else CXXFLAGS
     version = verilator_version()
     key = hashlib.sha1()
     # GHDL's comments name each source file by its path: the key counts them relative to hdl/, so the
     # checkout and an installed wheel (orb_sim/data/hdl) share a library when the netlist is the same
     text = netlist.read_bytes().replace(str(HDL).encode() + b"/", b"hdl/")
+    if toggle_coverage:
+        text = instrument(text.decode())[0].encode()
     harness = HARNESS.read_bytes()  # compiled from a copy of what is hashed (the file may change meanwhile)
-    for part in (text, harness, " ".join(VERILATOR_FLAGS).encode(), CXXFLAGS.encode(),
-                 MAKEFLAGS.encode(), version.encode()):  # fmt: skip
+    for part in (text, harness, " ".join(flags).encode(), cxxflags.encode(),
+                 makeflags.encode(), version.encode()):  # fmt: skip
         key.update(part + b"\0")
     out = BUILD / f"{TOPLEVEL}-{key.hexdigest()[:16]}"
     lib = out / "libfastsim.so"
@@ -86,10 +100,10 @@ def build_fast(generics: Mapping[str, int | str], jobs: int = 2, log: Path | Non
         fcntl.flock(lock, fcntl.LOCK_EX)  # another worker may be building it
         if lib.exists():
             return lib
-        shutil.copy(netlist, out / "top.v")
+        (out / "top.v").write_bytes(text)
         (out / HARNESS.name).write_bytes(harness)
         cmd = [str(exe), "--cc", "top.v", "--top-module", TOPLEVEL, "--exe", str(out / HARNESS.name), "--build",
-               "-j", str(jobs), *VERILATOR_FLAGS, "-CFLAGS", CXXFLAGS, "-LDFLAGS", "-shared", "-MAKEFLAGS", MAKEFLAGS,
+               "-j", str(jobs), *flags, "-CFLAGS", cxxflags, "-LDFLAGS", "-shared", "-MAKEFLAGS", makeflags,
                "-o", "libfastsim.so.tmp", "--Mdir", "obj"]  # fmt: skip
         t0 = time.monotonic()
         log_path = log or out / "build.log"

@@ -37,6 +37,9 @@
 
 #include "Vorb_accel_top.h"
 #include "verilated.h"
+#if VM_COVERAGE
+#include "verilated_cov.h"
+#endif
 
 namespace {
 
@@ -898,5 +901,28 @@ uint64_t fs_axi_log_take(void* h, AxiLogEntry* out, uint64_t max) {
 }
 
 uint64_t fs_axi_log_entry_bytes() { return sizeof(AxiLogEntry); }
+
+// Toggle coverage (a build with --coverage-toggle: orb_sim.fast.activity, orb_flow.power): zero the
+// counters, or write them to `path` (Verilator's coverage.dat). 0: the build has no coverage.
+int fs_coverage_zero(void* h) {
+#if VM_COVERAGE
+  static_cast<Sim*>(h)->ctx->coveragep()->zero();
+  return 1;
+#else
+  (void)h;
+  return 0;
+#endif
+}
+
+int fs_coverage_write(void* h, const char* path) {
+#if VM_COVERAGE
+  static_cast<Sim*>(h)->ctx->coveragep()->write(path);
+  return 1;
+#else
+  (void)h;
+  (void)path;
+  return 0;
+#endif
+}
 
 }  // extern "C"

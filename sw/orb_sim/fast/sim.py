@@ -101,7 +101,8 @@ class FastSim:
             "fs_axi_error_rate": ([vp, u32, u32], None),
             "fs_axi_clear_errors": ([vp], None), "fs_axi_stats": ([vp, _U64P, u64], u64),
             "fs_axi_log": ([vp, i32], None), "fs_axi_log_take": ([vp, ctypes.c_void_p, u64], u64),
-            "fs_axi_log_entry_bytes": ([], u64),
+            "fs_axi_log_entry_bytes": ([], u64), "fs_coverage_zero": ([vp], i32),
+            "fs_coverage_write": ([vp, ctypes.c_char_p], i32),
         }  # fmt: skip
         for name, (args, res) in sigs.items():
             fn = getattr(lib, name)
@@ -310,6 +311,17 @@ class FastSim:
         if n:
             self.lib.fs_axi_log_take(self.h, out.ctypes.data, n)
         return out
+
+    # ---- toggle coverage (a build with toggle_coverage: orb_sim.fast.activity) -------------------
+    def coverage_zero(self) -> None:
+        """Zero every toggle counter (the activity window starts here)."""
+        if not self.lib.fs_coverage_zero(self.h):
+            raise FastSimError("this library was built without toggle coverage (build_fast(..., toggle_coverage=True))")
+
+    def coverage_write(self, path: Path) -> None:
+        """Write the toggle counters since the last zero to `path` (Verilator's coverage.dat)."""
+        if not self.lib.fs_coverage_write(self.h, str(path).encode()):
+            raise FastSimError("this library was built without toggle coverage (build_fast(..., toggle_coverage=True))")
 
 
 class FastMemory:
