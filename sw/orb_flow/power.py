@@ -55,6 +55,7 @@ from orb_sim.fast.sim import FastBus, FastMemory, FastSim, frame_program
 from orb_sim.hdl import sources
 
 from . import synth
+from .board.recovery import BOARD_TIMEOUT
 
 ROOT = Path(__file__).resolve().parents[2]
 OUT = ROOT / "build" / "power"
@@ -71,6 +72,7 @@ THESIS_TABLE = {  # Table 5.3 of the thesis: (scales, sectors) -> (mW, mJ a fram
 }  # fmt: skip
 PHOTOS = ("astronaut", "coffee", "chelsea", "rocket", "camera")  # scikit-image's real photographs
 BANDS = ("typ", "low", "high")
+SIM_TOP = "orb_accel_top"  # the activity build's top (orb_sim.fast); the synthesis's is orb_accel_zynq
 
 
 class PowerError(RuntimeError):
@@ -158,6 +160,15 @@ def synthesis(name: str, timeout: float) -> tuple[dict[str, Any], Path]:
 
 
 # ---- activity ---------------------------------------------------------------------------------------
+def board_generics(name: str) -> dict[str, int | str]:
+    """orb_accel_top's generics as the board top orb_accel_zynq sets them for configuration `name`
+    (dvi2rgb's RBG input, the HDMI idle timeout, the DDR window of vivado/board.json), so that the
+    simulated modules are the synthesised ones, name for name."""
+    ddr = json.loads(BOARD.read_text())["feat_dma"]
+    return {**named(name).generics("RBG"), "IDLE_TIMEOUT_g": BOARD_TIMEOUT, "WIN_BASE_MB_g": ddr["win_base_mb"],
+            "WIN_SIZE_MB_g": ddr["win_size_mb"]}  # fmt: skip
+
+
 @dataclass
 class Activity:
     instances: dict[str, Instance]
@@ -169,15 +180,15 @@ class Activity:
     fifo_dropped: int | None = None  # pixels the input FIFO dropped (the core fell behind); None: not counted
 
 
-def run_activity(name: str, pixel_mhz: float, core_mhz: int, frames: int, window: int, cov: Path) -> Activity:
+def run_activity(name: str, pixel_mhz: float, core_mhz: float, frames: int, window: int, cov: Path) -> Activity:
     """The activity build of `name` plays `frames` photographs at the board's input timing; the
     toggle counters cover the last `window` frame periods. Cached: `cov` and its .json beside it
     are reused while the library (its hash covers the netlist) and the run's settings are the same."""
     nc = named(name)
     cfg = nc.config()
-    generics = nc.generics("RGB")
+    generics = board_generics(name)
     h_total, v_total = CEA[(cfg.width, cfg.height)]
-    pixel_clock = Fraction(str(pixel_mhz)) / core_mhz
+    pixel_clock = Fraction(str(pixel_mhz)) / Fraction(str(core_mhz))
     frame_clocks = int(h_total * v_total / pixel_clock)
     log(f"{name}: building the activity model (Verilator with toggle coverage; cached in build/fastsim)")
     t0 = time.perf_counter()
@@ -198,8 +209,8 @@ def run_activity(name: str, pixel_mhz: float, core_mhz: int, frames: int, window
     accel = OrbAccel(FastBus(sim), bank_read="slot", memory=FastMemory(sim) if ddr else None)
     accel.configure_as(cfg)
     sim.set_live(pixel_clock, FIFO_DEPTH)
-    for img in photographs(cfg.width, cfg.height, frames):
-        sim.push(*frame_program(pack(img), h_total - cfg.width, (v_total - cfg.height) * h_total))
+    for img in photographs(cfg.width, cfg.height, frames):  # dvi2rgb's order (INPUT_g "RBG"): R, B, G
+        sim.push(*frame_program(pack(img[..., [0, 2, 1]]), h_total - cfg.width, (v_total - cfg.height) * h_total))
     log(f"{name}: playing {frames} frames at {pixel_mhz} MHz pixels in a {core_mhz} MHz core "
         f"({frame_clocks:,} clocks a frame; toggles over the last {window})")  # fmt: skip
     t0 = time.perf_counter()
@@ -254,7 +265,12 @@ def estimate(act: Activity, cells: dict[str, dict[str, Any]], instances: dict[st
     by_entity: dict[str, dict[str, float]] = defaultdict(lambda: defaultdict(float))
     activity: dict[str, list[float]] = defaultdict(lambda: [0.0, 0.0])  # entity -> [toggles, bit-clocks]
     bram_en: dict[str, list[float]] = defaultdict(lambda: [0.0, 0.0, 0.0])  # entity -> [rd, wr, tiles] weighted
+    unprobed = [0.0, 0.0]  # block RAM at the default enables (no probe): uW, tiles
     modules = by_module(act.instances)
+    # the simulated top is GHDL's `orb_accel_top`; in the board top's synthesis it carries its generics
+    tops = [m for m in cells if entity_of(m) == SIM_TOP]
+    if SIM_TOP in modules and SIM_TOP not in cells and len(tops) == 1:
+        modules[tops[0]] = modules.pop(SIM_TOP)
     missing = sorted(m for m in modules if m not in cells)
     for mod, k in cells.items():
         n = instances.get(mod, 1)
@@ -283,7 +299,11 @@ def estimate(act: Activity, cells: dict[str, dict[str, Any]], instances: dict[st
         p["signal"] += (luts + ffs + carry) * c["signal"] * core_mhz * r
         p["dsp"] += dsp * c["dsp"] * core_mhz * r
         # a tile's coefficient is at enable 0.5 + write 0.5: there its ports' enables sum to 1
-        p["bram"] += tiles * c["bram36"] * core_mhz * (en_rd + en_wr) / (d["bram_enable"] + d["bram_write"])
+        bram = tiles * c["bram36"] * core_mhz * (en_rd + en_wr) / (d["bram_enable"] + d["bram_write"])
+        p["bram"] += bram
+        if tiles and (cov is None or cov.rd_clocks is None):  # no probe: a memory outside orb_sdp_ram
+            unprobed[0] += bram
+            unprobed[1] += tiles
         p["clock"] += (ffs + n * (k["srl"] + k["lutram"])) * c["clock_ff"] * core_mhz
         if tiles:
             b = bram_en[ent]
@@ -308,6 +328,7 @@ def estimate(act: Activity, cells: dict[str, dict[str, Any]], instances: dict[st
         "by_class_mw": by_class,
         "by_entity_mw": dict(sorted(entities.items(), key=lambda kv: -kv[1]["total"])),
         "mean_activity": round(tog / bit_clocks, 5) if bit_clocks else 0.0,
+        "bram_unprobed": {"mw": round(unprobed[0] / 1000, 2), "tiles": unprobed[1]},
         "unmatched_modules": missing,
         "unsimulated_modules": sorted(
             e.removesuffix(" (not simulated)") for e in entities if e.endswith("(not simulated)")
@@ -339,6 +360,7 @@ def power_record(name: str, conf: dict[str, Any], synth_rec: dict[str, Any], sta
         "static_device_w": static["device_w"], "static_pl_w": static["pl_w"], "static_tj_c": static["tj_c"],
         "by_class_mw": runs["typ"]["by_class_mw"], "by_class_vectorless_mw": vec["typ"]["by_class_mw"],
         "by_entity_mw": runs["typ"]["by_entity_mw"],
+        "bram_unprobed": runs["typ"]["bram_unprobed"],
         "unmatched_modules": runs["typ"]["unmatched_modules"],
         "unsimulated_modules": runs["typ"]["unsimulated_modules"],
         "build_s": act.build_s, "sim_s": act.sim_s,
@@ -373,6 +395,7 @@ def main(argv: list[str] | None = None) -> int:
     )
     ap.add_argument("--frames", type=int, default=3, help="photographs played (default 3)")
     ap.add_argument("--window", type=int, default=2, help="frame periods the toggles cover: the last ones (default 2)")
+    ap.add_argument("--core-mhz", type=float, help="the core clock instead of the configuration's (a what-if)")
     ap.add_argument("--timeout", type=float, default=9000, help="seconds for a synthesis run (default 9000)")
     ap.add_argument("--out", type=Path, default=OUT)
     args = ap.parse_args(argv)
@@ -387,7 +410,10 @@ def main(argv: list[str] | None = None) -> int:
     command = "python -m orb_flow.power " + " ".join(sys.argv[1:] if argv is None else argv)
     try:
         for name in args.configs:
-            conf = confs[name]
+            core = args.core_mhz
+            conf = {**confs[name], **({"core_mhz": int(core) if core.is_integer() else core} if core else {})}
+            if conf["core_mhz"] < conf["pixel_mhz"]:
+                raise PowerError(f"{name}: a core clock of {conf['core_mhz']} MHz is below the pixel clock")
             srec, stat = synthesis(name, args.timeout)
             act = run_activity(name, conf["pixel_mhz"], conf["core_mhz"], args.frames, args.window,
                                args.out / f"{name}.coverage.dat")  # fmt: skip

@@ -227,3 +227,13 @@ def test_power_refuses_bad_arguments() -> None:
         r = subprocess.run([sys.executable, "-m", "orb_flow.power", *args], capture_output=True, text=True, cwd=ROOT,
                            env={"PYTHONPATH": env_path, "PATH": "/usr/bin:/bin"}, timeout=120, check=False)  # fmt: skip
         assert r.returncode == 2 and msg in r.stderr, (args, r.stderr)
+
+
+def test_the_simulated_top_is_the_synthesised_one() -> None:
+    """The activity build's top is GHDL's plain `orb_accel_top`; inside the board top's synthesis the
+    same entity carries its generics in its name: the estimate counts it, nothing is unmatched."""
+    coef = power.load_coefficients()
+    act = power.Activity({"top": Instance(module="orb_accel_top", toggles=125, bits=1)}, 1000, 1, [1], 0.0, 0.0)
+    cells = {"orb_accel_top_640_480_4_abc": _cells(lut_logic=100, ff=10, lut=100), "orb_accel_zynq": _cells()}
+    got = power.estimate(act, cells, {}, 100, coef)
+    assert got["unmatched_modules"] == [] and got["by_entity_mw"]["orb_accel_top"]["activity"] == 0.125

@@ -22,6 +22,7 @@ from typing import Any
 from orb_flow import digest, formal
 from orb_flow.device import DEVICE as XC7Z020
 from orb_flow.gen.codegen import views_main
+from orb_flow.power import THESIS_TABLE
 
 ROOT = Path(__file__).resolve().parents[3]
 GENERATOR = "orb_flow.gen.results"
@@ -631,61 +632,80 @@ def _power_run(records: Records) -> dict[str, Any]:
     return list(records.power.values())[-1]
 
 
+def _power_latest(records: Records) -> dict[str, tuple[dict[str, Any], dict[str, Any]]]:
+    """Each configuration's newest power estimate: configuration -> (its run, its record)."""
+    _power_run(records)
+    latest: dict[str, tuple[dict[str, Any], dict[str, Any]]] = {}
+    for run in records.power.values():  # in the order recorded: a later run replaces an earlier one
+        for r in run["data"]:
+            latest[r["config"]] = (run, r)
+    return latest
+
+
 def _band(d: dict[str, float], fmt: str = "{:.0f}") -> str:
     return f"{fmt.format(d['typ'])} ({fmt.format(d['low'])}-{fmt.format(d['high'])})"
 
 
 def power_table(records: Records) -> list[str]:
-    """make power's estimate per configuration: resources, activity, dynamic power and energy a frame
-    with the coefficients' band, the vectorless figure, the thesis's Table 5.3 beside its device."""
-    run = _power_run(records)
+    """make power's estimate per recorded run and configuration: resources, activity, dynamic power
+    and energy a frame with the coefficients' band, the vectorless figure, the thesis's Table 5.3
+    beside its device."""
+    last = _power_run(records)
     rows = []
-    for r in run["data"]:
-        res = r["resources"]
-        thesis = f"{r['thesis_mw']} mW, {r['thesis_mj']} mJ" if "thesis_mw" in r else "-"
-        rows.append([f"`{r['config']}`", f"{r['width']}x{r['height']}, {r['scales']} levels, {r['sectors']} sectors",
-                     f"{res['lut']:,} / {res['ff']:,} / {res['bram36']:g} / {res['dsp']}",
-                     f"{r['pixel_mhz']:g} / {r['core_mhz']} MHz", f"{100 * r['mean_activity']:.1f}%",
-                     _band(r["dynamic_mw"]), _band(r["energy_mj"], "{:.2f}"), _band(r["dynamic_vectorless_mw"]),
-                     thesis])  # fmt: skip
-    head = ["configuration", "frame, pyramid", "LUT / FF / RAMB36 / DSP48 (yosys)", "pixel / core clock",
+    for name, run in records.power.items():
+        for r in run["data"]:
+            res = r["resources"]
+            thesis = f"{r['thesis_mw']} mW, {r['thesis_mj']} mJ" if "thesis_mw" in r else "-"
+            rows.append([f"{name}: `{r['config']}`",
+                         f"{r['width']}x{r['height']}, {r['scales']} levels, {r['sectors']} sectors",
+                         f"{res['lut']:,} / {res['ff']:,} / {res['bram36']:g} / {res['dsp']}",
+                         f"{r['pixel_mhz']:g} / {r['core_mhz']} MHz", f"{100 * r['mean_activity']:.1f}%",
+                         _band(r["dynamic_mw"]), _band(r["energy_mj"], "{:.2f}"), _band(r["dynamic_vectorless_mw"]),
+                         thesis, f"{run['commit']}, {run['date']}{records.age(run.get('hdl_digest'))}"])  # fmt: skip
+    head = ["run: configuration", "frame, pyramid", "LUT / FF / RAMB36 / DSP48 (yosys)", "pixel / core clock",
             "register activity (toggles a bit a clock)", "dynamic power, mW (band)",
             "energy a frame at 60 fps, mJ (band)", "vectorless (12.5%, BRAM 0.5/0.5), mW (band)",
-            "the thesis's Table 5.3"]  # fmt: skip
-    static = run["data"][0]
-    foot = [f"Measured by {_source(run)}{records.age(run.get('hdl_digest'))} ({run['tools']}). Static power (the "
-            f"device's, not in the columns): {1000 * static['static_device_w']:.0f} mW at a junction of "
-            f"{static['static_tj_c']} C, of it {1000 * static['static_pl_w']:.0f} mW on the PL's rails."]  # fmt: skip
+            "the thesis's Table 5.3", "measured"]  # fmt: skip
+    static = last["data"][0]
+    commands = "; ".join(f"{n}: `{r['command']}` ({r['tools']})" for n, r in records.power.items())
+    unprobed = ", ".join(f"{c} {r['bram_unprobed']['tiles']:g} tiles, {r['bram_unprobed']['mw']:.1f} mW"
+                         for c, (_, r) in _power_latest(records).items() if "bram_unprobed" in r)  # fmt: skip
+    foot = [f"Commands: {commands}. Static power (the device's, not in the columns): "
+            f"{1000 * static['static_device_w']:.0f} mW at a junction of {static['static_tj_c']} C, of it "
+            f"{1000 * static['static_pl_w']:.0f} mW on the PL's rails. Block RAM without an enable probe (a memory "
+            f"outside orb_sdp_ram, at Vivado's default enables; newest runs): {unprobed or '-'}."]  # fmt: skip
     return [*_table(head, rows), "", *foot]
 
 
 def power_classes_table(records: Records) -> list[str]:
-    """make power's dynamic power per resource class (typ coefficients), measured and vectorless."""
-    run = _power_run(records)
-    classes = list(run["data"][0]["by_class_mw"])
+    """make power's dynamic power per resource class (typ coefficients), measured and vectorless: each
+    configuration's newest estimate."""
+    latest = _power_latest(records)
+    classes = list(next(iter(latest.values()))[1]["by_class_mw"])
     rows = []
-    for r in run["data"]:
-        rows.append([f"`{r['config']}`", *(f"{r['by_class_mw'][k]:.1f} ({r['by_class_vectorless_mw'][k]:.1f})"
-                                            for k in classes)])  # fmt: skip
-    head = ["configuration", *(f"{k}, mW (vectorless)" for k in classes)]
-    return [*_table(head, rows), "", f"Measured by {_source(run)}{records.age(run.get('hdl_digest'))}."]
+    for config, (run, r) in latest.items():
+        mw, vec = r["by_class_mw"], r["by_class_vectorless_mw"]
+        rows.append([f"`{config}` at {r['core_mhz']} MHz", *(f"{mw[k]:.1f} ({vec[k]:.1f})" for k in classes),
+                     f"{run['commit']}{records.age(run.get('hdl_digest'))}"])  # fmt: skip
+    head = ["configuration", *(f"{k}, mW (vectorless)" for k in classes), "measured"]
+    return _table(head, rows)
 
 
 def power_entities_table(records: Records) -> list[str]:
-    """make power's largest entities per configuration (typ coefficients)."""
-    run = _power_run(records)
+    """make power's largest entities per configuration (typ coefficients): each configuration's
+    newest estimate."""
     rows = []
-    for r in run["data"]:
+    for config, (run, r) in _power_latest(records).items():
         for ent, p in list(r["by_entity_mw"].items())[:8]:
             en = (f"{100 * p['bram_read_enable']:.0f}% / {100 * p['bram_write_enable']:.0f}%"
                   if "bram_read_enable" in p else "-")  # fmt: skip
             act = f"{100 * p['activity']:.1f}%" if "activity" in p else "-"
-            rows.append([f"`{r['config']}`", f"`{ent}`", f"{p['total']:.1f}", act, en,
+            rows.append([f"`{config}` ({run['commit']})", f"`{ent}`", f"{p['total']:.1f}", act, en,
                          f"{p.get('clock', 0):.1f}", f"{p.get('signal', 0) + p.get('lut', 0):.1f}",
                          f"{p.get('bram', 0):.1f}", f"{p.get('dsp', 0):.1f}"])  # fmt: skip
-    head = ["configuration", "entity (all its instances)", "mW", "register activity", "RAM read / write enable",
-            "clock, mW", "LUT + routing, mW", "block RAM, mW", "DSP48, mW"]  # fmt: skip
-    return [*_table(head, rows), "", f"Measured by {_source(run)}{records.age(run.get('hdl_digest'))}."]
+    head = ["configuration (commit)", "entity (all its instances)", "mW", "register activity",
+            "RAM read / write enable", "clock, mW", "LUT + routing, mW", "block RAM, mW", "DSP48, mW"]  # fmt: skip
+    return _table(head, rows)
 
 
 def power_coefficients_table(records: Records) -> list[str]:
@@ -704,6 +724,19 @@ def power_coefficients_table(records: Records) -> list[str]:
     head = ["coefficient", "typ", "band (low-high)", "unit", "the reports' point values"]
     return [*_table(head, rows), "", "Reports (Vivado report_power of routed designs, public repositories):", "",
             *(f"- {reports[k]}" for k in sorted(reports))]  # fmt: skip
+
+
+def _power_headline(records: Records) -> list[str]:
+    """The README's power row: each board configuration's newest dynamic power and energy a frame,
+    the thesis's 2-scale, 32-sector row beside it."""
+    cells = [f"{c}: {r['dynamic_mw']['typ']:.0f} mW ({r['dynamic_mw']['low']:.0f}-{r['dynamic_mw']['high']:.0f}) "
+             f"at {r['core_mhz']} MHz, {r['energy_mj']['typ']:.2f} mJ a frame (commit {run['commit']})"
+             f"{records.age(run.get('hdl_digest'))}"
+             for c, (run, r) in _power_latest(records).items() if c.startswith("board-")]  # fmt: skip
+    mw, mj = THESIS_TABLE[(2, 32)]  # the thesis's Table 5.3 row of its 2-scale, 32-sector device
+    return ["Dynamic power and energy a frame at 60 fps, estimate (yosys resources x Verilator activity x coefficients "
+            "from published Vivado reports; not run in Vivado or on a board)", "<br>".join(cells),
+            f"the thesis (Table 5.3, 2 scales, 32 sectors): {mw} mW, {mj} mJ", "[power.md](docs/power.md)"]  # fmt: skip
 
 
 def headline(records: Records) -> list[str]:
@@ -754,6 +787,7 @@ def headline(records: Records) -> list[str]:
          "[board.md](docs/board.md#resources)"],
         ["Throughput", "one pixel per clock: 1080p60, 720p60 and 480p60 HDMI in real time (design; not run on a board)",
          "-", "[board.md](docs/board.md)"],
+        _power_headline(records),
         ["`make sim`: the bundled photograph in GHDL", f"{sim['features']:,} features, bit-exact, "
          f"{sim['dropped']} lost, {sim['sim_wall_s']:.0f} s (commit {simrun['commit']})"
          f"{records.age(simrun.get('hdl_digest'))}", "-", "[fast-sim.md](docs/fast-sim.md#results)"],
