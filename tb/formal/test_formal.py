@@ -121,3 +121,52 @@ def test_probes_become_outputs() -> None:
     assert "assign probe_wr_addr = wr_addr;" in out
     with pytest.raises(formal.VerilogError):
         formal.add_probes(verilog, "orb_z", ("no_such_net",))
+
+
+def _included(name: str) -> list[str]:
+    """The files of hdl/formal/props/ a property file includes, itself first (and theirs)."""
+    body = (formal.PROPS / name).read_text()
+    return [name, *(f for m in re.finditer(r'(?m)^\s*`include "([\w.]+)"', body) for f in _included(m.group(1)))]
+
+
+def test_property_files_exist_and_none_is_orphaned() -> None:
+    """Every property file a check names exists (its includes too), and every file of hdl/formal/props/ is used."""
+    missing = [(c.key, c.props) for c in CHECKS if c.props and not (formal.PROPS / c.props).is_file()]
+    assert not missing, f"property files named but absent: {missing}"
+    used = {f for c in CHECKS if c.props for f in _included(c.props)}
+    on_disk = {p.name for p in formal.PROPS.iterdir()}
+    assert used <= on_disk, f"included but absent: {sorted(used - on_disk)}"
+    assert on_disk == used, f"property files no check uses: {sorted(on_disk - used)}"
+
+
+@pytest.mark.parametrize("name", sorted(p.name for p in formal.PROPS.iterdir()))
+def test_property_file_header(name: str) -> None:
+    """Each property file starts with the SPDX line and names docs/formal.md in its header."""
+    head = (formal.PROPS / name).read_text().partition("\n\n")[0]
+    assert head.startswith("// SPDX-License-Identifier: MIT\n"), f"{name}: no SPDX line first"
+    assert "docs/formal.md" in head, f"{name}: the header does not name docs/formal.md"
+
+
+@pytest.mark.parametrize("check", [pytest.param(c, id=c.key) for c in CHECKS if c.props])
+def test_property_text_has_every_documented_label(check: formal.Check) -> None:
+    """The property text resolves (includes, every @NAME@ with a value) and holds each label of extra_props."""
+    text = formal.props_text(check)
+    assert not formal.VALUE_RE.search(text), f"{check.key}: a placeholder left in the text"
+    absent = [k for k in check.extra_props if not re.search(rf"\b{k}: (assert|assume)\b", text)]
+    assert not absent, f"{check.key}: labels of extra_props not in {check.props}: {absent}"
+
+
+def test_props_text_includes_and_fills_in(tmp_path: Path) -> None:
+    """props_text drops the headers, expands an include in place and fills @NAME@ from the values, then the
+    generics; a placeholder without a value, or a value without a placeholder, is an error."""
+    (tmp_path / "a.sv").write_text('// head\n\n  wire a = @W@;\n  `include "b.svh"\n  wire c = @K@;\n')
+    (tmp_path / "b.svh").write_text("// head\n// more\n\n  wire b;\n\n  wire b2;\n")
+    check = formal.Check("orb_x", {"W": 4}, props="a.sv", values={"K": 7})
+    assert formal.props_text(check, tmp_path) == "  wire a = 4;\n  wire b;\n\n  wire b2;\n  wire c = 7;"
+    with pytest.raises(ValueError, match="values without a placeholder"):
+        formal.props_text(formal.Check("orb_x", {"W": 4}, props="a.sv", values={"K": 7, "J": 1}), tmp_path)
+    with pytest.raises(ValueError, match="placeholders without a value"):
+        formal.props_text(formal.Check("orb_x", {}, props="a.sv", values={"K": 7}), tmp_path)
+    (tmp_path / "c.sv").write_text("  wire c;\n")
+    with pytest.raises(ValueError, match="no header"):
+        formal.props_text(formal.Check("orb_x", {}, props="c.sv"), tmp_path)

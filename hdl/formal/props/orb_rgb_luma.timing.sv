@@ -1,0 +1,7 @@
+// SPDX-License-Identifier: MIT
+// orb_rgb_luma.timing: `rate` and `latency` (RGB_LUMA_LAT_c = 3), the sink always ready.
+// docs/formal.md (sw/orb_flow/formal.py inserts it)
+
+  always @(*) if (!init) assume (m_axis_video_tready);
+  always @(*) if (!init && !rst && !rst_q) rate: assert (s_axis_video_tready);
+  `include "latency_video_3.svh"
