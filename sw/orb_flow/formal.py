@@ -244,6 +244,18 @@ def wrapper(check: Check, plist: Sequence[Port]) -> str:
         ",\n".join(f"    .{p.name}({'clk' if p.name == clock else p.name})" for p in plist),
         "  );",
     ]
+    lines += checker_lines(check, plist)
+    own = props_text(check)
+    if own:
+        lines.append(own.rstrip())
+    lines.append("endmodule")
+    return "\n".join(lines) + "\n"
+
+
+def checker_lines(check: Check, plist: Sequence[Port]) -> list[str]:
+    """The reusable checkers of hdl/formal/ bound to the ports by name (AXI4-Stream, AXI4-Lite, AXI4 write)."""
+    byname = {p.name: p for p in plist}
+    lines: list[str] = []
 
     def sig(name: str) -> str:
         return name if name in byname else "1'b0"
@@ -277,11 +289,7 @@ def wrapper(check: Check, plist: Sequence[Port]) -> str:
                 f"  orb_axi4w_chk #({', '.join(f'.{k}({v})' for k, v in params.items())}) chk_{pre} "
                 f"(.clk(clk), .rst({bus_rst}), {conns});"
             )
-    own = props_text(check)
-    if own:
-        lines.append(own.rstrip())
-    lines.append("endmodule")
-    return "\n".join(lines) + "\n"
+    return lines
 
 
 def regmap_ref(generics: Mapping[str, int | str]) -> str:
