@@ -504,11 +504,15 @@ begin
       if t_valid = '1' then
         wait_ram(to_integer(wait_cnt)) <= t_bits & t_info;
       end if;
-      -- the entry written WAIT_c clocks ago, read into the o1 stage with its sector
-      wait_out   <= wait_ram(to_integer(wait_cnt - WAIT_c));
+      -- the entry written WAIT_c clocks ago, read into the o1 stage with its sector; only when it
+      -- holds a position (the o1 stage is read only with o1_valid): a 299-bit register and its
+      -- LUT-RAM read that would otherwise change every clock (docs/power.md)
+      if wait_valid(WAIT_c) = '1' then
+        wait_out  <= wait_ram(to_integer(wait_cnt - WAIT_c));
+        o1_sector <= unsigned(s_sector);
+      end if;
       o1_valid   <= wait_valid(WAIT_c);
       o1_last    <= last_dly(ORIENT_LAT_c);
-      o1_sector  <= unsigned(s_sector);
       if rst = '1' then
         wait_valid <= (others => '0');
         o1_valid   <= '0';

@@ -49,8 +49,8 @@ from golden_model.pipeline import extract
 from orb_accel.driver import OrbAccel
 from orb_flow.gen.board import load as load_board
 from orb_sim.fast.build import build_fast
-from orb_sim.fast.jobs import pack
-from orb_sim.fast.sim import FastBus, FastSim, frame_program
+from orb_sim.fast.jobs import is_ddr, pack
+from orb_sim.fast.sim import FastBus, FastMemory, FastSim, frame_program
 
 ROOT = Path(__file__).resolve().parents[3]
 OUT = ROOT / "build" / "recovery" / "recovery.json"
@@ -112,7 +112,8 @@ def run_one(name: str, bcfg: dict[str, Any], timeout: int, kind: str, at: float,
     sim = FastSim(build_fast(generics))
     build_s = time.perf_counter() - t0
     sim.reset()
-    accel = OrbAccel(FastBus(sim), bank_read="slot")
+    # a DDR build (the board's) is read through the harness's memory, as on the board through u-dma-buf
+    accel = OrbAccel(FastBus(sim), bank_read="slot", memory=FastMemory(sim) if is_ddr(generics) else None)
     accel.configure_as(cfg)
     sim.set_live(pixel_clock, FIFO_DEPTH)
     progs = programs(rgb, before, kind, at, h_total, v_total, out if kind == "cut" else 0)

@@ -633,10 +633,13 @@ def _power_run(records: Records) -> dict[str, Any]:
 
 
 def _power_latest(records: Records) -> dict[str, tuple[dict[str, Any], dict[str, Any]]]:
-    """Each configuration's newest power estimate: configuration -> (its run, its record)."""
+    """Each configuration's newest power estimate: configuration -> (its run, its record). A run
+    named what-if-* (another clock, a study) is not a configuration's estimate."""
     _power_run(records)
     latest: dict[str, tuple[dict[str, Any], dict[str, Any]]] = {}
-    for run in records.power.values():  # in the order recorded: a later run replaces an earlier one
+    runs = sorted((run["date"], run["commit"] != "-", k, run) for k, run in records.power.items()
+                  if not k.startswith("what-if"))  # fmt: skip
+    for *_, run in runs:  # the later measurement of a configuration replaces the earlier
         for r in run["data"]:
             latest[r["config"]] = (run, r)
     return latest
