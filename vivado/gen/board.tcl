@@ -48,7 +48,7 @@ namespace eval ::orb_board {
       mem_kind ddr \
       mode {640x480@60 (VESA DMT / CEA-861 VIC 1)} \
       pixel_mhz 25.175 \
-      core_mhz 100 \
+      core_mhz 50 \
       kClkRange 5 \
       edid dgl_720p_cea.data \
       patched_clk_range 1 \
