@@ -37,6 +37,8 @@ def _copy_root(tmp: Path) -> Path:
         *PAGES,
         results.SYNTH,
         results.BOARD,
+        results.COEFFICIENTS,
+        Path("docs/results/power.json"),
         Path("docs/results/eval.json"),
         Path("docs/results/sim.json"),
         Path("docs/results/bench.json"),
