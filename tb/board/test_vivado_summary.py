@@ -401,3 +401,13 @@ def test_cli_exit_codes_through_the_interpreter(tmp_path: Path) -> None:
     r = subprocess.run([*COMMAND, str(d), "--config", "640x480x2"], capture_output=True, text=True, timeout=60)
     assert r.returncode == 2
     assert r.stderr.startswith(f"error: {d / 'utilization.rpt'}: missing report")
+
+
+def test_make_powers_estimate_stands_beside_report_power() -> None:
+    """The newest recorded make power estimate of a board configuration, by its key or its name."""
+    from orb_flow.board.vivado_summary import power_estimate
+
+    by_key, by_name = power_estimate("640x480"), power_estimate("board-vga")
+    assert by_key is not None and by_key == by_name
+    assert by_key["low"] <= by_key["typ"] <= by_key["high"] and not by_key["run"].startswith("what-if")
+    assert power_estimate("no-such-config") is None

@@ -236,6 +236,30 @@ def parse_power(text: str, path: Path | str = REPORTS["power"]) -> dict[str, Any
     return out
 
 
+# --- make power's estimate (docs/power.md) ------------------------------------------------------
+POWER_RECORD = Path(__file__).resolve().parents[3] / "docs" / "results" / "power.json"
+
+
+def power_estimate(config: str, path: Path = POWER_RECORD) -> dict[str, Any] | None:
+    """The newest recorded `make power` estimate of `config` (a board configuration's key, e.g.
+    640x480, or its named configuration, e.g. board-vga) to stand beside Vivado's report_power:
+    dynamic mW with its band, the core clock, the run and its commit; None when none is recorded."""
+    try:
+        runs = json.loads(path.read_text())["runs"]
+    except (OSError, ValueError, KeyError):
+        return None
+    board = json.loads((path.parents[2] / "vivado" / "board.json").read_text())["configs"]
+    names = {config, board.get(config, {}).get("config", config)}
+    found = None
+    for name, run in runs.items():
+        if name.startswith("what-if"):
+            continue
+        for r in run["data"]:
+            if r["config"] in names:
+                found = {"run": name, "commit": run["commit"], "core_mhz": r["core_mhz"], **r["dynamic_mw"]}
+    return found
+
+
 # --- the yosys estimate --------------------------------------------------------------------------
 
 
@@ -312,6 +336,7 @@ def summarise(report_dir: Path, config: str, estimate: Path | None = None) -> di
     }
     if estimate is not None:
         summary["yosys_estimate"] = load_estimate(estimate, config)
+    summary["power_estimate_mw"] = power_estimate(config)
     return summary
 
 
@@ -343,6 +368,12 @@ def table(s: dict[str, Any]) -> str:
         f"  power    total on-chip {p['total_w']:.3f} W (dynamic {p['dynamic_w']:.3f} W, static "
         f"{p['static_w']:.3f} W{ps7}); thesis measured {p['thesis_measured_w'] * 1000:.0f} mW"
     )
+    pe = s.get("power_estimate_mw")
+    if pe:
+        lines.append(f"  beside it, make power's estimate ({pe['run']}, commit {pe['commit']}, {pe['core_mhz']} MHz): "
+                     f"dynamic {pe['typ']:.0f} mW ({pe['low']:.0f}-{pe['high']:.0f}) against Vivado's "
+                     f"{p['dynamic_w'] * 1000:.0f} mW (whole design; the accelerator's share: report_power's "
+                     "hierarchy)")  # fmt: skip
     lines += [f"  warning: {w}" for w in s["warnings"]]
     return "\n".join(lines)
 
