@@ -55,15 +55,13 @@ from orb_sim.fast.sim import FastBus, FastMemory, FastSim, frame_program
 from orb_sim.hdl import sources
 
 from . import synth
-from .board.recovery import BOARD_TIMEOUT
+from .board.recovery import BOARD_TIMEOUT, CEA, FIFO_DEPTH  # the board's input: CEA-861 timing, its FIFO
 
 ROOT = Path(__file__).resolve().parents[2]
 OUT = ROOT / "build" / "power"
 COEFFICIENTS = Path(__file__).with_name("power_coefficients.json")
 BOARD = ROOT / "vivado" / "board.json"
 FPS = 60
-FIFO_DEPTH = 4096  # the board's v_vid_in_axi4s (orb_flow.board.recovery)
-CEA = {(640, 480): (800, 525), (1280, 720): (1650, 750), (1920, 1080): (2200, 1125)}
 # The thesis's device (its Table 5.3: 640x480, 2 scales, 32 sectors, 100 MHz, 60 frames a second)
 THESIS = {"config": "thesis-vga", "pixel_mhz": 25.175, "core_mhz": 100}
 THESIS_TABLE = {  # Table 5.3 of the thesis: (scales, sectors) -> (mW, mJ a frame), Vivado 2020.2
