@@ -116,17 +116,9 @@ def photographs(width: int, height: int, count: int) -> list[np.ndarray]:
 
 # ---- synthesis: each module's own cells -------------------------------------------------------------
 def module_cells(stat_text: str) -> dict[str, dict[str, Any]]:
-    """yosys's hierarchical `stat` -> module -> its own cells, summarised (orb_flow.synth.summarise)."""
-    sections = re.split(r"^=== (.+?) ===$", stat_text, flags=re.M)
-    out = {}
-    for module, body in zip(sections[1::2], sections[2::2], strict=True):
-        if module == "design hierarchy":
-            continue
-        try:
-            out[module] = synth.summarise(synth.parse_stat(f"=== {module} ===\n{body}", module))
-        except synth.ToolError:  # no cells of its own
-            out[module] = synth.summarise({})
-    return out
+    """yosys's hierarchical `stat` -> module -> its own cells, summarised (a module without cells of
+    its own: all zero)."""
+    return {m: s or synth.summarise({}) for m, s in synth.module_summaries(stat_text).items()}
 
 
 def module_instances(stat_text: str) -> dict[str, int]:
@@ -142,8 +134,8 @@ def synthesis(name: str, timeout: float) -> tuple[dict[str, Any], Path]:
     when build/synth holds none for today's hdl/."""
     job = synth.named_job("orb_accel_zynq", name)
     cdir = job.dir(synth.OUT)
-    tools = {"ghdl": synth.tool_version([synth.find_tools()[0], "--version"]),
-             "yosys": synth.tool_version([synth.find_tools()[1], "-V"])}  # fmt: skip
+    ghdl, yosys = synth.find_tools()
+    tools = {"ghdl": synth.tool_version([ghdl, "--version"]), "yosys": synth.tool_version([yosys, "-V"])}
     key = synth.cache_key(job.top, job.generics, sources(), tools)
     rec = synth.load_cached(cdir, key)
     if rec is None:

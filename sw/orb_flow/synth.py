@@ -477,18 +477,28 @@ def summarise(cells: dict[str, int]) -> dict[str, Any]:
 GENERIC_SUFFIX_RE = re.compile(r"^(.+?)(?:_\d\w*)?$")
 
 
-def parse_blocks(text: str) -> dict[str, dict[str, Any]]:
-    """Each entity's own cells (its sub-blocks' not included) from a hierarchical `stat`: keyed by
-    the entity's name without GHDL's generic suffix (orb_line_buffer_640_2_19_1 -> orb_line_buffer),
-    the number of variants and, per figure, the smallest and largest over them."""
+def module_summaries(text: str) -> dict[str, dict[str, Any] | None]:
+    """Each module's own cells (its sub-modules' not included) from a hierarchical `stat`,
+    summarised; None for a module with no cells of its own."""
     sections = re.split(r"^=== (.+?) ===$", text, flags=re.M)
-    figures: dict[str, list[dict[str, Any]]] = {}
+    out: dict[str, dict[str, Any] | None] = {}
     for module, body in zip(sections[1::2], sections[2::2], strict=True):
         if module == "design hierarchy":
             continue
         try:
-            s = summarise(parse_stat(f"=== {module} ===\n{body}", module))
+            out[module] = summarise(parse_stat(f"=== {module} ===\n{body}", module))
         except ToolError:  # a module with no cells of its own
+            out[module] = None
+    return out
+
+
+def parse_blocks(text: str) -> dict[str, dict[str, Any]]:
+    """Each entity's own cells (its sub-blocks' not included) from a hierarchical `stat`: keyed by
+    the entity's name without GHDL's generic suffix (orb_line_buffer_640_2_19_1 -> orb_line_buffer),
+    the number of variants and, per figure, the smallest and largest over them."""
+    figures: dict[str, list[dict[str, Any]]] = {}
+    for module, s in module_summaries(text).items():
+        if s is None:
             continue
         m = GENERIC_SUFFIX_RE.match(module)
         figures.setdefault(m[1] if m else module, []).append(s)
